@@ -1,0 +1,152 @@
+# cdsp: top-level Makefile. `make` builds everything buildable here,
+# `make check` runs every test, `make bench` prints the figures,
+# `make demo` runs the daemon on its simulated camera.
+#
+# Layout: lib/ + include/ -> libcdsp.a (dependency-free C99);
+# tools/, daemon/ -> host programs; tests/ -> everything that checks them.
+# Components add their own rules in */*.mk fragments (included below) and
+# register their steps in CHECK_STEPS / BENCH_STEPS / ALL_TARGETS.
+
+CC      ?= cc
+CLANG   ?= clang
+AR      ?= ar
+BUILD   ?= build
+
+WARN    := -Wall -Wextra -pedantic -Werror -Wmissing-prototypes \
+           -Wstrict-prototypes -Wshadow -Wvla -Wpointer-arith
+CSTD    := -std=c99
+OPT     ?= -O2
+BASE_CFLAGS := $(CSTD) $(WARN) -fno-math-errno -Iinclude -MMD -MP
+SAN_FLAGS   := -fsanitize=address,undefined -fno-sanitize-recover=all \
+               -fno-omit-frame-pointer -g
+
+LIB_SRC  := $(sort $(wildcard lib/*.c))
+LIB_TEST := $(sort $(wildcard tests/lib/test_*.c))
+
+ALL_TARGETS :=
+CHECK_STEPS :=
+BENCH_STEPS :=
+
+.PHONY: all check check-steps bench bench-steps demo deps clean size-m4f
+
+# ---------------------------------------------------------------------------
+# libcdsp in several variants: one template, one build directory each.
+#   $(1) variant name, $(2) compiler, $(3) flags variable name
+# ---------------------------------------------------------------------------
+define lib_variant
+$(1)_DIR   := $(BUILD)/$(1)
+$(1)_OBJ   := $$(patsubst lib/%.c,$$($(1)_DIR)/lib/%.o,$$(LIB_SRC))
+$(1)_LIB   := $$($(1)_DIR)/libcdsp.a
+$(1)_TESTS := $$(patsubst tests/lib/%.c,$$($(1)_DIR)/tests/%,$$(LIB_TEST))
+
+$$($(1)_LIB): $$($(1)_OBJ)
+	@mkdir -p $$(@D)
+	rm -f $$@ && $(AR) rcs $$@ $$^
+
+$$($(1)_DIR)/lib/%.o: lib/%.c
+	@mkdir -p $$(@D)
+	$(2) $$($(3)) -c $$< -o $$@
+
+$$($(1)_DIR)/tests/support.o: tests/lib/support.c tests/lib/support.h
+	@mkdir -p $$(@D)
+	$(2) $$($(3)) -Itests/lib -c $$< -o $$@
+
+$$($(1)_DIR)/tests/%: tests/lib/%.c $$($(1)_DIR)/tests/support.o $$($(1)_LIB)
+	@mkdir -p $$(@D)
+	$(2) $$($(3)) -Itests/lib $$< $$($(1)_DIR)/tests/support.o $$($(1)_LIB) -lcmocka -lm -o $$@
+
+-include $$($(1)_OBJ:.o=.d)
+endef
+
+HOST_CFLAGS  := $(BASE_CFLAGS) $(OPT) -g
+FLOAT_CFLAGS := $(BASE_CFLAGS) $(OPT) -g -DCDSP_SINGLE -Wdouble-promotion
+ASAN_CFLAGS  := $(BASE_CFLAGS) -O1 $(SAN_FLAGS)
+
+$(eval $(call lib_variant,host,$(CC),HOST_CFLAGS))
+$(eval $(call lib_variant,float,$(CC),FLOAT_CFLAGS))
+$(eval $(call lib_variant,asan,$(CLANG),ASAN_CFLAGS))
+
+# The library users link: build/libcdsp.a (double precision, host).
+$(BUILD)/libcdsp.a: $(host_LIB)
+	cp $< $@
+
+ALL_TARGETS += $(BUILD)/libcdsp.a
+
+# Cortex-M4F float build of libcdsp.a, size printed by `make check`.
+M4F_CC     ?= arm-none-eabi-gcc
+M4F_CFLAGS := $(CSTD) $(WARN) -fno-math-errno -Iinclude -MMD -MP -Os -g \
+              -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 \
+              -DCDSP_SINGLE -Wdouble-promotion -ffunction-sections -fdata-sections
+$(eval $(call lib_variant,m4f,$(M4F_CC),M4F_CFLAGS))
+
+size-m4f: $(m4f_LIB)
+	@arm-none-eabi-size -t $(m4f_LIB)
+
+# ---------------------------------------------------------------------------
+# Component fragments (tools, daemon, MCU, VM harnesses...).
+# ---------------------------------------------------------------------------
+include $(sort $(wildcard tools/*.mk daemon/*.mk tests/*/*.mk))
+
+# ---------------------------------------------------------------------------
+# Checks of the library itself.
+# ---------------------------------------------------------------------------
+RUN := tests/run.sh $(BUILD)/check-results
+
+.PHONY: check-lib-host check-lib-float check-lib-asan check-lib-symbols check-lib-m4f
+check-lib-host: $(host_TESTS)
+	@for t in $^; do $(RUN) "host/$$(basename $$t)" $$t || exit 1; done
+check-lib-float: $(float_TESTS)
+	@for t in $^; do $(RUN) "float/$$(basename $$t)" $$t || exit 1; done
+check-lib-asan: $(asan_TESTS)
+	@for t in $^; do ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  $(RUN) "asan/$$(basename $$t)" $$t || exit 1; done
+check-lib-symbols: $(host_LIB) $(m4f_LIB)
+	@$(RUN) "lib/no-forbidden-symbols" tests/check_symbols.sh $(host_LIB) $(m4f_LIB)
+check-lib-m4f: $(m4f_LIB)
+	@$(RUN) "lib/m4f-build-size" arm-none-eabi-size -t $(m4f_LIB)
+
+CHECK_STEPS := check-lib-host check-lib-float check-lib-asan check-lib-symbols \
+               check-lib-m4f $(CHECK_STEPS)
+
+all: $(ALL_TARGETS)
+
+check: tests/deps-ok
+	@mkdir -p $(BUILD) && rm -f $(BUILD)/check-results
+	@$(MAKE) --no-print-directory -k check-steps; \
+	 tests/summary.sh $(BUILD)/check-results $$?
+
+check-steps: $(CHECK_STEPS)
+
+tests/deps-ok:
+	@tests/deps.sh check
+
+deps:
+	tests/deps.sh install
+
+# ---------------------------------------------------------------------------
+# Benchmarks: figures, not pass/fail.
+# ---------------------------------------------------------------------------
+BENCH_BIN := $(BUILD)/bench/bench_lib
+$(BENCH_BIN): tests/bench/bench_lib.c tests/lib/support.c $(host_LIB)
+	@mkdir -p $(@D)
+	$(CC) $(HOST_CFLAGS) -O3 -Itests/lib $< tests/lib/support.c $(host_LIB) -lm -o $@
+
+.PHONY: bench-lib
+bench-lib: $(BENCH_BIN)
+	$(BENCH_BIN)
+BENCH_STEPS := bench-lib $(BENCH_STEPS)
+
+bench:
+	@$(MAKE) --no-print-directory bench-steps
+bench-steps: $(BENCH_STEPS)
+
+# ---------------------------------------------------------------------------
+demo: all
+	@if [ -n "$(DEMO_TARGET)" ]; then $(MAKE) --no-print-directory $(DEMO_TARGET); \
+	 else echo "cdspd is not built yet (issue 4): the demo will run it on its simulated camera."; \
+	      echo "Meanwhile: make bench prints the library's figures."; fi
+
+clean:
+	rm -rf $(BUILD)
+
+.PHONY: tests/deps-ok

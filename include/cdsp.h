@@ -1,0 +1,448 @@
+/*
+ * cdsp.h - the public contract of libcdsp.
+ *
+ * libcdsp recovers the 3D axis of a constant-diameter straight pipe from one
+ * camera frame and the pipe's known radius (Yao et al. 2024, "Rapid 3D
+ * reconstruction of constant-diameter straight pipelines via single-view
+ * perspective projection"; equations restated in shared/METHOD.md).
+ *
+ * Where a frame enters and a pose leaves:
+ *
+ *   frame (cdsp_image) --cdsp_edges_detect--> edge points (distorted px)
+ *     --cdsp_camera_undistort_edges--> edge points (undistorted px)
+ *     --cdsp_lines_find / cdsp_pair_select--> two contour lines
+ *     --cdsp_axis_solve--> cdsp_result (axis, segment, uncertainty)
+ *
+ * cdsp_frame_solve() runs all of it; cdsp_points_solve() starts from edge
+ * points you already have.
+ *
+ * Conventions (everywhere in this header):
+ * - Camera frame: origin at the optical centre, X right, Y down, Z forward.
+ *   Pixels: u right, v down; pixel (i, j) covers [i-0.5, i+0.5] x [j-0.5,
+ *   j+0.5], i.e. integer coordinates are pixel centres.
+ * - Lengths in 3D are in the unit of the radius you pass (mm in all docs).
+ * - Image lines are homogeneous (a, b, c): a u + b v + c = 0 in undistorted
+ *   pixels, scaled so that a^2 + b^2 = 1 and (a, b) points to the brighter
+ *   side of the edge.
+ * - Buffers: every buffer is owned by the caller; the library keeps no
+ *   pointer past the call that received it. The library never allocates,
+ *   prints, exits, or keeps mutable global state: all calls are reentrant.
+ * - Every call that can fail returns cdsp_status; outputs are written only
+ *   when it returns CDSP_OK unless the function says otherwise.
+ */
+#ifndef CDSP_H
+#define CDSP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define CDSP_VERSION_MAJOR 0
+#define CDSP_VERSION_MINOR 1
+#define CDSP_VERSION_PATCH 0
+
+/* ------------------------------------------------------------------------
+ * Precision. Double by default; define CDSP_SINGLE (e.g. -DCDSP_SINGLE for
+ * Cortex-M4F) to build the whole library in float. The two builds are
+ * separate libraries: a program must be compiled with the same setting as
+ * the libcdsp.a it links.
+ * ---------------------------------------------------------------------- */
+#ifdef CDSP_SINGLE
+typedef float cdsp_real;
+#else
+typedef double cdsp_real;
+#endif
+
+/* ------------------------------------------------------------------------
+ * Capacities (override with -D at build time of the library AND the caller).
+ * ---------------------------------------------------------------------- */
+
+/* Edge points the frame path keeps per frame (cdsp_frame_ws). */
+#ifndef CDSP_MAX_EDGES
+#define CDSP_MAX_EDGES 16384
+#endif
+
+/* Points accepted by the points path (cdsp_points_ws). */
+#ifndef CDSP_MAX_POINTS
+#define CDSP_MAX_POINTS 2048
+#endif
+
+/* Candidate lines RANSAC extracts before the pair is chosen. */
+#ifndef CDSP_MAX_LINES
+#define CDSP_MAX_LINES 8
+#endif
+
+/* ------------------------------------------------------------------------
+ * Status: the one error enum. 0 is success, everything else is negative.
+ * ---------------------------------------------------------------------- */
+typedef enum {
+    CDSP_OK = 0,
+    CDSP_E_ARG = -1,          /* NULL pointer, size or parameter out of range */
+    CDSP_E_NONFINITE = -2,    /* NaN or Inf in an input */
+    CDSP_E_NOCONVERGE = -3,   /* an iteration hit its bound before its tolerance */
+    CDSP_E_CAPACITY = -4,     /* more data than the fixed buffers hold */
+    CDSP_E_FEW_POINTS = -5,   /* too few edge points to fit two lines */
+    CDSP_E_NO_PIPE = -6,      /* no pair of lines looks like a pipe's contour */
+    CDSP_E_DEGENERATE = -7,   /* geometry admits no unique axis (see cdsp_axis_solve) */
+    CDSP_E_FORMAT = -8        /* image format not supported (bits, stride) */
+} cdsp_status;
+
+/* A short, constant, English description of a status ("ok", "no pipe
+ * found", ...). Never NULL; unknown codes give "unknown status". */
+const char *cdsp_strerror(cdsp_status s);
+
+/* A stable machine-readable token for a status ("ok", "no-pipe",
+ * "degenerate", ...), used by the tools' JSON and the UDP protocol. */
+const char *cdsp_status_token(cdsp_status s);
+
+/* ------------------------------------------------------------------------
+ * Random numbers: caller-owned state, so every run is reproducible.
+ * (PCG32, O'Neill 2014: 64-bit state, 32-bit output.)
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    uint64_t state;
+    uint64_t inc;
+} cdsp_rng;
+
+void cdsp_rng_seed(cdsp_rng *rng, uint64_t seed, uint64_t stream);
+uint32_t cdsp_rng_u32(cdsp_rng *rng);
+/* Uniform integer in [0, n), n > 0, without modulo bias. */
+uint32_t cdsp_rng_below(cdsp_rng *rng, uint32_t n);
+/* Uniform in [0, 1). */
+cdsp_real cdsp_rng_uniform(cdsp_rng *rng);
+/* Standard normal (Marsaglia polar method). */
+cdsp_real cdsp_rng_normal(cdsp_rng *rng);
+
+/* ------------------------------------------------------------------------
+ * Camera model: pinhole K plus plumb_bob distortion (OpenCV / ROS):
+ *   r2 = x^2 + y^2 (undistorted normalized coordinates)
+ *   xd = x (1 + k1 r2 + k2 r2^2 + k3 r2^3) + 2 p1 x y + p2 (r2 + 2 x^2)
+ *   yd = y (1 + k1 r2 + k2 r2^2 + k3 r2^3) + p1 (r2 + 2 y^2) + 2 p2 x y
+ *   u = fx xd + cx,  v = fy yd + cy
+ * The paper uses k1, k2 only (p1 = p2 = k3 = 0).
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    cdsp_real fx, fy;          /* focal lengths, pixels */
+    cdsp_real cx, cy;          /* principal point, pixels */
+    cdsp_real k1, k2, p1, p2, k3;
+    int width, height;         /* image size the calibration belongs to, px */
+} cdsp_camera;
+
+/* Undistortion stops when the distorted-pixel residual falls below this
+ * (pixels) and fails with CDSP_E_NOCONVERGE after CDSP_UNDISTORT_MAX_ITER
+ * Newton steps. Float builds cannot reach the double tolerance, so it is
+ * relaxed there (float eps ~ 1.2e-7 of a coordinate ~ 1e3 px). */
+#ifdef CDSP_SINGLE
+#define CDSP_UNDISTORT_TOL_PX 1e-3
+#else
+#define CDSP_UNDISTORT_TOL_PX 1e-9
+#endif
+#define CDSP_UNDISTORT_MAX_ITER 20
+
+/* CDSP_OK, or CDSP_E_ARG (fx, fy <= 0, size <= 0) / CDSP_E_NONFINITE. */
+cdsp_status cdsp_camera_check(const cdsp_camera *cam);
+
+/* Undistorted pixel -> distorted pixel (closed form). */
+cdsp_status cdsp_camera_distort(const cdsp_camera *cam, const cdsp_real und[2],
+                                cdsp_real dist[2]);
+
+/* Distorted pixel -> undistorted pixel (Newton iteration, see the
+ * tolerance macros above). The output is written even on
+ * CDSP_E_NOCONVERGE (last iterate) so callers may inspect it. */
+cdsp_status cdsp_camera_undistort(const cdsp_camera *cam, const cdsp_real dist[2],
+                                  cdsp_real und[2]);
+
+/* Camera-frame point (Z > 0) -> distorted pixel. CDSP_E_DEGENERATE if Z <= 0. */
+cdsp_status cdsp_camera_project(const cdsp_camera *cam, const cdsp_real X[3],
+                                cdsp_real pix[2]);
+
+/* Undistorted pixel -> ray direction K^-1 (u, v, 1) (not normalized). */
+void cdsp_camera_ray(const cdsp_camera *cam, const cdsp_real und[2], cdsp_real ray[3]);
+
+/* ------------------------------------------------------------------------
+ * Images. 8-bit (bits <= 8, one byte per pixel) or 9..16-bit (two bytes per
+ * pixel, native endianness, values in [0, 2^bits - 1]: Mono10/12 unpacked
+ * and Mono16 all fit). stride in bytes, >= width * bytes per pixel.
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    const void *data;
+    int width, height;
+    size_t stride;            /* bytes from one row to the next */
+    int bits;                 /* significant bits: 8, 10, 12, 14 or 16 */
+} cdsp_image;
+
+/* Region of interest in pixels; w or h = 0 means the whole frame. */
+typedef struct {
+    int x, y, w, h;
+} cdsp_roi;
+
+/* CDSP_OK or CDSP_E_ARG / CDSP_E_FORMAT. */
+cdsp_status cdsp_image_check(const cdsp_image *img);
+
+/* ------------------------------------------------------------------------
+ * Edge points.
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    cdsp_real x, y;   /* subpixel position, pixels (distorted as detected;
+                         undistorted after cdsp_camera_undistort_edges) */
+    cdsp_real gx, gy; /* gradient: direction of increasing intensity, length =
+                         the intensity step across the edge (gray levels) */
+} cdsp_edge;
+
+typedef struct {
+    int step;               /* scanline spacing, px (>= 1). Default 4: a
+                               quarter of the rows and columns are read. */
+    int half_window;        /* partial-area window half-length, px (2..8).
+                               Default 4 (9-px window): covers an edge
+                               blurred with sigma up to ~1.2 px. */
+    cdsp_real min_contrast; /* minimum intensity step across an edge as a
+                               fraction of full scale (2^bits - 1).
+                               Default 0.06 (15 gray levels at 8 bit). */
+    cdsp_roi roi;           /* where to look; default whole frame */
+} cdsp_edge_params;
+
+void cdsp_edge_params_default(cdsp_edge_params *p);
+
+/*
+ * Subpixel edges by the partial area effect (Trujillo-Pino et al. 2013,
+ * first-order variant: a straight edge through a 3 x (2h+1) window).
+ * Rows y = roi.y + k*step are scanned for near-vertical edges and columns
+ * for near-horizontal ones; each edge is reported once, by the family whose
+ * scan direction is closer to its gradient.
+ * Writes at most cap points to out and their number to *n. Returns
+ * CDSP_E_CAPACITY (with *n = cap and out filled) when more were found.
+ */
+cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p,
+                              cdsp_edge *out, size_t cap, size_t *n);
+
+/* In place: distorted -> undistorted positions; gradients are carried
+ * through the local Jacobian (normals map by J^T) keeping their length.
+ * Points that do not converge are removed (the array is compacted and *n
+ * updated); CDSP_OK unless arguments are invalid. */
+cdsp_status cdsp_camera_undistort_edges(const cdsp_camera *cam, cdsp_edge *e, size_t *n);
+
+/* ------------------------------------------------------------------------
+ * Small numerics (exposed because they are tested on their own and useful
+ * to callers): 3x3 SVD by one-sided Jacobi.  A = U diag(S) V^T, row-major,
+ * S descending and non-negative, U and V orthogonal (det V = +1).
+ * CDSP_E_NOCONVERGE if the sweeps do not converge (never seen for finite
+ * input), CDSP_E_NONFINITE for NaN/Inf.
+ * ---------------------------------------------------------------------- */
+cdsp_status cdsp_svd3(const cdsp_real A[9], cdsp_real U[9], cdsp_real S[3], cdsp_real V[9]);
+
+/* ------------------------------------------------------------------------
+ * Lines.
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    cdsp_real l[3];        /* a u + b v + c = 0, a^2+b^2 = 1, (a,b) toward bright */
+    cdsp_real centroid[2]; /* mean of the inliers, px */
+    cdsp_real dir[2];      /* unit direction along the line: (-b, a) */
+    cdsp_real t_min, t_max;/* inlier extent along dir from the centroid, px */
+    cdsp_real rms;         /* orthogonal RMS residual of the inliers, px */
+    cdsp_real spread;      /* sum of squared positions along dir, px^2 */
+    cdsp_real strength;    /* mean gradient length of the inliers */
+    uint32_t count;        /* inliers */
+} cdsp_line;
+
+/* Total least squares line through points (Hartley-normalized, 3x3 SVD of
+ * [u v 1]); orientation of l follows the mean gradient when gradients are
+ * given (pts[i].gx, gy), else (a, b) is chosen with b >= 0... see lines.c.
+ * idx selects the points (NULL = all n). CDSP_E_FEW_POINTS below 2 points,
+ * CDSP_E_DEGENERATE when all points coincide. */
+cdsp_status cdsp_line_fit(const cdsp_edge *pts, const uint32_t *idx, size_t n,
+                          cdsp_line *out);
+
+typedef struct {
+    cdsp_real inlier_px;      /* max orthogonal distance of an inlier, px. Default 1.0 */
+    cdsp_real normal_tol_deg; /* max angle between an inlier's gradient and the
+                                 line normal, degrees. Default 20 */
+    cdsp_real confidence;     /* RANSAC success probability for the adaptive
+                                 iteration count. Default 0.999 */
+    int max_iterations;       /* hard cap per line. Default 300 */
+    int max_lines;            /* candidate lines (<= CDSP_MAX_LINES). Default 6 */
+    int min_inliers;          /* a line needs at least this many. Default 12 */
+    cdsp_real min_overlap;    /* a pair's contours must overlap along the pipe
+                                 by this fraction of the shorter one. Default 0.5 */
+    cdsp_real max_contour_angle_deg; /* largest image angle between the two
+                                 contours (perspective convergence). Default 60 */
+    int polarity;             /* 0 either; +1 pipe brighter than background;
+                                 -1 darker. Default 0 */
+    cdsp_real min_distance, max_distance; /* plausible |P_C|, radius units;
+                                 0 = no bound. Default 0, 0 */
+} cdsp_pair_params;
+
+void cdsp_pair_params_default(cdsp_pair_params *p);
+
+/* ------------------------------------------------------------------------
+ * The axis.
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    cdsp_real point[3];      /* P_C: foot of the perpendicular from the optical
+                                centre onto the axis (camera frame) */
+    cdsp_real direction[3];  /* v_L, unit; sign: its largest-magnitude
+                                component is positive (or, with a prior, it
+                                agrees with the prior's direction) */
+    cdsp_real distance;      /* |P_C| = r / sin(alpha / 2) */
+    cdsp_real alpha;         /* angle between the tangent planes, rad */
+    cdsp_real normals[2][3]; /* n1, n2 oriented: n1.P = +r, n2.P = -r */
+    cdsp_real lines[2][3];   /* the two contours, undistorted px (see top) */
+    cdsp_real segment[2][3]; /* visible axis segment, ordered along direction;
+                                equal to point twice when extents are unknown */
+    /* First-order uncertainty propagated from the line fits' residuals:
+     * cov is the covariance of (point[0..2], direction[0..2]). */
+    cdsp_real cov[6][6];
+    cdsp_real sigma_point[3];
+    cdsp_real sigma_direction[3];
+    cdsp_real sigma_distance;
+    cdsp_real rms[2];        /* per-contour RMS residual, px */
+    uint32_t inliers[2];     /* per-contour inlier counts */
+    uint32_t n_edges;        /* edge points considered */
+    uint32_t flags;          /* CDSP_FLAG_* */
+} cdsp_result;
+
+#define CDSP_FLAG_TRACKED 1u     /* found in the bands around the prior */
+#define CDSP_FLAG_FULL_SEARCH 2u /* searched the whole frame / ROI */
+#define CDSP_FLAG_TRUNCATED 4u   /* more edges than CDSP_MAX_EDGES were found */
+
+/*
+ * The closed form (METHOD.md): from two contour lines (undistorted px), a
+ * pixel p_in between them on the pipe, the radius r (> 0).
+ * Fills point, direction, distance, alpha, normals, lines; segment is set to
+ * point; cov/sigma zero; counts zero.
+ * CDSP_E_DEGENERATE when: the back-projection planes are parallel
+ * (|n1 x n2| tiny), p_in lies on a line, or alpha is so close to pi that the
+ * optical centre would be inside the pipe (d < r (1 + 1e-6)).
+ * CDSP_E_NONFINITE / CDSP_E_ARG for bad inputs.
+ */
+cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3],
+                            const cdsp_real l2[3], const cdsp_real p_in[2],
+                            cdsp_real radius, cdsp_result *out);
+
+/* ------------------------------------------------------------------------
+ * Points -> pose and frame -> pose.
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    cdsp_edge_params edge;
+    cdsp_pair_params pair;
+    cdsp_real track_band_px;  /* half-width of the search band around each
+                                 predicted contour in tracking mode. Default 12 */
+    int track_min_inliers;    /* below this per contour, tracking falls back to a
+                                 full search. Default 30 */
+} cdsp_params;
+
+void cdsp_params_default(cdsp_params *p);
+
+/* Workspace of the points path: one label byte per point. */
+typedef struct {
+    uint8_t label[CDSP_MAX_POINTS];
+} cdsp_points_ws;
+
+/* Workspace of the frame path. Large (CDSP_MAX_EDGES * (4 reals + 1));
+ * place it in static memory or allocate it yourself. */
+typedef struct {
+    cdsp_edge edge[CDSP_MAX_EDGES];
+    uint8_t label[CDSP_MAX_EDGES];
+} cdsp_frame_ws;
+
+/*
+ * Undistorted edge points -> pipe axis: RANSAC candidate lines, pair
+ * selection (polarity, pipe side, overlap, radius/distance plausibility),
+ * refit, closed-form solve, uncertainty and visible segment.
+ * pts must be undistorted (cdsp_camera_undistort_edges); n <= CDSP_MAX_POINTS.
+ * prior may be NULL; when given, only the direction sign follows it.
+ * Returns CDSP_OK, CDSP_E_FEW_POINTS, CDSP_E_NO_PIPE, CDSP_E_DEGENERATE,
+ * CDSP_E_CAPACITY, CDSP_E_ARG, CDSP_E_NONFINITE.
+ */
+cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius,
+                              const cdsp_edge *pts, size_t n, const cdsp_params *p,
+                              const cdsp_result *prior, cdsp_points_ws *ws,
+                              cdsp_rng *rng, cdsp_result *out);
+
+/*
+ * Frame -> pipe axis. With prior == NULL: full search over p->edge.roi.
+ * With a prior (the previous frame's result): edges are searched only in
+ * bands of +-track_band_px around the prior's contours (distorted back into
+ * the frame); if that yields too few inliers or no pipe, a full search
+ * follows. out->flags tells which path produced the result.
+ * The frame's size must equal the calibration's (CDSP_E_ARG otherwise).
+ */
+cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam,
+                             cdsp_real radius, const cdsp_params *p,
+                             const cdsp_result *prior, cdsp_frame_ws *ws,
+                             cdsp_rng *rng, cdsp_result *out);
+
+/* Distance from a 3D point to the axis of a result (radius units). */
+cdsp_real cdsp_result_point_distance(const cdsp_result *r, const cdsp_real X[3]);
+
+/* ------------------------------------------------------------------------
+ * Simulated frames (tests, tools, the daemon's simulated camera).
+ * ---------------------------------------------------------------------- */
+#ifndef CDSP_RENDER_MAX_CLUTTER
+#define CDSP_RENDER_MAX_CLUTTER 8
+#endif
+
+typedef struct {
+    cdsp_real p0[3], p1[3];  /* camera-frame endpoints of the clutter bar's
+                                centre line (a box-like bar seen side on) */
+    cdsp_real half_width;    /* radius units */
+    cdsp_real level;         /* intensity, fraction of full scale */
+} cdsp_clutter;
+
+typedef struct {
+    /* the pipe: a finite cylinder, camera frame, radius units */
+    cdsp_real axis_point[3];   /* one point on the axis */
+    cdsp_real axis_dir[3];     /* direction (need not be unit) */
+    cdsp_real radius;
+    cdsp_real half_length;     /* the pipe spans axis_point +- half_length*dir;
+                                  0 = infinite */
+    /* intensities, fraction of full scale */
+    cdsp_real pipe_level;      /* albedo of the pipe body */
+    cdsp_real cap_level;       /* albedo of the end caps */
+    cdsp_real background_level;
+    cdsp_real light[3];        /* direction TO the light; shading =
+                                  ambient + (1 - ambient) * max(0, n.light) */
+    cdsp_real ambient;         /* 1 = flat, no shading */
+    cdsp_real texture;         /* background texture amplitude (fraction) */
+    cdsp_real texture_scale_px;/* its feature size, px */
+    cdsp_real blur_sigma_px;   /* Gaussian optical blur (needs scratch) */
+    cdsp_real noise_sigma;     /* Gaussian sensor noise, fraction of full scale */
+    int n_clutter;             /* <= CDSP_RENDER_MAX_CLUTTER, behind or in front */
+    cdsp_clutter clutter[CDSP_RENDER_MAX_CLUTTER];
+    uint32_t texture_seed;
+} cdsp_scene;
+
+void cdsp_scene_default(cdsp_scene *s);
+
+/* Floats of scratch cdsp_render needs for a w x h frame (blur buffer and a
+ * line buffer); 0 is fine when blur_sigma_px == 0. */
+size_t cdsp_render_scratch_size(int width, int height);
+
+/*
+ * Render the scene as seen by cam into out (width x height of the camera,
+ * bits 8 or 16 as given by out_bits, tightly packed rows unless stride says
+ * otherwise). Anti-aliased by exact area coverage along the pipe's contours
+ * (supersampled near end caps and clutter), with the camera's distortion.
+ * rng supplies sensor noise (may be NULL when noise_sigma == 0).
+ * scratch: cdsp_render_scratch_size() floats, or NULL without blur.
+ */
+cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out,
+                        size_t stride, int out_bits, float *scratch, size_t scratch_len,
+                        cdsp_rng *rng);
+
+/* The exact contour lines of an infinite cylinder (undistorted px, oriented
+ * as in cdsp_line: toward the brighter side assuming pipe brighter when
+ * pipe_brighter != 0) and a pixel inside; the ground truth for tests.
+ * CDSP_E_DEGENERATE when the camera is inside or the pipe is behind. */
+cdsp_status cdsp_cylinder_contours(const cdsp_camera *cam, const cdsp_real axis_point[3],
+                                   const cdsp_real axis_dir[3], cdsp_real radius,
+                                   int pipe_brighter, cdsp_real l1[3], cdsp_real l2[3],
+                                   cdsp_real p_in[2]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CDSP_H */
