@@ -248,8 +248,8 @@ typedef struct {
 } cdsp_line;
 
 /* Total least squares line through points (Hartley-normalized, 3x3 SVD of
- * [u v 1]); orientation of l follows the mean gradient when gradients are
- * given (pts[i].gx, gy), else (a, b) is chosen with b >= 0... see lines.c.
+ * [u v 1]); (a, b) points along the points' mean gradient (when that is
+ * zero: b > 0, or b == 0 and a > 0).
  * idx selects the points (NULL = all n). CDSP_E_FEW_POINTS below 2 points,
  * CDSP_E_DEGENERATE when all points coincide. */
 cdsp_status cdsp_line_fit(const cdsp_edge *pts, const uint32_t *idx, size_t n,
@@ -300,6 +300,9 @@ typedef struct {
     cdsp_real rms[2];        /* per-contour RMS residual, px */
     uint32_t inliers[2];     /* per-contour inlier counts */
     uint32_t n_edges;        /* edge points considered */
+    uint8_t label[2];        /* points path / frame path: ws->label[i] == label[k]
+                                marks the inliers of contour k (valid until the
+                                workspace is used again); 0 from cdsp_axis_solve */
     uint32_t flags;          /* CDSP_FLAG_* */
 } cdsp_result;
 

@@ -1,0 +1,117 @@
+/*
+ * internal.h - private helpers shared by the lib modules: precision-generic math
+ * (so the float build never promotes to double on a single-precision FPU)
+ * and small 3-vector operations. Not installed; not part of the contract.
+ */
+#ifndef CDSP_INTERNAL_H
+#define CDSP_INTERNAL_H
+
+#include <math.h>
+#include <float.h>
+#include "cdsp.h"
+
+/* R(x): a literal in the working precision. */
+#define R(x) ((cdsp_real)(x))
+
+#ifdef CDSP_SINGLE
+#define R_SQRT sqrtf
+#define R_FABS fabsf
+#define R_ATAN2 atan2f
+#define R_SIN sinf
+#define R_COS cosf
+#define R_LOG logf
+#define R_EXP expf
+#define R_FLOOR floorf
+#define R_CEIL ceilf
+#define R_EPS FLT_EPSILON
+#define R_MAX FLT_MAX
+#else
+#define R_SQRT sqrt
+#define R_FABS fabs
+#define R_ATAN2 atan2
+#define R_SIN sin
+#define R_COS cos
+#define R_LOG log
+#define R_EXP exp
+#define R_FLOOR floor
+#define R_CEIL ceil
+#define R_EPS DBL_EPSILON
+#define R_MAX DBL_MAX
+#endif
+
+#define R_PI R(3.14159265358979323846)
+
+/* isfinite() works on float and double alike (C99 generic macro). */
+#define R_FINITE(x) (isfinite(x))
+
+static inline cdsp_real v3_dot(const cdsp_real a[3], const cdsp_real b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+static inline void v3_cross(const cdsp_real a[3], const cdsp_real b[3], cdsp_real out[3])
+{
+    cdsp_real x = a[1] * b[2] - a[2] * b[1];
+    cdsp_real y = a[2] * b[0] - a[0] * b[2];
+    cdsp_real z = a[0] * b[1] - a[1] * b[0];
+    out[0] = x;
+    out[1] = y;
+    out[2] = z;
+}
+
+static inline cdsp_real v3_norm(const cdsp_real a[3])
+{
+    return R_SQRT(v3_dot(a, a));
+}
+
+/* Normalizes in place; returns the original length (0 leaves a untouched). */
+static inline cdsp_real v3_normalize(cdsp_real a[3])
+{
+    cdsp_real n = v3_norm(a);
+    if (n > R(0)) {
+        a[0] /= n;
+        a[1] /= n;
+        a[2] /= n;
+    }
+    return n;
+}
+
+static inline void v3_scale(cdsp_real a[3], cdsp_real s)
+{
+    a[0] *= s;
+    a[1] *= s;
+    a[2] *= s;
+}
+
+static inline int v3_finite(const cdsp_real a[3])
+{
+    return R_FINITE(a[0]) && R_FINITE(a[1]) && R_FINITE(a[2]);
+}
+
+/* Pixel fetch for 8- or 16-bit frames (bounds are the caller's job). */
+static inline int img_px(const cdsp_image *img, int x, int y)
+{
+    const unsigned char *row = (const unsigned char *)img->data + (size_t)y * img->stride;
+    if (img->bits <= 8)
+        return row[x];
+    return ((const uint16_t *)(const void *)row)[x];
+}
+
+/* Internal entry points shared between modules (see their .c files). */
+cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
+                             const cdsp_pair_params *p, cdsp_rng *rng,
+                             cdsp_line *lines, int *nlines);
+cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                             size_t n, uint8_t *label, const cdsp_params *p,
+                             const cdsp_result *prior, cdsp_rng *rng, cdsp_result *out);
+cdsp_status cdsp__axis_core(const cdsp_camera *cam, const cdsp_real l1[3], const cdsp_real l2[3],
+                            const cdsp_real p_in[2], cdsp_real radius, cdsp_result *out);
+void cdsp__axis_swap(cdsp_result *r);
+int cdsp__axis_wants_swap(const cdsp_real v[3]);
+cdsp_status cdsp__params_check(const cdsp_params *p);
+cdsp_status cdsp__edge_params_check(const cdsp_edge_params *p);
+size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p,
+                                int horizontal, int line, int from, int to,
+                                cdsp_edge *out, size_t cap);
+
+#endif /* CDSP_INTERNAL_H */

@@ -1,0 +1,371 @@
+/*
+ * lines.c - straight contour lines from edge points.
+ *
+ * Fit: total least squares, i.e. the right singular vector of the smallest
+ * singular value of the N x 3 matrix [u v 1] (METHOD.md step 3), computed on
+ * Hartley-normalized points (centroid at the origin, RMS distance sqrt(2);
+ * Hartley 1997) so the 3x3 problem is well conditioned. The 3x3 normal matrix
+ * of the normalized points is built in one pass from moments about a nearby
+ * origin, then decomposed with cdsp_svd3. Its two smallest singular values are
+ * separated by (spread along the line / residual)^2, so the singular vector we
+ * need is accurate to eps / gap even in float.
+ *
+ * Robust extraction: sequential RANSAC (Fischler & Bolles 1981). Two points
+ * define a hypothesis, which is kept only if both points' gradients agree
+ * with its normal (same polarity, within normal_tol_deg): with opposite
+ * polarities on the two contours of a pipe, nearly every surviving sample
+ * is all-inlier. Hypotheses are scored on a fixed strided subsample
+ * (preemptive scoring, Nister 2005) and only the best is scored on all
+ * points; the iteration count adapts to the best inlier ratio w found:
+ * N = log(1 - confidence) / log(1 - w^2). The winner is refined by alternating
+ * inlier selection and TLS fit. Each found line's inliers are labelled and
+ * removed before the next line is sought.
+ */
+#include "internal.h"
+
+#define LABEL_FREE 0u
+#define LABEL_TRIAL 255u
+#define SUBSAMPLE 160u          /* points a hypothesis is scored on first */
+#define MIN_SAMPLE_DIST_PX 4.0  /* closer sample pairs give a poorly defined angle */
+#define REFINE_PASSES 3
+
+/* Moments of a point set about a nearby origin (o), enough for the TLS fit
+ * and the polarity of the set. */
+typedef struct {
+    cdsp_real ox, oy;
+    cdsp_real n, sx, sy, sxx, syy, sxy;
+    cdsp_real sgx, sgy, sg;
+} moments;
+
+static void mom_init(moments *m, cdsp_real ox, cdsp_real oy)
+{
+    m->ox = ox;
+    m->oy = oy;
+    m->n = m->sx = m->sy = m->sxx = m->syy = m->sxy = R(0);
+    m->sgx = m->sgy = m->sg = R(0);
+}
+
+static void mom_add(moments *m, const cdsp_edge *e)
+{
+    cdsp_real dx = e->x - m->ox, dy = e->y - m->oy;
+    m->n += R(1);
+    m->sx += dx;
+    m->sy += dy;
+    m->sxx += dx * dx;
+    m->syy += dy * dy;
+    m->sxy += dx * dy;
+    m->sgx += e->gx;
+    m->sgy += e->gy;
+    m->sg += R_SQRT(e->gx * e->gx + e->gy * e->gy);
+}
+
+/* TLS line from moments: fills l, centroid, dir, strength (count/extent
+ * statistics are the stats pass's job). */
+static cdsp_status mom_fit(const moments *m, cdsp_line *out)
+{
+    cdsp_real mx, my, cxx, cyy, cxy, rms2, s, M[9], U[9], S[3], V[9], a, b, c, norm;
+    cdsp_status st;
+    if (m->n < R(2))
+        return CDSP_E_FEW_POINTS;
+    mx = m->sx / m->n;
+    my = m->sy / m->n;
+    /* centred second moments */
+    cxx = m->sxx / m->n - mx * mx;
+    cyy = m->syy / m->n - my * my;
+    cxy = m->sxy / m->n - mx * my;
+    if (cxx < R(0))
+        cxx = R(0);
+    if (cyy < R(0))
+        cyy = R(0);
+    rms2 = cxx + cyy;
+    if (!(rms2 > R(0)) || !R_FINITE(rms2))
+        return CDSP_E_DEGENERATE;
+    /* Hartley: scale so the RMS distance from the centroid is sqrt(2). */
+    s = R_SQRT(R(2) / rms2);
+    /* Normal matrix of the normalized points [x' y' 1] (per point, divided by
+     * N); cross terms with the constant vanish because the points are centred. */
+    M[0] = s * s * cxx;
+    M[1] = s * s * cxy;
+    M[2] = R(0);
+    M[3] = M[1];
+    M[4] = s * s * cyy;
+    M[5] = R(0);
+    M[6] = R(0);
+    M[7] = R(0);
+    M[8] = R(1);
+    st = cdsp_svd3(M, U, S, V);
+    if (st != CDSP_OK)
+        return st;
+    /* The smallest singular vector; in normalized coordinates a' x' + b' y' + c' = 0
+     * with x' = s (x - mean). Since the points are centred, c' is ~0. */
+    a = V[2];
+    b = V[5];
+    c = V[8];
+    norm = R_SQRT(a * a + b * b);
+    if (!(norm > R(0)))
+        return CDSP_E_DEGENERATE;
+    a /= norm;
+    b /= norm;
+    c /= norm * s;
+    /* back to pixels: a (x - mx - ox) + b (y - my - oy) + c = 0 */
+    out->l[0] = a;
+    out->l[1] = b;
+    out->l[2] = c - a * (mx + m->ox) - b * (my + m->oy);
+    /* polarity: (a, b) toward the brighter side = along the mean gradient */
+    if (a * m->sgx + b * m->sgy < R(0) ||
+        (a * m->sgx + b * m->sgy == R(0) && (b < R(0) || (b == R(0) && a < R(0))))) {
+        out->l[0] = -out->l[0];
+        out->l[1] = -out->l[1];
+        out->l[2] = -out->l[2];
+    }
+    out->centroid[0] = mx + m->ox;
+    out->centroid[1] = my + m->oy;
+    out->dir[0] = -out->l[1];
+    out->dir[1] = out->l[0];
+    out->strength = m->sg / m->n;
+    return CDSP_OK;
+}
+
+/* Residual RMS, extent and spread along the line, and count over the
+ * selected points (idx, or label == want, or all). */
+static void line_stats(const cdsp_edge *pts, size_t n, const uint32_t *idx, const uint8_t *label,
+                       uint8_t want, cdsp_line *ln)
+{
+    size_t i;
+    cdsp_real ss = R(0), tmin = R_MAX, tmax = -R_MAX, spread = R(0), cnt = R(0);
+    for (i = 0; i < n; i++) {
+        const cdsp_edge *e;
+        cdsp_real d, t;
+        if (idx)
+            e = &pts[idx[i]];
+        else if (label && label[i] != want)
+            continue;
+        else
+            e = &pts[i];
+        d = ln->l[0] * e->x + ln->l[1] * e->y + ln->l[2];
+        t = ln->dir[0] * (e->x - ln->centroid[0]) + ln->dir[1] * (e->y - ln->centroid[1]);
+        ss += d * d;
+        spread += t * t;
+        if (t < tmin)
+            tmin = t;
+        if (t > tmax)
+            tmax = t;
+        cnt += R(1);
+    }
+    ln->count = (uint32_t)cnt;
+    ln->rms = cnt > R(0) ? R_SQRT(ss / cnt) : R(0);
+    ln->spread = spread;
+    ln->t_min = cnt > R(0) ? tmin : R(0);
+    ln->t_max = cnt > R(0) ? tmax : R(0);
+}
+
+cdsp_status cdsp_line_fit(const cdsp_edge *pts, const uint32_t *idx, size_t n, cdsp_line *out)
+{
+    moments m;
+    size_t i;
+    cdsp_status st;
+    if (!pts || !out)
+        return CDSP_E_ARG;
+    if (n < 2)
+        return CDSP_E_FEW_POINTS;
+    for (i = 0; i < n; i++) {
+        const cdsp_edge *e = idx ? &pts[idx[i]] : &pts[i];
+        if (!R_FINITE(e->x) || !R_FINITE(e->y) || !R_FINITE(e->gx) || !R_FINITE(e->gy))
+            return CDSP_E_NONFINITE;
+    }
+    {
+        const cdsp_edge *e0 = idx ? &pts[idx[0]] : &pts[0];
+        mom_init(&m, e0->x, e0->y);
+    }
+    for (i = 0; i < n; i++)
+        mom_add(&m, idx ? &pts[idx[i]] : &pts[i]);
+    st = mom_fit(&m, out);
+    if (st != CDSP_OK)
+        return st;
+    line_stats(pts, n, idx, NULL, 0, out);
+    return CDSP_OK;
+}
+
+/* Is e an inlier of oriented line l? Distance within thr and gradient
+ * within the angular tolerance on the positive side: (g.n)^2 >= cos^2 |g|^2. */
+static inline int is_inlier(const cdsp_edge *e, const cdsp_real l[3], cdsp_real thr, cdsp_real cos2)
+{
+    cdsp_real d = l[0] * e->x + l[1] * e->y + l[2];
+    cdsp_real gn;
+    if (d > thr || d < -thr)
+        return 0;
+    gn = l[0] * e->gx + l[1] * e->gy;
+    return gn > R(0) && gn * gn >= cos2 * (e->gx * e->gx + e->gy * e->gy);
+}
+
+/* Hypothesis through a and b, oriented by a's gradient; 0 when the pair is
+ * too close or the gradients disagree with the normal. */
+static int hypothesis(const cdsp_edge *a, const cdsp_edge *b, cdsp_real cos2, cdsp_real l[3])
+{
+    cdsp_real dx = b->x - a->x, dy = b->y - a->y, len2 = dx * dx + dy * dy, len, ga, gb;
+    if (len2 < R(MIN_SAMPLE_DIST_PX * MIN_SAMPLE_DIST_PX))
+        return 0;
+    len = R_SQRT(len2);
+    l[0] = -dy / len;
+    l[1] = dx / len;
+    ga = l[0] * a->gx + l[1] * a->gy;
+    if (ga < R(0)) {
+        l[0] = -l[0];
+        l[1] = -l[1];
+        ga = -ga;
+    }
+    l[2] = -(l[0] * a->x + l[1] * a->y);
+    gb = l[0] * b->gx + l[1] * b->gy;
+    return ga * ga >= cos2 * (a->gx * a->gx + a->gy * a->gy) && gb > R(0) &&
+           gb * gb >= cos2 * (b->gx * b->gx + b->gy * b->gy);
+}
+
+/* Iterations needed for the given confidence when a fraction w of the free
+ * points are inliers (2-point samples). */
+static long needed_iterations(cdsp_real w, cdsp_real confidence, long cap)
+{
+    cdsp_real w2 = w * w, den;
+    if (w2 >= R(1))
+        return 1;
+    if (w2 <= R(0))
+        return cap;
+    den = R_LOG(R(1) - w2);
+    if (!(den < R(0)))
+        return cap;
+    {
+        cdsp_real k = R_LOG(R(1) - confidence) / den;
+        return k >= (cdsp_real)cap ? cap : (long)k + 1;
+    }
+}
+
+/* Select inliers of l among free points into the LABEL_TRIAL set while
+ * accumulating their moments; returns the count. */
+static uint32_t select_inliers(const cdsp_edge *pts, size_t n, uint8_t *label, const cdsp_real l[3],
+                               cdsp_real thr, cdsp_real cos2, moments *m)
+{
+    size_t i;
+    uint32_t cnt = 0;
+    for (i = 0; i < n; i++) {
+        if (label[i] != LABEL_FREE && label[i] != LABEL_TRIAL)
+            continue;
+        if (is_inlier(&pts[i], l, thr, cos2)) {
+            label[i] = LABEL_TRIAL;
+            mom_add(m, &pts[i]);
+            cnt++;
+        } else {
+            label[i] = LABEL_FREE;
+        }
+    }
+    return cnt;
+}
+
+cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
+                             const cdsp_pair_params *p, cdsp_rng *rng, cdsp_line *lines, int *nlines)
+{
+    cdsp_real ct = R_COS(p->normal_tol_deg * R_PI / R(180));
+    cdsp_real cos2 = ct * ct, thr = p->inlier_px;
+    size_t i, nfree = n;
+    int k, max_lines = p->max_lines < CDSP_MAX_LINES ? p->max_lines : CDSP_MAX_LINES;
+    size_t stride = n / SUBSAMPLE > 1 ? n / SUBSAMPLE : 1;
+
+    *nlines = 0;
+    for (i = 0; i < n; i++)
+        label[i] = LABEL_FREE;
+
+    for (k = 0; k < max_lines; k++) {
+        long it, need = p->max_iterations, tries = 0, max_tries = 20L * p->max_iterations;
+        uint32_t best_sub = 0, sub_free = 0, cnt = 0;
+        cdsp_real best[3] = {R(0), R(0), R(0)}, origin[2] = {R(0), R(0)};
+        int pass;
+        moments m;
+
+        if (nfree < (size_t)p->min_inliers || nfree < 2)
+            break;
+        for (i = 0; i < n; i += stride)
+            sub_free += label[i] == LABEL_FREE;
+        if (sub_free == 0)
+            break;
+
+        for (it = 0; it < need && tries < max_tries; tries++) {
+            uint32_t a = cdsp_rng_below(rng, (uint32_t)n), b = cdsp_rng_below(rng, (uint32_t)n), sc = 0;
+            cdsp_real l[3];
+            if (label[a] != LABEL_FREE || label[b] != LABEL_FREE || a == b)
+                continue; /* not a sample of the free points: does not count */
+            it++;
+            if (!hypothesis(&pts[a], &pts[b], cos2, l))
+                continue;
+            for (i = 0; i < n; i += stride)
+                sc += label[i] == LABEL_FREE && is_inlier(&pts[i], l, thr, cos2);
+            if (sc > best_sub) {
+                long nn;
+                best_sub = sc;
+                best[0] = l[0];
+                best[1] = l[1];
+                best[2] = l[2];
+                origin[0] = pts[a].x; /* moments are taken about a point on the data */
+                origin[1] = pts[a].y;
+                nn = needed_iterations((cdsp_real)sc / (cdsp_real)sub_free, p->confidence,
+                                       p->max_iterations);
+                if (nn < need)
+                    need = nn;
+            }
+        }
+        if (best_sub == 0)
+            break;
+
+        /* Refine: inliers of the current line -> TLS fit -> inliers again. */
+        for (pass = 0; pass < REFINE_PASSES; pass++) {
+            cdsp_line fit;
+            uint32_t prev = cnt;
+            mom_init(&m, origin[0], origin[1]);
+            cnt = select_inliers(pts, n, label, best, thr, cos2, &m);
+            if (cnt < 2 || mom_fit(&m, &fit) != CDSP_OK) {
+                cnt = 0;
+                break;
+            }
+            best[0] = fit.l[0];
+            best[1] = fit.l[1];
+            best[2] = fit.l[2];
+            lines[*nlines] = fit;
+            if (cnt == prev)
+                break;
+        }
+        if (cnt < (uint32_t)p->min_inliers || cnt < 2) {
+            for (i = 0; i < n; i++)
+                if (label[i] == LABEL_TRIAL)
+                    label[i] = LABEL_FREE;
+            break;
+        }
+        /* Final membership follows the final line. */
+        mom_init(&m, lines[*nlines].centroid[0], lines[*nlines].centroid[1]);
+        cnt = select_inliers(pts, n, label, lines[*nlines].l, thr, cos2, &m);
+        if (cnt < (uint32_t)p->min_inliers || mom_fit(&m, &lines[*nlines]) != CDSP_OK) {
+            for (i = 0; i < n; i++)
+                if (label[i] == LABEL_TRIAL)
+                    label[i] = LABEL_FREE;
+            break;
+        }
+        for (i = 0; i < n; i++)
+            if (label[i] == LABEL_TRIAL)
+                label[i] = (uint8_t)(k + 1);
+        line_stats(pts, n, NULL, label, (uint8_t)(k + 1), &lines[*nlines]);
+        nfree -= cnt;
+        (*nlines)++;
+    }
+    return *nlines > 0 ? CDSP_OK : CDSP_E_FEW_POINTS;
+}
+
+void cdsp_pair_params_default(cdsp_pair_params *p)
+{
+    p->inlier_px = R(1.0);
+    p->normal_tol_deg = R(20);
+    p->confidence = R(0.999);
+    p->max_iterations = 300;
+    p->max_lines = 6;
+    p->min_inliers = 12;
+    p->min_overlap = R(0.5);
+    p->max_contour_angle_deg = R(60);
+    p->polarity = 0;
+    p->min_distance = R(0);
+    p->max_distance = R(0);
+}
