@@ -44,8 +44,9 @@ cdsp_status cdsp__axis_core(const cdsp_camera *cam, const cdsp_real l1[3], const
     sn = v3_norm(c);
     cs = v3_dot(n1, n2);
     /* Parallel back-projection planes: the two lines are one line (or the
-     * axis points at the optical centre). sqrt(eps) of a unit vector. */
-    if (sn <= R(16) * R_SQRT(R_EPS))
+     * axis points at the optical centre). The pose's relative error grows
+     * as eps / alpha, so only a sine at the rounding level is refused. */
+    if (sn <= R(64) * R_EPS)
         return CDSP_E_DEGENERATE;
     alpha = R_ATAN2(sn, cs);
     d = radius / R_SIN(alpha / R(2));

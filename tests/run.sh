@@ -8,9 +8,11 @@ out=$(mktemp)
 "$@" >"$out" 2>&1
 rc=$?
 cat "$out"
-passed=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) test.*/\1/p' "$out" | awk '{s+=$1} END {print s+0}')
-failed=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) test.*/\1/p' "$out" | awk '{s+=$1} END {print s+0}')
-if ! grep -q '^\[==========\] .* ran\.' "$out"; then   # not a cmocka suite
+# cmocka writes its summary to stderr and the rest to stdout, so lines can
+# interleave: match anywhere in a line.
+passed=$(grep -o '\[  PASSED  \] [0-9]* test' "$out" | awk '{s+=$4} END {print s+0}')
+failed=$(grep -o '\[  FAILED  \] [0-9]* test' "$out" | awk '{s+=$4} END {print s+0}')
+if ! grep -q 'test(s) run\.' "$out"; then   # not a cmocka suite
     if [ $rc -eq 0 ]; then passed=1; failed=0; else passed=0; failed=1; fi
 elif [ $rc -ne 0 ] && [ "$failed" -eq 0 ]; then        # crashed after its summary
     failed=1

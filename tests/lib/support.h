@@ -1,0 +1,80 @@
+/*
+ * support.h - shared helpers of the libcdsp tests and benchmarks: cameras,
+ * poses, exact simulated points, and tolerances that follow the precision
+ * the library was built with.
+ */
+#ifndef CDSP_TEST_SUPPORT_H
+#define CDSP_TEST_SUPPORT_H
+
+#include <stddef.h>
+#include "cdsp.h"
+
+/* Relative precision of the library build: the closed form loses a few
+ * digits to cancellation in n1 x n2 when the pipe is far (alpha small), so
+ * tolerances scale with eps / alpha. */
+#ifdef CDSP_SINGLE
+#define T_EPS 1.1920929e-7
+#else
+#define T_EPS 2.220446049250313e-16
+#endif
+
+#define SUP_PI 3.14159265358979323846
+
+/* Exact contour lines of the infinite cylinder (point, dir, radius), computed
+ * in double by the test itself (not by the library): undistorted px,
+ * a^2 + b^2 = 1, (a, b) toward the pipe; p_in the image of an axis point in
+ * front of the camera. Returns 0 when the camera is inside the pipe. */
+int sup_contour_lines(const cdsp_camera *cam, const double point[3], const double dir[3],
+                      double radius, double l[2][3], double p_in[2]);
+
+/* The paper's simulated camera (METHOD.md): 2448 x 2048, 3.45 um pixels,
+ * f = 12 mm -> fx = fy = 3478.26 px, principal point at the centre. */
+void sup_paper_camera(cdsp_camera *cam, double k1, double k2);
+/* A camera of any size with the same field of view ratio. */
+void sup_camera(cdsp_camera *cam, int w, int h, double f, double k1, double k2);
+
+/* The paper's four pipes (p1..p4) in camera coordinates: world frame with
+ * the optical centre at (150, 200, 300) mm looking at the world origin.
+ * i in 0..3; point and unit direction. Also the world->camera transform. */
+void sup_paper_pipe(int i, double point[3], double dir[3]);
+void sup_world_to_camera(const double Xw[3], double Xc[3]);
+
+/* A random pipe in view: axis through a point at depth z in [zmin, zmax]
+ * near the optical axis, direction random but not too close to the line of
+ * sight. */
+void sup_random_pipe(cdsp_rng *rng, double zmin, double zmax, double point[3], double dir[3]);
+
+/* Distance from point X to the line (P, v). */
+double sup_line_dist(const double P[3], const double v[3], const double X[3]);
+
+/* RMSE (paper Eq. 17-21) of the reconstructed axis segment [a, b] against the
+ * true axis (P, v), sampled at n points. */
+double sup_axis_rmse(const double a[3], const double b[3], const double P[3], const double v[3],
+                     int n);
+
+/* Angle between two axis directions, radians, sign-insensitive. */
+double sup_axis_angle(const double u[3], const double v[3]);
+
+/* Sample n undistorted edge points on the two contours of the pipe (point,
+ * dir, radius) between axial parameters s0 and s1, with Gaussian noise of
+ * sigma px perpendicular to the lines, gradients of length `contrast` in the
+ * pipe-brighter convention. Returns the number written (<= cap) or 0. */
+size_t sup_contour_points(const cdsp_camera *cam, const double point[3], const double dir[3],
+                          double radius, double s0, double s1, size_t per_line, double sigma,
+                          double contrast, cdsp_rng *rng, cdsp_edge *out, size_t cap);
+
+/* Convert a result's point/direction/segment to double arrays. */
+void sup_result_pose(const cdsp_result *r, double point[3], double dir[3], double seg[2][3]);
+
+/* Render a scene into a newly allocated 8- or 16-bit frame (test-side
+ * malloc); returns NULL on failure. The image struct is filled. */
+void *sup_render(const cdsp_scene *s, const cdsp_camera *cam, int bits, uint64_t seed,
+                 cdsp_image *img);
+
+/* A scene with the pipe (point, dir, radius) and the default look. */
+void sup_scene(cdsp_scene *s, const double point[3], const double dir[3], double radius);
+
+/* Monotonic time in seconds. */
+double sup_now(void);
+
+#endif
