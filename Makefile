@@ -15,7 +15,7 @@ BUILD   ?= build
 WARN    := -Wall -Wextra -pedantic -Werror -Wmissing-prototypes \
            -Wstrict-prototypes -Wshadow -Wvla -Wpointer-arith
 CSTD    := -std=c99
-OPT     ?= -O2
+OPT     ?= -O3
 BASE_CFLAGS := $(CSTD) $(WARN) -fno-math-errno -Iinclude -MMD -MP
 SAN_FLAGS   := -fsanitize=address,undefined -fno-sanitize-recover=all \
                -fno-omit-frame-pointer -g

@@ -106,6 +106,43 @@ static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, in
     return 1;
 }
 
+/* Candidates along a run are searched CHUNK pixels at a time: the central
+ * differences of a chunk go into a small array (a loop compilers vectorize)
+ * and a chunk whose largest |difference| is below the threshold, nearly all
+ * of them in a frame, is skipped without further work. */
+#define CHUNK 32
+
+/* Central differences g[i] = f(s0+i+1) - f(s0+i-1), i in [0, m), along a
+ * run through `base` with element stride es (1 for a row, stride/bpp for a
+ * column); returns max |g|. Rows get a copy with unit stride and a fixed
+ * trip count, which compilers turn into SIMD code at -O2. */
+#define DEFINE_DIFFS(NAME, T)                                                                  \
+    static int NAME(const T *base, ptrdiff_t es, int s0, int m, int *g)                        \
+    {                                                                                          \
+        int i, mx = 0;                                                                         \
+        for (i = 0; i < m; i++) {                                                              \
+            int d = (int)base[(ptrdiff_t)(s0 + i + 1) * es] - (int)base[(ptrdiff_t)(s0 + i - 1) * es]; \
+            int ad = d < 0 ? -d : d;                                                           \
+            g[i] = d;                                                                          \
+            mx = ad > mx ? ad : mx;                                                            \
+        }                                                                                      \
+        return mx;                                                                             \
+    }                                                                                          \
+    static int NAME##_row(const T *row, int s0, int *g)                                        \
+    {                                                                                          \
+        int i, mx = 0;                                                                         \
+        const T *a = row + s0 + 1, *b = row + s0 - 1;                                          \
+        for (i = 0; i < CHUNK + 2; i++) {                                                      \
+            int d = (int)a[i] - (int)b[i];                                                     \
+            int ad = d < 0 ? -d : d;                                                           \
+            g[i] = d;                                                                          \
+            mx = ad > mx ? ad : mx;                                                            \
+        }                                                                                      \
+        return mx;                                                                             \
+    }
+DEFINE_DIFFS(diffs_u8, uint8_t)
+DEFINE_DIFFS(diffs_u16, uint16_t)
+
 /*
  * Scan one line: horizontal != 0 scans row `line` over x in [from, to);
  * otherwise column `line` over y in [from, to). The caller guarantees the
@@ -115,26 +152,94 @@ static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, in
 size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p, int horizontal,
                                 int line, int from, int to, cdsp_edge *out, size_t cap)
 {
-    int h = p->half_window, s;
+    int h = p->half_window, s0;
     int full = (1 << img->bits) - 1;
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
-    int gprev, gcur, gnext;
-    size_t n = 0;
+    int g[CHUNK + 2];
+    size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
+    const unsigned char *base = (const unsigned char *)img->data;
+    ptrdiff_t es;
     if (to - from < 3 || cap == 0)
         return 0;
-    gprev = at(img, horizontal, from, line) - at(img, horizontal, from - 2, line);
-    gcur = at(img, horizontal, from + 1, line) - at(img, horizontal, from - 1, line);
-    for (s = from + 1; s < to - 1; s++) {
-        gnext = at(img, horizontal, s + 2, line) - at(img, horizontal, s, line);
-        /* local maximum of |central difference| (ties broken to the left) */
-        if (abs(gcur) >= thr && abs(gcur) > abs(gprev) && abs(gcur) >= abs(gnext) &&
-            refine(img, horizontal, s, line, h, min_step, &out[n])) {
-            if (++n == cap)
-                return n;
+    /* the run's pixel s=0 and the element stride along it */
+    if (horizontal) {
+        base += (size_t)line * img->stride;
+        es = 1;
+    } else {
+        base += (size_t)line * bpp;
+        es = (ptrdiff_t)(img->stride / bpp);
+    }
+    /* candidates s in [from+1, to-1): a local maximum of |g| needs g at s-1..s+1 */
+    for (s0 = from + 1; s0 < to - 1; s0 += CHUNK) {
+        int m = (to - 1 - s0) < CHUNK ? (to - 1 - s0) : CHUNK, mx, i;
+        /* g[0] is at s0 - 1, g[i + 1] at s0 + i */
+        if (es == 1 && m == CHUNK)
+            mx = bpp == 1 ? diffs_u8_row((const uint8_t *)(const void *)base, s0 - 1, g)
+                          : diffs_u16_row((const uint16_t *)(const void *)base, s0 - 1, g);
+        else
+            mx = bpp == 1 ? diffs_u8((const uint8_t *)(const void *)base, es, s0 - 1, m + 2, g)
+                          : diffs_u16((const uint16_t *)(const void *)base, es, s0 - 1, m + 2, g);
+        if (mx < thr)
+            continue;
+        for (i = 1; i <= m; i++) {
+            int a = abs(g[i]);
+            /* local maximum of |central difference| (ties broken to the left) */
+            if (a >= thr && a > abs(g[i - 1]) && a >= abs(g[i + 1]) &&
+                refine(img, horizontal, s0 + i - 1, line, h, min_step, &out[n])) {
+                if (++n == cap)
+                    return n;
+            }
         }
+    }
+    return n;
+}
+
+/*
+ * Near-horizontal edges over the columns x = xs + k*step, k < ncols <=
+ * CHUNK, rows [from, to): the same search as cdsp__edges_scan_segment on
+ * each column, but walking the frame row by row so memory is read in order
+ * (a column-at-a-time walk touches a new cache line at every pixel).
+ */
+static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, int xs, int ncols,
+                              int from, int to, cdsp_edge *out, size_t cap)
+{
+    int h = p->half_window, step = p->step, y, k;
+    int full = (1 << img->bits) - 1;
+    int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
+    int thr = min_step / 2 > 0 ? min_step / 2 : 1;
+    int g0[CHUNK], g1[CHUNK], *gprev = g0, *gcur = g1, prev_hot = 0;
+    size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
+    /* g at row y - 1 (gprev) and y (gcur); a candidate at row y needs g(y+1) */
+    for (y = from - 1; y < to; y++) {
+        const unsigned char *up = (const unsigned char *)img->data + (size_t)(y - 1) * img->stride;
+        const unsigned char *dn = up + 2 * img->stride;
+        int hot = 0, *gnext = gprev; /* gprev's storage is free once gnext is computed */
+        int tmp[CHUNK];
+        for (k = 0; k < ncols; k++) {
+            size_t x = (size_t)(xs + k * step);
+            int d = bpp == 1 ? (int)dn[x] - (int)up[x]
+                             : (int)((const uint16_t *)(const void *)dn)[x] -
+                                   (int)((const uint16_t *)(const void *)up)[x];
+            tmp[k] = d;
+            hot |= abs(d) >= thr;
+        }
+        /* candidates at row y - 1 use gprev (y - 2), gcur (y - 1), tmp (y) */
+        if (prev_hot && y - 1 > from - 1) {
+            for (k = 0; k < ncols; k++) {
+                int a = abs(gcur[k]);
+                if (a >= thr && a > abs(gprev[k]) && a >= abs(tmp[k]) &&
+                    refine(img, 0, y - 1, xs + k * step, h, min_step, &out[n])) {
+                    if (++n == cap)
+                        return n;
+                }
+            }
+        }
+        for (k = 0; k < ncols; k++)
+            gnext[k] = tmp[k];
         gprev = gcur;
         gcur = gnext;
+        prev_hot = hot;
     }
     return n;
 }
@@ -191,13 +296,20 @@ cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, 
             return CDSP_E_CAPACITY;
         }
     }
-    /* columns: near-horizontal edges */
-    for (t = (x0 > 1 ? x0 : 1) + p->step / 2; t < x1 - 1 && t < img->width - 1; t += p->step) {
+    /* columns: near-horizontal edges, CHUNK columns at a time */
+    {
+        int first = (x0 > 1 ? x0 : 1) + p->step / 2;
+        int last = (x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1); /* exclusive */
         int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
-        count += cdsp__edges_scan_segment(img, p, 0, t, from, to, out + count, cap - count);
-        if (count == cap) {
-            *n = count;
-            return CDSP_E_CAPACITY;
+        for (t = first; t < last && from < to; t += CHUNK * p->step) {
+            int ncols = (last - 1 - t) / p->step + 1;
+            if (ncols > CHUNK)
+                ncols = CHUNK;
+            count += scan_cols_block(img, p, t, ncols, from, to, out + count, cap - count);
+            if (count == cap) {
+                *n = count;
+                return CDSP_E_CAPACITY;
+            }
         }
     }
     *n = count;
