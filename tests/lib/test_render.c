@@ -1,0 +1,272 @@
+/*
+ * test_render.c - the simulated camera draws what the geometry says.
+ * The main check: in each row, a window's pixel sum across a contour gives
+ * the contour's position exactly for an area-sampled straight edge
+ * (sum = I_left (x_e - left) + I_right (right - x_e)), so it must match the
+ * contour computed independently in double (distortion and all) to 1/100 px.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <math.h>
+#include <string.h>
+#include <cmocka.h>
+#include "support.h"
+
+/* Double-precision plumb_bob (k1, k2 only), independent of the library. */
+static void distort_d(const cdsp_camera *c, double u, double v, double *ud, double *vd)
+{
+    double x = (u - (double)c->cx) / (double)c->fx, y = (v - (double)c->cy) / (double)c->fy;
+    double r2 = x * x + y * y, k = 1 + (double)c->k1 * r2 + (double)c->k2 * r2 * r2;
+    *ud = (double)c->fx * x * k + (double)c->cx;
+    *vd = (double)c->fy * y * k + (double)c->cy;
+}
+
+/* Where undistorted line l crosses distorted row `row`: bisection along the
+ * line on the distorted v coordinate. */
+static double crossing_x(const cdsp_camera *c, const double l[3], double row)
+{
+    double lo = -2000, hi = 4000; /* v range of the undistorted line */
+    int i;
+    for (i = 0; i < 200; i++) {
+        double mid = (lo + hi) / 2, u = -(l[1] * mid + l[2]) / l[0], ud, vd;
+        distort_d(c, u, mid, &ud, &vd);
+        if (vd < row)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    {
+        double u = -(l[1] * lo + l[2]) / l[0], ud, vd;
+        distort_d(c, u, lo, &ud, &vd);
+        return ud;
+    }
+}
+
+static void contour_positions(double k1, double blur)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_image img;
+    double P[3] = {-15, 10, 420}, v[3] = {0.25, 1, 0.3}, l[2][3], pin[2], worst = 0;
+    uint16_t *px;
+    int y, k, rows = 0;
+    const double IB = 0.2, IP = 0.75; /* background, pipe: flat */
+    sup_camera(&cam, 480, 400, 700, k1, 0);
+    sup_scene(&s, P, v, 8);
+    s.ambient = 1;
+    s.texture = 0;
+    s.noise_sigma = 0;
+    s.blur_sigma_px = (cdsp_real)blur;
+    s.background_level = (cdsp_real)IB;
+    s.pipe_level = (cdsp_real)IP;
+    px = sup_render(&s, &cam, 16, 1, &img);
+    assert_non_null(px);
+    assert_true(sup_contour_lines(&cam, P, v, 8, l, pin));
+    for (y = 40; y < 360; y += 3)
+        for (k = 0; k < 2; k++) {
+            double xe = crossing_x(&cam, l[k], y), S = 0, IL, IR, est;
+            int i0 = (int)floor(xe) - 6, i1 = (int)floor(xe) + 6, i;
+            if (i0 < 2 || i1 > cam.width - 3)
+                continue;
+            for (i = i0; i <= i1; i++)
+                S += px[(size_t)y * (size_t)cam.width + (size_t)i] / 65535.0;
+            /* l points to the pipe: a > 0 means the pipe is on the right */
+            IL = l[k][0] > 0 ? IB : IP;
+            IR = l[k][0] > 0 ? IP : IB;
+            est = (S + IL * (i0 - 0.5) - IR * (i1 + 0.5)) / (IL - IR);
+            if (fabs(est - xe) > worst)
+                worst = fabs(est - xe);
+            rows++;
+        }
+    /* 16-bit rounding: 13 px * 0.5/65535 / contrast 0.55 ~ 2e-4 px */
+    if (worst > 0.01)
+        fail_msg("k1 %g blur %g: contour off by %.4f px", k1, blur, worst);
+    assert_true(rows > 150);
+    free(px);
+}
+
+static void test_contours_exact(void **state)
+{
+    (void)state;
+    contour_positions(0, 0);
+    contour_positions(-0.25, 0);
+    contour_positions(0, 0.8);
+    contour_positions(-0.25, 1.0);
+    contour_positions(0.1, 0.5);
+}
+
+/* A finite pipe: the cap faces the camera where the axis runs away from it;
+ * beyond the end is background; clutter bars are drawn at their level. */
+static void test_caps_and_clutter(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_image img;
+    double P[3] = {0, 0, 300}, v[3] = {0, 0.6, 0.8};
+    uint8_t *px;
+    cdsp_real end[3], pix[2], beyond[3], mid[3];
+    int i;
+    (void)state;
+    sup_camera(&cam, 320, 240, 300, 0, 0);
+    sup_scene(&s, P, v, 10);
+    s.half_length = 60;
+    s.ambient = 1;
+    s.texture = 0;
+    s.noise_sigma = 0;
+    s.blur_sigma_px = 0;
+    s.n_clutter = 1;
+    s.clutter[0].p0[0] = -200;
+    s.clutter[0].p0[1] = -60;
+    s.clutter[0].p0[2] = 600;
+    s.clutter[0].p1[0] = 200;
+    s.clutter[0].p1[1] = -60;
+    s.clutter[0].p1[2] = 600;
+    s.clutter[0].half_width = 8;
+    s.clutter[0].level = (cdsp_real)0.95;
+    px = sup_render(&s, &cam, 8, 1, &img);
+    assert_non_null(px);
+    /* the near end (axis - half_length): its cap faces the camera */
+    for (i = 0; i < 3; i++) {
+        end[i] = (cdsp_real)(P[i] - 60 * v[i]);
+        beyond[i] = (cdsp_real)(P[i] + 100 * v[i]); /* past the far end */
+        mid[i] = (cdsp_real)(P[i] + 0 * v[i]);
+    }
+    assert_int_equal(cdsp_camera_project(&cam, end, pix), CDSP_OK);
+    /* float builds may round the last gray level the other way */
+    assert_true(abs(px[(int)lround((double)pix[1]) * 320 + (int)lround((double)pix[0])] -
+                    (int)lround((double)s.cap_level * 255)) <= 1);
+    assert_int_equal(cdsp_camera_project(&cam, mid, pix), CDSP_OK);
+    assert_true(abs(px[(int)lround((double)pix[1]) * 320 + (int)lround((double)pix[0])] -
+                    (int)lround((double)s.pipe_level * 255)) <= 1);
+    /* the bar crosses the frame at v = 300 * -60/600 + cy; at u = 100 it is
+     * at X = (100 - cx) * 600/300 = -119, inside its +-200 span */
+    assert_int_equal(px[(int)lround(-0.1 * 300 + (double)cam.cy) * 320 + 100], 242);
+    assert_int_equal(cdsp_camera_project(&cam, beyond, pix), CDSP_OK);
+    assert_int_equal(px[(int)lround((double)pix[1]) * 320 + (int)lround((double)pix[0])],
+                     (int)lround((double)s.background_level * 255));
+    /* top-left corner: background */
+    assert_int_equal(px[5 * 320 + 5], (int)lround((double)s.background_level * 255));
+    free(px);
+}
+
+static void test_noise_and_depth(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_image i8, i16;
+    double P[3] = {0, 0, 5000}, v[3] = {1, 0, 0}, sum = 0, sum2 = 0;
+    uint8_t *a;
+    uint16_t *b;
+    int n = 0, x, y;
+    (void)state;
+    sup_camera(&cam, 200, 150, 300, 0, 0);
+    sup_scene(&s, P, v, 1);
+    s.texture = 0;
+    s.blur_sigma_px = 0;
+    s.noise_sigma = (cdsp_real)0.01;
+    b = sup_render(&s, &cam, 16, 3, &i16);
+    s.noise_sigma = 0;
+    a = sup_render(&s, &cam, 8, 3, &i8);
+    assert_non_null(a);
+    assert_non_null(b);
+    /* rows 0..40: background only; the noise sd comes back (n = 8000:
+     * sd of the sd estimate ~ 0.8 %) */
+    for (y = 0; y < 40; y++)
+        for (x = 0; x < 200; x++) {
+            double d = b[y * 200 + x] / 65535.0 - (double)s.background_level;
+            sum += d;
+            sum2 += d * d;
+            n++;
+            assert_int_equal(a[y * 200 + x], (int)lround((double)s.background_level * 255));
+        }
+    assert_true(fabs(sum / n) < 5 * 0.01 / sqrt(n));
+    assert_true(fabs(sqrt(sum2 / n) / 0.01 - 1) < 0.05);
+    free(a);
+    free(b);
+}
+
+static void test_reproducible_and_args(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_image i1, i2;
+    double P[3] = {0, 0, 300}, v[3] = {0.1, 1, 0};
+    uint8_t *a, *b, buf[64 * 48];
+    float scr[10];
+    cdsp_rng rng;
+    (void)state;
+    sup_camera(&cam, 64, 48, 80, -0.1, 0);
+    sup_scene(&s, P, v, 8);
+    a = sup_render(&s, &cam, 8, 11, &i1);
+    b = sup_render(&s, &cam, 8, 11, &i2);
+    assert_memory_equal(a, b, 64 * 48);
+    free(a);
+    free(b);
+    cdsp_rng_seed(&rng, 1, 1);
+    assert_int_equal(cdsp_render(&s, &cam, buf, 10, 8, NULL, 0, &rng), CDSP_E_FORMAT);
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 0, NULL, 0, &rng), CDSP_E_FORMAT);
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, scr, 10, &rng), CDSP_E_CAPACITY);
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, &rng), CDSP_E_CAPACITY);
+    s.blur_sigma_px = 0;
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_E_ARG); /* noise, no rng */
+    s.noise_sigma = 0;
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_OK);
+    s.radius = (cdsp_real)NAN;
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_E_NONFINITE);
+    s.radius = -1;
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_E_ARG);
+    s.radius = 8;
+    s.n_clutter = CDSP_RENDER_MAX_CLUTTER + 1;
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_E_ARG);
+    s.n_clutter = 0;
+    /* camera inside the pipe: everything is pipe, no crash */
+    s.radius = 400;
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_OK);
+}
+
+/* The library's exact contours agree with the test's own. */
+static void test_cylinder_contours(void **state)
+{
+    cdsp_camera cam;
+    cdsp_rng rng;
+    int t, k, j;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_rng_seed(&rng, 8, 8);
+    for (t = 0; t < 100; t++) {
+        double P[3], v[3], l[2][3], pin[2];
+        cdsp_real Pr[3], vr[3], l1[3], l2[3], pr[2];
+        sup_random_pipe(&rng, 200, 2000, P, v);
+        for (j = 0; j < 3; j++) {
+            Pr[j] = (cdsp_real)P[j];
+            vr[j] = (cdsp_real)v[j];
+        }
+        assert_true(sup_contour_lines(&cam, P, v, 8, l, pin));
+        assert_int_equal(cdsp_cylinder_contours(&cam, Pr, vr, 8, 1, l1, l2, pr), CDSP_OK);
+        for (k = 0; k < 3; k++) {
+            assert_true(fabs((double)l1[k] - l[0][k]) < 1e4 * T_EPS * (k == 2 ? 3000 : 1));
+            assert_true(fabs((double)l2[k] - l[1][k]) < 1e4 * T_EPS * (k == 2 ? 3000 : 1));
+        }
+        assert_int_equal(cdsp_cylinder_contours(&cam, Pr, vr, 8, 0, l1, l2, pr), CDSP_OK);
+        assert_true(fabs((double)l1[0] + l[0][0]) < 1e4 * T_EPS);
+    }
+    {
+        cdsp_real Pr[3] = {0, 0, 5}, vr[3] = {0, 1, 0}, l1[3], l2[3], pr[2];
+        assert_int_equal(cdsp_cylinder_contours(&cam, Pr, vr, 8, 1, l1, l2, pr), CDSP_E_DEGENERATE);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_contours_exact),
+        cmocka_unit_test(test_caps_and_clutter),
+        cmocka_unit_test(test_noise_and_depth),
+        cmocka_unit_test(test_reproducible_and_args),
+        cmocka_unit_test(test_cylinder_contours),
+    };
+    return cmocka_run_group_tests_name("render", tests, NULL, NULL);
+}

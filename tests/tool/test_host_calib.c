@@ -1,0 +1,282 @@
+/*
+ * test_host_calib.c - the ROS camera_info YAML: a file as ROS's
+ * camera_calibration writes it, the writer's round trip, and a table of
+ * malformed or incomplete files, each refused with the file name, the
+ * field's path and the problem.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "tool_test.h"
+
+#include <math.h>
+
+#include "cdsp_host.h"
+
+/* As written by ROS camera_calibration (cameracalibrator.py, "ost.yaml"). */
+static const char ros_file[] =
+    "image_width: 2448\n"
+    "image_height: 2048\n"
+    "camera_name: narrow_stereo\n"
+    "camera_matrix:\n"
+    "  rows: 3\n"
+    "  cols: 3\n"
+    "  data: [3478.26087, 0.     , 1223.5, 0.     , 3480.1, 1023.5, 0.     , 0.     , 1.     ]\n"
+    "distortion_model: plumb_bob\n"
+    "distortion_coefficients:\n"
+    "  rows: 1\n"
+    "  cols: 5\n"
+    "  data: [-0.091, 0.12, 0.0005, -0.0003, 0.000000]\n"
+    "rectification_matrix:\n"
+    "  rows: 3\n"
+    "  cols: 3\n"
+    "  data: [1., 0., 0., 0., 1., 0., 0., 0., 1.]\n"
+    "projection_matrix:\n"
+    "  rows: 3\n"
+    "  cols: 4\n"
+    "  data: [3478.26087, 0., 1223.5, 0., 0., 3480.1, 1023.5, 0., 0., 0., 1., 0.]\n";
+
+static void reads_ros_file(void **state)
+{
+    cdsp_camera cam;
+    cdsp_host_err err;
+    const char *path = tt_path("ost.yaml");
+    (void)state;
+    tt_write_str(path, ros_file);
+    assert_int_equal(cdsp_host_calib_read(path, &cam, &err), 0);
+    assert_int_equal(cam.width, 2448);
+    assert_int_equal(cam.height, 2048);
+    assert_true(cam.fx == 3478.26087);
+    assert_true(cam.fy == 3480.1);
+    assert_true(cam.cx == 1223.5);
+    assert_true(cam.cy == 1023.5);
+    assert_true(cam.k1 == -0.091);
+    assert_true(cam.k2 == 0.12);
+    assert_true(cam.p1 == 0.0005);
+    assert_true(cam.p2 == -0.0003);
+    assert_true(cam.k3 == 0.0);
+}
+
+static void block_style_and_comments(void **state)
+{
+    static const char text[] =
+        "# written by hand\n"
+        "image_height: 480   # rows\n"
+        "image_width: 640\n"
+        "camera_matrix:\n"
+        "  data:\n"
+        "    - 500\n    - 0\n    - 319.5\n    - 0\n    - 500\n    - 239.5\n"
+        "    - 0\n    - 0\n    - 1\n"
+        "distortion_model: plumb_bob\n"
+        "distortion_coefficients: {data: [0, 0, 0, 0, 0]}\n";
+    cdsp_camera cam;
+    cdsp_host_err err;
+    (void)state;
+    assert_int_equal(cdsp_host_calib_parse(text, strlen(text), "hand.yaml", &cam, &err), 0);
+    assert_int_equal(cam.width, 640);
+    assert_true(cam.cx == 319.5);
+}
+
+static void write_read_roundtrip(void **state)
+{
+    cdsp_camera a, b;
+    cdsp_host_err err;
+    const char *path = tt_path("rt.yaml");
+    (void)state;
+    a.fx = 3478.2608695652175;
+    a.fy = 3478.2608695652175 * (1 + 1e-9);
+    a.cx = 1223.5;
+    a.cy = 1023.4999999999;
+    a.k1 = -0.1;
+    a.k2 = 0.0123456789012345678;
+    a.p1 = 1e-17;
+    a.p2 = -3e-5;
+    a.k3 = 0;
+    a.width = 2448;
+    a.height = 2048;
+    assert_int_equal(cdsp_host_calib_write(path, &a, "my cam\"; rm", &err), 0);
+    assert_int_equal(cdsp_host_calib_read(path, &b, &err), 0);
+    assert_memory_equal(&a, &b, sizeof a);
+    a.fx = -1;
+    assert_int_equal(cdsp_host_calib_write(path, &a, NULL, &err), CDSP_HOST_E_FORMAT);
+}
+
+/* A valid file with one line replaced (or removed when with == NULL). */
+static char *edit(const char *field_line, const char *with)
+{
+    static char out[4096];
+    const char *at = strstr(ros_file, field_line);
+    size_t pre;
+    const char *eol;
+    assert_non_null(at);
+    pre = (size_t)(at - ros_file);
+    eol = strchr(at, '\n') + 1;
+    snprintf(out, sizeof out, "%.*s%s%s", (int)pre, ros_file, with ? with : "", eol);
+    return out;
+}
+
+static void malformed_files(void **state)
+{
+    static const struct {
+        const char *line, *with, *msg;
+    } cases[] = {
+        {"image_width:", NULL, "cam.yaml: image_width: missing"},
+        {"image_height:", "image_height: -5\n", "cam.yaml: image_height: -5 outside 1..16384"},
+        {"image_height:", "image_height: 20000\n", "image_height: 20000 outside 1..16384"},
+        {"image_width:", "image_width: 640.5\n", "image_width: expected an integer"},
+        {"image_width:", "image_width: wide\n", "image_width: expected a number, got \"wide\""},
+        {"image_width:", "image_width: [640]\n", "image_width: expected a number, got a list"},
+        {"image_width:", "image_width: 0x280\n", "image_width: expected a number"},
+        {"  data: [3478.26087, 0.     , 1223.5",
+         "  data: [3478.26087, 0, 1223.5, 0, 3480.1, 1023.5, 0, 0]\n",
+         "cam.yaml: camera_matrix.data: expected 9 numbers, got 8"},
+        {"  data: [3478.26087, 0.     , 1223.5",
+         "  data: [3478.26087, 0, 1223.5, 0, .nan, 1023.5, 0, 0, 1]\n",
+         "camera_matrix.data[4]: expected a number, got \".nan\""},
+        {"  data: [3478.26087, 0.     , 1223.5",
+         "  data: [3478.26087, 0, 1223.5, 0, 1e999, 1023.5, 0, 0, 1]\n",
+         "camera_matrix.data[4]: 1e999 is not a finite number"},
+        {"  data: [3478.26087, 0.     , 1223.5",
+         "  data: [3478.26087, 0, 1223.5, 0, fy, 1023.5, 0, 0, 1]\n",
+         "camera_matrix.data[4]: expected a number, got \"fy\""},
+        {"  data: [3478.26087, 0.     , 1223.5",
+         "  data: [3478.26087, 2, 1223.5, 0, 3480, 1023.5, 0, 0, 1]\n",
+         "camera_matrix.data[1]: skew 2 is not supported"},
+        {"  data: [3478.26087, 0.     , 1223.5",
+         "  data: [-3478.26087, 0, 1223.5, 0, 3480, 1023.5, 0, 0, 1]\n",
+         "focal lengths fx = -3478.26, fy = 3480 must be positive"},
+        {"  data: [3478.26087, 0.     , 1223.5",
+         "  data: [3478.26087, 0, 1223.5, 0, 3480, 1023.5, 0, 0, 2]\n",
+         "camera_matrix.data: not a camera matrix"},
+        {"  data: [3478.26087, 0.     , 1223.5", "  data: 5\n",
+         "camera_matrix.data: expected a list of 9 numbers, got a scalar"},
+        {"  data: [3478.26087, 0.     , 1223.5", NULL, "camera_matrix.data: missing"},
+        {"camera_matrix:", "camera_matrix: 7\nunused:\n", "camera_matrix: expected a mapping"},
+        {"  rows: 3\n  cols: 3\n  data: [3478", "  rows: 2\n", "camera_matrix.rows: expected 3, got 2"},
+        {"distortion_model:", "distortion_model: equidistant\n",
+         "distortion_model: \"equidistant\" is not supported (only plumb_bob)"},
+        {"distortion_model:", NULL, "distortion_model: missing"},
+        {"distortion_coefficients:", "distortion_coefficients: []\nunused:\n",
+         "distortion_coefficients: expected a mapping"},
+        {"  data: [-0.091", "  data: [-0.091, 0.12, 0.0005, -0.0003]\n",
+         "distortion_coefficients.data: expected 5 numbers, got 4"},
+        {"  data: [-0.091", "  data: [-0.091, 0.12, 0.0005, -0.0003, {k3: 0}]\n",
+         "distortion_coefficients.data[4]: expected a number, got a mapping"},
+        {"  cols: 5\n", "  cols: 4\n", "distortion_coefficients.cols: expected 5, got 4"},
+        {"camera_name:", "image_width: 640\n", "image_width: given more than once"},
+        {"camera_name:", "camera_name: [unclosed\n", "YAML error at line 4"},
+        {"image_width:", "\t\n", "YAML error at line 1"},
+    };
+    size_t i;
+    const char *path = tt_path("cam.yaml");
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        cdsp_camera cam;
+        cdsp_host_err err;
+        int rc = cdsp_host_calib_parse(edit(cases[i].line, cases[i].with),
+                                       strlen(edit(cases[i].line, cases[i].with)), "cam.yaml",
+                                       &cam, &err);
+        if (rc != CDSP_HOST_E_FORMAT || !strstr(err.msg, cases[i].msg) ||
+            strncmp(err.msg, "cam.yaml: ", 10) != 0)
+            fail_msg("case %zu: rc %d, \"%s\", wanted \"%s\"", i, rc, rc ? err.msg : "",
+                     cases[i].msg);
+    }
+    /* and through a file: the message names the path */
+    tt_write_str(path, edit("image_height:", NULL));
+    {
+        cdsp_camera cam;
+        cdsp_host_err err;
+        char want[700];
+        assert_int_equal(cdsp_host_calib_read(path, &cam, &err), CDSP_HOST_E_FORMAT);
+        snprintf(want, sizeof want, "%s: image_height: missing", path);
+        assert_string_equal(err.msg, want);
+    }
+}
+
+static void not_a_calibration_at_all(void **state)
+{
+    static const struct {
+        const char *text, *msg;
+    } cases[] = {
+        {"", "empty calibration file"},
+        {"# only a comment\n", "empty calibration file"},
+        {"- 1\n- 2\n", "expected a mapping of camera_info keys at the top, got a list"},
+        {"just text", "expected a mapping of camera_info keys at the top, got a scalar"},
+        {"a: [1, 2\n", "YAML error"},
+        {"a: &x [1]\nb: *y\n", "YAML error"},
+        {"\xc3\x28: 1\n", "YAML error"},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        cdsp_camera cam;
+        cdsp_host_err err;
+        int rc = cdsp_host_calib_parse(cases[i].text, strlen(cases[i].text), "x.yaml", &cam, &err);
+        if (rc == 0 || !strstr(err.msg, cases[i].msg) || strncmp(err.msg, "x.yaml: ", 8) != 0)
+            fail_msg("case %zu: rc %d, \"%s\"", i, rc, rc ? err.msg : "");
+    }
+}
+
+static void limits_and_files(void **state)
+{
+    cdsp_camera cam;
+    cdsp_host_err err;
+    size_t n = CDSP_HOST_YAML_MAX_BYTES + 10;
+    char *big = malloc(n + 1);
+    (void)state;
+    assert_non_null(big);
+    memset(big, '#', n);
+    big[n] = 0;
+    tt_write(tt_path("big.yaml"), big, n);
+    assert_int_equal(cdsp_host_calib_read(tt_path("big.yaml"), &cam, &err), CDSP_HOST_E_LIMIT);
+    tt_assert_contains(err.msg, "exceeds the limit");
+    free(big);
+    assert_int_equal(cdsp_host_calib_read(tt_path("none.yaml"), &cam, &err), CDSP_HOST_E_IO);
+    tt_assert_contains(err.msg, "none.yaml: cannot open");
+    /* aliases are shared nodes, not copies: a "billion laughs" file is small
+     * and is refused by the schema, not expanded */
+    {
+        static const char laughs[] =
+            "a: &a [1, 1, 1, 1, 1, 1, 1, 1, 1]\n"
+            "b: &b [*a, *a, *a, *a, *a, *a, *a, *a, *a]\n"
+            "c: &c [*b, *b, *b, *b, *b, *b, *b, *b, *b]\n"
+            "d: &d [*c, *c, *c, *c, *c, *c, *c, *c, *c]\n"
+            "camera_matrix: {data: *d}\n";
+        assert_int_equal(cdsp_host_calib_parse(laughs, strlen(laughs), "l.yaml", &cam, &err),
+                         CDSP_HOST_E_FORMAT);
+        tt_assert_contains(err.msg, "l.yaml: image_width: missing");
+    }
+}
+
+static void size_mismatch(void **state)
+{
+    cdsp_camera cam;
+    cdsp_host_err err;
+    (void)state;
+    cam.width = 2448;
+    cam.height = 2048;
+    assert_int_equal(cdsp_host_calib_match(&cam, "cam.yaml", 2448, 2048, "f.pgm", &err), 0);
+    assert_int_equal(cdsp_host_calib_match(&cam, "cam.yaml", 640, 480, "f.pgm", &err),
+                     CDSP_HOST_E_MISMATCH);
+    assert_string_equal(err.msg, "f.pgm: image is 640x480 but cam.yaml is for 2448x2048");
+}
+
+static int teardown(void **state)
+{
+    char cmd[640];
+    (void)state;
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tt_tmpdir());
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(reads_ros_file),
+        cmocka_unit_test(block_style_and_comments),
+        cmocka_unit_test(write_read_roundtrip),
+        cmocka_unit_test(malformed_files),
+        cmocka_unit_test(not_a_calibration_at_all),
+        cmocka_unit_test(limits_and_files),
+        cmocka_unit_test(size_mismatch),
+    };
+    return cmocka_run_group_tests_name("host_calib", tests, NULL, teardown);
+}

@@ -1,0 +1,191 @@
+/*
+ * cdsp_host.h - host-side code shared by cdsp_tool and cdspd: frame files
+ * (PGM P5 read by hand, PNG through libspng), the ROS camera_info YAML
+ * calibration (libyaml), and the JSON record both programs emit for a pose.
+ * Built as build/libcdsp_host.a; link it with -lspng -lyaml and libcdsp.
+ *
+ * Conventions:
+ * - Every call that can fail returns 0 on success or a negative
+ *   cdsp_host_rc, and fills a cdsp_host_err with one line of English that
+ *   names the file (or the name given for an in-memory buffer) and the
+ *   problem, e.g. "cam.yaml: camera_matrix.data: expected 9 numbers, got 8".
+ * - Nothing here prints or exits. Images are the only allocations; the JSON
+ *   writer works in a caller buffer and never allocates (the daemon calls it
+ *   once per frame).
+ */
+#ifndef CDSP_HOST_H
+#define CDSP_HOST_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include "cdsp.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Largest width or height of a frame read or written (the issue asks for at
+ * least 8192 x 8192). */
+#ifndef CDSP_HOST_MAX_DIM
+#define CDSP_HOST_MAX_DIM 16384
+#endif
+
+/* Largest PGM header (magic, numbers, comments), bytes. */
+#ifndef CDSP_HOST_PGM_MAX_HEADER
+#define CDSP_HOST_PGM_MAX_HEADER 65536
+#endif
+
+/* Largest calibration file, bytes (ROS's are under 1 KiB). */
+#ifndef CDSP_HOST_YAML_MAX_BYTES
+#define CDSP_HOST_YAML_MAX_BYTES (1024 * 1024)
+#endif
+
+typedef enum {
+    CDSP_HOST_OK = 0,
+    CDSP_HOST_E_IO = -1,      /* open, read or write failed (errno in the message) */
+    CDSP_HOST_E_FORMAT = -2,  /* the file's content is not what it should be */
+    CDSP_HOST_E_LIMIT = -3,   /* a size beyond the limits above */
+    CDSP_HOST_E_NOMEM = -4,   /* allocation failed */
+    CDSP_HOST_E_MISMATCH = -5 /* frame and calibration disagree (image size) */
+} cdsp_host_rc;
+
+typedef struct {
+    char msg[512];
+} cdsp_host_err;
+
+/* ------------------------------------------------------------------------
+ * Images: one gray channel, 8 bit (one byte per pixel) or 9..16 bit (two
+ * bytes, native endianness, values in [0, 2^bits - 1]), rows tightly packed.
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    void *data;        /* malloc'd by the readers / cdsp_host_image_alloc */
+    int width, height;
+    int bits;          /* significant bits: 8 .. 16 */
+    size_t stride;     /* bytes per row */
+} cdsp_host_image;
+
+/* bits 1..16 (<= 8 stores a byte per pixel); width, height 1..MAX_DIM.
+ * The pixels are zeroed. */
+int cdsp_host_image_alloc(cdsp_host_image *im, int width, int height, int bits,
+                          cdsp_host_err *err);
+void cdsp_host_image_free(cdsp_host_image *im);
+/* A view for the library (no copy; valid while im is). */
+cdsp_image cdsp_host_image_view(const cdsp_host_image *im);
+/* Pixel (x, y) scaled to [0, 1]. */
+double cdsp_host_image_at(const cdsp_host_image *im, int x, int y);
+
+/*
+ * PGM (P5, netpbm spec): maxval 1..65535, one byte per sample below 256,
+ * else two bytes big-endian; comments anywhere in the header; a maxval of
+ * 2^k - 1 is kept as bits = k (k <= 8 is stored as 8 bit scaled to 255),
+ * any other maxval is rescaled (rounded) to full scale of the next such
+ * depth. A sample above maxval is an error, so is a truncated raster;
+ * bytes after the first image are ignored. `name` labels the messages.
+ */
+int cdsp_host_pgm_decode(const void *buf, size_t len, const char *name, cdsp_host_image *out,
+                         cdsp_host_err *err);
+int cdsp_host_pgm_read(const char *path, cdsp_host_image *out, cdsp_host_err *err);
+/* maxval = 2^bits - 1 (bits 8 gives 255, 12 gives 4095, 16 gives 65535). */
+int cdsp_host_pgm_write(const char *path, const cdsp_host_image *im, cdsp_host_err *err);
+
+/* PNG through libspng: gray 1/2/4/8/16 bit kept gray (low depths scaled
+ * to 8 bit); gray+alpha, RGB, RGBA and palette converted to gray with
+ * Rec. 601 luma (0.299 R + 0.587 G + 0.114 B, the weights OpenCV uses),
+ * alpha ignored; no gamma applied. 16-bit files give bits = 16. */
+int cdsp_host_png_decode(const void *buf, size_t len, const char *name, cdsp_host_image *out,
+                         cdsp_host_err *err);
+int cdsp_host_png_read(const char *path, cdsp_host_image *out, cdsp_host_err *err);
+/* Gray, 8 bit, or 16 bit when bits > 8 (values scaled to 65535). */
+int cdsp_host_png_write(const char *path, const cdsp_host_image *im, cdsp_host_err *err);
+/* Interleaved 8-bit RGB, width * 3 bytes per row. */
+int cdsp_host_png_write_rgb(const char *path, const uint8_t *rgb, int width, int height,
+                            cdsp_host_err *err);
+
+/* Any supported frame, chosen by its first bytes (not its name). */
+int cdsp_host_image_decode(const void *buf, size_t len, const char *name, cdsp_host_image *out,
+                           cdsp_host_err *err);
+int cdsp_host_image_read(const char *path, cdsp_host_image *out, cdsp_host_err *err);
+/* By extension: ".png" -> PNG, ".pgm" -> PGM; anything else is an error. */
+int cdsp_host_image_write(const char *path, const cdsp_host_image *im, cdsp_host_err *err);
+
+/* Whole file into a malloc'd buffer (NUL appended, not counted), at most
+ * max_bytes; a bigger file is CDSP_HOST_E_LIMIT. */
+int cdsp_host_read_file(const char *path, size_t max_bytes, void **buf, size_t *len,
+                        cdsp_host_err *err);
+
+/* ------------------------------------------------------------------------
+ * Calibration: ROS camera_info YAML (camera_calibration, camera drivers,
+ * cdsp_calib). Required keys: image_width, image_height, camera_matrix
+ * {rows: 3, cols: 3, data: [fx, 0, cx, 0, fy, cy, 0, 0, 1]},
+ * distortion_model: plumb_bob, distortion_coefficients {rows: 1, cols: 5,
+ * data: [k1, k2, p1, p2, k3]}. Other keys (camera_name,
+ * rectification_matrix, projection_matrix) are accepted and ignored.
+ * ---------------------------------------------------------------------- */
+int cdsp_host_calib_parse(const char *text, size_t len, const char *name, cdsp_camera *cam,
+                          cdsp_host_err *err);
+int cdsp_host_calib_read(const char *path, cdsp_camera *cam, cdsp_host_err *err);
+/* camera_name may be NULL ("cdsp"); only [A-Za-z0-9_.-] are kept. Numbers
+ * are written to round-trip exactly. */
+int cdsp_host_calib_write(const char *path, const cdsp_camera *cam, const char *camera_name,
+                          cdsp_host_err *err);
+/* CDSP_HOST_E_MISMATCH with "FRAME: image is WxH but CALIB is for WxH". */
+int cdsp_host_calib_match(const cdsp_camera *cam, const char *calib_name, int width, int height,
+                          const char *frame_name, cdsp_host_err *err);
+
+/* ------------------------------------------------------------------------
+ * JSON writer into a caller buffer: no allocation, output always valid
+ * UTF-8 JSON. Strings are escaped; bytes that are not valid UTF-8 become
+ * U+FFFD; non-finite numbers become null. Once the buffer is full the
+ * writer stops and cdsp_host_json_finish() returns NULL.
+ * ---------------------------------------------------------------------- */
+#define CDSP_HOST_JSON_DEPTH 16
+
+typedef struct {
+    char *buf;
+    size_t cap, len;
+    int overflow;      /* buffer too small, or nesting beyond DEPTH */
+    int depth;
+    unsigned char count[CDSP_HOST_JSON_DEPTH]; /* items so far at each level (saturates) */
+    int after_key;
+} cdsp_host_json;
+
+void cdsp_host_json_init(cdsp_host_json *j, char *buf, size_t cap);
+void cdsp_host_json_begin_object(cdsp_host_json *j);
+void cdsp_host_json_end_object(cdsp_host_json *j);
+void cdsp_host_json_begin_array(cdsp_host_json *j);
+void cdsp_host_json_end_array(cdsp_host_json *j);
+void cdsp_host_json_key(cdsp_host_json *j, const char *key);
+void cdsp_host_json_string(cdsp_host_json *j, const char *s);
+void cdsp_host_json_number(cdsp_host_json *j, double v);
+void cdsp_host_json_int(cdsp_host_json *j, long long v);
+void cdsp_host_json_bool(cdsp_host_json *j, int v);
+void cdsp_host_json_null(cdsp_host_json *j);
+void cdsp_host_json_reals(cdsp_host_json *j, const cdsp_real *v, int n);
+/* The NUL-terminated text, or NULL on overflow or unbalanced nesting. */
+const char *cdsp_host_json_finish(cdsp_host_json *j);
+
+/* Shortest "%.*g" text (15 or 17 digits) that reads back as v exactly;
+ * "null" for NaN/Inf. buf needs 32 bytes. */
+const char *cdsp_host_fmt_real(char buf[32], double v);
+
+/*
+ * The pose fields of a record, written into an open object; the same names
+ * in cdsp_tool solve and cdspd --format json:
+ *   "status": "ok" | "error"
+ *   "error": token (only when status is "error"): error_token if not NULL,
+ *            else cdsp_status_token(st)
+ *   and only when st == CDSP_OK (r != NULL):
+ *   "radius", "point" [x,y,z], "direction" [x,y,z], "distance", "alpha",
+ *   "lines" [[a,b,c],[a,b,c]], "inliers" [n1,n2], "rms" [r1,r2],
+ *   "segment" [[x,y,z],[x,y,z]], "sigma" {"point": [..], "direction": [..],
+ *   "distance": s}, "edges" n, "tracked" bool, "truncated" bool.
+ */
+void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_token,
+                         const cdsp_result *r, cdsp_real radius);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CDSP_HOST_H */
