@@ -1,0 +1,28 @@
+# cdsp_calib: checkerboard calibration (C++17, OpenCV) and its check.
+#
+# OpenCV comes from Debian's per-module packages (.ci/packages.d/calib.txt:
+# calib3d, imgcodecs, imgproc, core), not the whole libopencv-dev, which
+# pulls in VTK, Qt and the rest. Those packages ship no opencv4.pc (only
+# libopencv-dev does), so the flags are Debian's paths unless pkg-config
+# knows better. OpenCV's headers are system headers: our warnings only.
+
+CALIB_CXX      ?= g++
+CALIB_CV_INC   := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags-only-I opencv4 2>/dev/null))
+CALIB_CV_INC   := $(if $(CALIB_CV_INC),$(CALIB_CV_INC),-isystem /usr/include/opencv4)
+CALIB_CV_LIBS  := -lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
+CALIB_CXXFLAGS := -std=c++17 -Wall -Wextra -pedantic -Werror -Wshadow -Wpointer-arith \
+                  -Wmissing-declarations $(OPT) -g -MMD -MP $(CALIB_CV_INC)
+
+CALIB_SRC := tools/cdsp_calib.cpp tools/calib_core.cpp tools/calib_output.cpp
+CALIB_OBJ := $(patsubst tools/%.cpp,$(BUILD)/calib/%.o,$(CALIB_SRC))
+
+$(BUILD)/calib/%.o: tools/%.cpp
+	@mkdir -p $(@D)
+	$(CALIB_CXX) $(CALIB_CXXFLAGS) -c $< -o $@
+
+$(BUILD)/cdsp_calib: $(CALIB_OBJ)
+	$(CALIB_CXX) $(CALIB_OBJ) $(CALIB_CV_LIBS) -o $@
+
+ALL_TARGETS += $(BUILD)/cdsp_calib
+
+-include $(CALIB_OBJ:.o=.d)
