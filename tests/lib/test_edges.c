@@ -91,7 +91,10 @@ static void test_exact_positions(void **state)
         {0, 0, 16, {0.2, 1, 0.2}, 1e-3, 2e-4},
         {-0.2, 0.7, 16, {0.2, 1, 0.2}, 1e-3, 2e-4},
         {-0.2, 1.0, 16, {1, 0.3, 0.1}, 5e-3, 5e-4},   /* near-horizontal: column scans */
-        {0.1, 0.7, 16, {1, 0.9, 0.3}, 2e-3, 5e-4},     /* near 45 degrees: both families */
+        /* near 45 degrees (both families): in the outer rows the edge moves by
+         * ~1 px, so the window ends are only ~2 px away: Phi(-2/0.7) = 0.2 %
+         * of the contrast leaks in, up to ~8e-3 px */
+        {0.1, 0.7, 16, {1, 0.9, 0.3}, 8e-3, 1e-3},
         {-0.2, 0.7, 8, {0.2, 1, 0.2}, 0.06, 0.01},
     };
     size_t r;

@@ -214,11 +214,12 @@ while [ \$i -lt 50 ]; do
 done
 [ -c "\$CDSP_VIVID_CAP" ] && [ -c "\$CDSP_VIVID_OUT" ] || result "FAIL setup: vivid created no capture/output node"
 export CDSP_VIVID_CAP CDSP_VIVID_OUT
-echo "vivid: capture \$CDSP_VIVID_CAP, output \$CDSP_VIVID_OUT, $fmt_w x $fmt_h '$fmt_cc', loop_video=1"
+echo "vivid: capture \$CDSP_VIVID_CAP, output \$CDSP_VIVID_OUT, $fmt_w x $fmt_h '$fmt_cc', loop_video=1, osd_text_mode=2 (no text overlay)"
 setup v4l2-ctl -d "\$CDSP_VIVID_CAP" -i 3
 setup v4l2-ctl -d "\$CDSP_VIVID_CAP" -v "width=$fmt_w,height=$fmt_h,pixelformat=$fmt_cc"
 setup v4l2-ctl -d "\$CDSP_VIVID_OUT" -x "width=$fmt_w,height=$fmt_h,pixelformat=$fmt_cc"
 setup v4l2-ctl -d "\$CDSP_VIVID_CAP" -c loop_video=1
+setup v4l2-ctl -d "\$CDSP_VIVID_CAP" -c osd_text_mode=2
 cd /
 echo running:$(shq "$cmd")
 $cmd </dev/null

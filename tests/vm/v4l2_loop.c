@@ -280,6 +280,22 @@ static long agreement(const uint8_t *img, size_t stride, unsigned k, long need)
     return same;
 }
 
+/* Bounding box of the pixels where the frame differs from pattern k, for
+ * the failure message (an OSD overlay, a shifted row... each has a shape). */
+static void diff_box(const uint8_t *img, size_t stride, unsigned k, unsigned box[4])
+{
+    unsigned x, y;
+    box[0] = LOOP_W; box[1] = LOOP_H; box[2] = 0; box[3] = 0;
+    for (y = 0; y < LOOP_H; y++)
+        for (x = 0; x < LOOP_W; x++)
+            if (img[(size_t)y * stride + x] != pattern_pixel(k, x, y)) {
+                if (x < box[0]) box[0] = x;
+                if (y < box[1]) box[1] = y;
+                if (x > box[2]) box[2] = x;
+                if (y > box[3]) box[3] = y;
+            }
+}
+
 static void usage(void)
 {
     fprintf(stderr, "usage: v4l2_loop [-c CAPTURE] [-o OUTPUT] [-n N (1..%d)] [-t SECONDS] [-v]\n",
@@ -427,9 +443,12 @@ int main(int argc, char **argv)
             }
             if (match < 0) {
                 if (best > all / 2) {
+                    unsigned box[4];
+                    diff_box(img, cap.stride, best_k, box);
                     fprintf(stderr, "v4l2_loop: capture frame %ld (sequence %u) is a corrupted copy of "
-                            "pattern %u: %ld of %ld pixels differ\n", captured, b.sequence, best_k,
-                            all - best, all);
+                            "pattern %u: %ld of %ld pixels differ, within x %u..%u, y %u..%u\n",
+                            captured, b.sequence, best_k, all - best, all, box[0], box[2], box[1],
+                            box[3]);
                     goto done;
                 }
                 foreign++;
