@@ -405,22 +405,26 @@ int main(int argc, char **argv)
             goto done;
         }
 
-        /* Output side: refill every displayed buffer with the current pattern. */
-        while ((r = dequeue(&out, &b)) == 1) {
+        /* One buffer per side and readiness: libv4l2 logs every DQBUF that
+         * finds nothing ready, so never dequeue to EAGAIN. */
+        /* Output side: refill the displayed buffer with the current pattern. */
+        if ((pfd[1].revents & POLLOUT) && (r = dequeue(&out, &b)) != 0) {
+            if (r < 0)
+                goto done;
             fill_pattern(&out, b.index, cur);
             if (queue(&out, b.index, (uint32_t)out.sizeimage) < 0)
                 goto done;
         }
-        if (r < 0)
-            goto done;
 
-        /* Capture side: classify every frame. */
-        while ((r = dequeue(&cap, &b)) == 1) {
+        /* Capture side: classify the frame. */
+        if ((pfd[0].revents & POLLIN) && (r = dequeue(&cap, &b)) != 0) {
             const uint8_t *img = cap.bufs[b.index].start;
             long best = 0, s;
             unsigned k, best_k = 0;
             int match = -1;
 
+            if (r < 0)
+                goto done;
             captured++;
             if (b.flags & V4L2_BUF_FLAG_ERROR) {
                 fprintf(stderr, "v4l2_loop: capture frame %ld (sequence %u) flagged as an error\n",
@@ -472,8 +476,6 @@ int main(int argc, char **argv)
             if (queue(&cap, b.index, 0) < 0)
                 goto done;
         }
-        if (r < 0)
-            goto done;
     }
     printf("v4l2_loop: %u of %ld patterns came back pixel-exact and in order through %s -> %s "
            "in %.2f s (%ld frames captured: %ld repeats, %ld not looped, %ld of them after the "
