@@ -7,6 +7,7 @@
  *   d = r / sin(alpha/2);  u = v_L x n_m / |.|, n1.u > 0;  P_C = d u.
  * Then n1.P = +r and n2.P = -r for every axis point P.
  */
+#include <string.h> /* memset */
 #include "internal.h"
 
 static int normal_from_line(const cdsp_camera *cam, const cdsp_real l[3], cdsp_real n[3])
@@ -129,7 +130,6 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3], const
 {
     cdsp_result r;
     cdsp_status st;
-    int i, j;
     if (!cam || !l1 || !l2 || !p_in || !out)
         return CDSP_E_ARG;
     st = cdsp_camera_check(cam);
@@ -140,17 +140,7 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3], const
         return CDSP_E_NONFINITE;
     if (!(radius > R(0)))
         return CDSP_E_ARG;
-    for (i = 0; i < 6; i++)
-        for (j = 0; j < 6; j++)
-            r.cov[i][j] = R(0);
-    for (i = 0; i < 3; i++)
-        r.sigma_point[i] = r.sigma_direction[i] = R(0);
-    r.sigma_distance = R(0);
-    r.rms[0] = r.rms[1] = R(0);
-    r.inliers[0] = r.inliers[1] = 0;
-    r.label[0] = r.label[1] = 0;
-    r.n_edges = 0;
-    r.flags = 0;
+    memset(&r, 0, sizeof r); /* zero uncertainty and counts, no stale padding */
     st = cdsp__axis_core(cam, l1, l2, p_in, radius, &r);
     if (st != CDSP_OK)
         return st;

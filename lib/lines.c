@@ -14,7 +14,7 @@
  * define a hypothesis, which is kept only if both points' gradients agree
  * with its normal (same polarity, within normal_tol_deg): with opposite
  * polarities on the two contours of a pipe, nearly every surviving sample
- * is all-inlier. Hypotheses are scored on a fixed strided subsample
+ * is all-inlier. Hypotheses are scored on a fixed subsample
  * (preemptive scoring, Nister 2005) and only the best is scored on all
  * points; the iteration count adapts to the best inlier ratio w found:
  * N = log(1 - confidence) / log(1 - w^2). The winner is refined by alternating
@@ -26,6 +26,27 @@
 #define LABEL_FREE 0u
 #define LABEL_TRIAL 255u
 #define SUBSAMPLE 160u          /* points a hypothesis is scored on first */
+/* The subsample visits i_k = k * G mod n with G ~ 0.618 n made coprime to
+ * n: distinct indices (G coprime) spread evenly over the whole set (the
+ * golden-ratio sequence has the lowest discrepancy), whatever the order of
+ * the points. A plain stride aliases with ordered input, e.g. points that
+ * alternate between two lines. */
+static size_t golden_stride(size_t n)
+{
+    size_t g, a, b;
+    if (n < 2)
+        return 0;
+    for (g = (n * 618034u) / 1000000u; g < n; g++) {
+        for (a = n, b = g; b;) { /* gcd(n, g) */
+            size_t t = a % b;
+            a = b;
+            b = t;
+        }
+        if (a == 1)
+            return g;
+    }
+    return 1;
+}
 #define MIN_SAMPLE_DIST_PX 4.0  /* closer sample pairs give a poorly defined angle */
 #define REFINE_PASSES 3
 
@@ -264,9 +285,9 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
 {
     cdsp_real ct = R_COS(p->normal_tol_deg * R_PI / R(180));
     cdsp_real cos2 = ct * ct, thr = p->inlier_px;
-    size_t i, nfree = n;
+    size_t i, j, nfree = n;
     int k, max_lines = p->max_lines < CDSP_MAX_LINES ? p->max_lines : CDSP_MAX_LINES;
-    size_t stride = n / SUBSAMPLE > 1 ? n / SUBSAMPLE : 1;
+    size_t nsub = n < SUBSAMPLE ? n : SUBSAMPLE, sstep = golden_stride(n);
 
     *nlines = 0;
     for (i = 0; i < n; i++)
@@ -281,7 +302,7 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
 
         if (nfree < (size_t)p->min_inliers || nfree < 2)
             break;
-        for (i = 0; i < n; i += stride)
+        for (i = 0, j = 0; j < nsub; j++, i = i + sstep >= n ? i + sstep - n : i + sstep)
             sub_free += label[i] == LABEL_FREE;
         if (sub_free == 0)
             break;
@@ -294,7 +315,7 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
             it++;
             if (!hypothesis(&pts[a], &pts[b], cos2, l))
                 continue;
-            for (i = 0; i < n; i += stride)
+            for (i = 0, j = 0; j < nsub; j++, i = i + sstep >= n ? i + sstep - n : i + sstep)
                 sc += label[i] == LABEL_FREE && is_inlier(&pts[i], l, thr, cos2);
             if (sc > best_sub) {
                 long nn;

@@ -21,6 +21,7 @@
  * central-difference Jacobian of the closed form with steps of one standard
  * deviation (floored at a few ulps of the precision in use).
  */
+#include <string.h> /* memset */
 #include "internal.h"
 
 typedef struct {
@@ -255,9 +256,7 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         return CDSP_E_NO_PIPE;
     L[0] = &lines[best.i];
     L[1] = &lines[best.j];
-    for (i = 0; i < 6; i++)
-        for (j = 0; j < 6; j++)
-            r.cov[i][j] = R(0);
+    memset(&r, 0, sizeof r); /* no stale bytes, padding included, reach the caller */
     st = cdsp__axis_core(cam, L[0]->l, L[1]->l, best.p_in, radius, &r);
     if (st != CDSP_OK)
         return st;

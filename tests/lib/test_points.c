@@ -1,0 +1,361 @@
+/*
+ * test_points.c - edge points -> pipe axis (cdsp_points_solve, cdsp_line_fit):
+ * exact points give the exact pose; noisy points give errors consistent with
+ * the reported uncertainty (chi-square over many trials); clutter, a second
+ * object's straight edges and outliers do not change the answer; hostile
+ * inputs return their status.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <math.h>
+#include <string.h>
+#include <cmocka.h>
+#include "support.h"
+
+static cdsp_points_ws ws;
+static cdsp_edge pts[CDSP_MAX_POINTS + 8];
+
+static double vnorm(const double a[3])
+{
+    return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
+
+/* foot of the perpendicular from the origin onto the true axis */
+static void true_foot(const double P[3], const double v[3], double f[3])
+{
+    double n = vnorm(v), t = (P[0] * v[0] + P[1] * v[1] + P[2] * v[2]) / (n * n);
+    int i;
+    for (i = 0; i < 3; i++)
+        f[i] = P[i] - t * v[i];
+}
+
+static void test_line_fit(void **state)
+{
+    cdsp_edge e[100];
+    cdsp_line ln;
+    uint32_t idx[3] = {10, 50, 90};
+    int i;
+    (void)state;
+    /* exact points on 3u - 4v + 500 = 0 (normalized: 0.6u - 0.8v + 100 = 0),
+     * gradients toward +(0.6, -0.8) */
+    for (i = 0; i < 100; i++) {
+        double v = 10.0 * i, u = (4 * v - 500) / 3;
+        e[i].x = (cdsp_real)u;
+        e[i].y = (cdsp_real)v;
+        e[i].gx = (cdsp_real)6;
+        e[i].gy = (cdsp_real)-8;
+    }
+    assert_int_equal(cdsp_line_fit(e, NULL, 100, &ln), CDSP_OK);
+    assert_true(fabs((double)ln.l[0] - 0.6) < 1e3 * T_EPS);
+    assert_true(fabs((double)ln.l[1] + 0.8) < 1e3 * T_EPS);
+    assert_true(fabs((double)ln.l[2] - 100) < 1e6 * T_EPS);
+    assert_true((double)ln.rms < 1e4 * T_EPS);
+    assert_int_equal(ln.count, 100);
+    assert_true(fabs((double)(ln.t_max - ln.t_min) - 990 * 5.0 / 3) < 1e5 * T_EPS);
+    assert_true(fabs((double)ln.strength - 10) < 1e3 * T_EPS);
+    assert_int_equal(cdsp_line_fit(e, idx, 3, &ln), CDSP_OK);
+    assert_int_equal(ln.count, 3);
+    /* flipped gradients flip the orientation */
+    for (i = 0; i < 100; i++) {
+        e[i].gx = -e[i].gx;
+        e[i].gy = -e[i].gy;
+    }
+    assert_int_equal(cdsp_line_fit(e, NULL, 100, &ln), CDSP_OK);
+    assert_true(fabs((double)ln.l[0] + 0.6) < 1e3 * T_EPS);
+    /* degenerate sets */
+    assert_int_equal(cdsp_line_fit(e, NULL, 1, &ln), CDSP_E_FEW_POINTS);
+    e[1] = e[0];
+    assert_int_equal(cdsp_line_fit(e, NULL, 2, &ln), CDSP_E_DEGENERATE);
+    e[0].x = (cdsp_real)NAN;
+    assert_int_equal(cdsp_line_fit(e, NULL, 2, &ln), CDSP_E_NONFINITE);
+}
+
+/* Noise-free points on both contours: the pose to the closed form's own
+ * precision, scaled by the line fit's conditioning (coordinates ~1e3 px). */
+static void test_exact_points(void **state)
+{
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng rng, sampler;
+    int t;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 1, 1);
+    cdsp_rng_seed(&sampler, 2, 2);
+    for (t = 0; t < 100; t++) {
+        double P[3], v[3], f[3], got[3], dir[3], err[3];
+        cdsp_result r;
+        size_t n;
+        int i;
+        sup_random_pipe(&sampler, 150, 1500, P, v);
+        n = sup_contour_points(&cam, P, v, 8, -100, 100, 400, 0, 100, &sampler, pts, CDSP_MAX_POINTS);
+        if (n < 600)
+            continue; /* mostly outside the view */
+        assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+        true_foot(P, v, f);
+        sup_result_pose(&r, got, dir, NULL);
+        for (i = 0; i < 3; i++)
+            err[i] = got[i] - f[i];
+        {
+            double tol = 3e3 * T_EPS / (double)r.alpha;
+            if (vnorm(err) > tol * vnorm(f))
+                fail_msg("trial %d: P_C off by %.3g (rel %.3g > %.3g)", t, vnorm(err),
+                         vnorm(err) / vnorm(f), tol);
+            assert_true(sup_axis_angle(dir, v) < tol);
+        }
+        assert_true(r.inliers[0] + r.inliers[1] == n);
+    }
+}
+
+/* Noise 0.1 px on 1000 points per line (the paper's simulation): the
+ * position error, normalized by the reported sigma, is chi-square
+ * distributed: its mean over 60 trials x 3 axes must be near 1 (the mean of
+ * 180 chi2(1) variables has sd 0.105; 0.6..1.5 is > 3.8 sd either way).
+ * Then the paper's RMSE figure: our RMSE at 0.1 px must beat 0.013 mm within
+ * the trial-to-trial scatter. */
+static void test_noise_calibrated(void **state)
+{
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng rng, noise;
+    double chi = 0, rmse_sum = 0, rmse_sq = 0, mean, se;
+    int t, k = 0, pipe;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 3, 3);
+    cdsp_rng_seed(&noise, 4, 4);
+    for (pipe = 0; pipe < 4; pipe++)
+        for (t = 0; t < 15; t++) {
+            double P[3], v[3], f[3], got[3], dir[3], seg[2][3], s0, s1;
+            cdsp_result r;
+            size_t n;
+            int i;
+            sup_paper_pipe(pipe, P, v);
+            /* the visible 500 mm pipe: axial range around the world origin */
+            s0 = -250;
+            s1 = 250;
+            {
+                double vv[3] = {v[0], v[1], v[2]}, nv = vnorm(v), tt;
+                for (i = 0; i < 3; i++)
+                    vv[i] /= nv;
+                tt = P[0] * vv[0] + P[1] * vv[1] + P[2] * vv[2];
+                (void)tt;
+            }
+            n = sup_contour_points(&cam, P, v, 8, s0, s1, 1000, 0.1, 100, &noise, pts,
+                                   CDSP_MAX_POINTS);
+            assert_int_equal(n, 2000);
+            assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+            true_foot(P, v, f);
+            sup_result_pose(&r, got, dir, seg);
+            for (i = 0; i < 3; i++) {
+                double z = (got[i] - f[i]) / (double)r.sigma_point[i];
+                chi += z * z;
+                k++;
+            }
+            {
+                double e = sup_axis_rmse(seg[0], seg[1], P, v, 100);
+                rmse_sum += e;
+                rmse_sq += e * e;
+            }
+        }
+    chi /= k;
+    if (chi < 0.6 || chi > 1.5)
+        fail_msg("errors / reported sigma: mean chi2 %.3f (want ~1)", chi);
+    /* mean RMSE of 60 trials against the paper's 0.013 mm, allowing two
+     * standard errors of the mean (the float build draws other noise) */
+    mean = rmse_sum / 60;
+    se = sqrt((rmse_sq / 60 - mean * mean) / 59);
+    if (getenv("CDSP_TEST_VERBOSE"))
+        print_message("mean chi2 %.3f, mean RMSE %.4f +- %.4f mm\n", chi, mean, se);
+    if (mean - 2 * se > 0.013)
+        fail_msg("mean RMSE %.4f +- %.4f mm > the paper's 0.013 mm", mean, se);
+}
+
+/* Outliers, a second straight object and random short segments: the pipe
+ * still wins. The clutter: 40 % uniform random points with random gradients,
+ * and a "support column" crossing behind the pipe (two parallel edges with
+ * opposite polarity, shorter than the pipe's contours). */
+static void test_clutter(void **state)
+{
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng rng, gen;
+    int t;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 5, 5);
+    cdsp_rng_seed(&gen, 6, 6);
+    for (t = 0; t < 30; t++) {
+        double P[3], v[3], f[3], got[3], dir[3];
+        cdsp_result r;
+        size_t n, m, i;
+        sup_paper_pipe(t % 4, P, v);
+        n = sup_contour_points(&cam, P, v, 8, -250, 250, 500, 0.1, 100, &gen, pts, CDSP_MAX_POINTS);
+        /* the column: vertical edges at u = 300 and 340, v in [700, 1300] */
+        for (m = 0; m < 150; m++) {
+            double vv = 700 + 4.0 * (double)m;
+            pts[n].x = (cdsp_real)300;
+            pts[n].y = (cdsp_real)vv;
+            pts[n].gx = (cdsp_real)80;
+            pts[n].gy = 0;
+            pts[n + 1].x = (cdsp_real)340;
+            pts[n + 1].y = (cdsp_real)vv;
+            pts[n + 1].gx = (cdsp_real)-80;
+            pts[n + 1].gy = 0;
+            n += 2;
+        }
+        for (i = 0; i < 500 && n < CDSP_MAX_POINTS; i++, n++) {
+            double a = 2 * SUP_PI * (double)cdsp_rng_uniform(&gen);
+            pts[n].x = (cdsp_real)(2448 * (double)cdsp_rng_uniform(&gen));
+            pts[n].y = (cdsp_real)(2048 * (double)cdsp_rng_uniform(&gen));
+            pts[n].gx = (cdsp_real)(50 * cos(a));
+            pts[n].gy = (cdsp_real)(50 * sin(a));
+        }
+        assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+        true_foot(P, v, f);
+        sup_result_pose(&r, got, dir, NULL);
+        for (i = 0; i < 3; i++)
+            if (fabs(got[i] - f[i]) > 6 * (double)r.sigma_point[i] + 1e-6)
+                fail_msg("trial %d axis %zu: error %.4f > 6 sigma (%.4f)", t, i, fabs(got[i] - f[i]),
+                         (double)r.sigma_point[i]);
+        assert_true(r.inliers[0] >= 480 && r.inliers[1] >= 480);
+    }
+}
+
+/* The same seed gives the same answer; the prior sets the direction's sign. */
+static void test_reproducible_and_prior(void **state)
+{
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng a, b, gen;
+    cdsp_result ra, rb, prior;
+    double P[3], v[3];
+    size_t n;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&gen, 9, 9);
+    sup_paper_pipe(2, P, v);
+    n = sup_contour_points(&cam, P, v, 8, -200, 200, 500, 0.2, 100, &gen, pts, CDSP_MAX_POINTS);
+    cdsp_rng_seed(&a, 77, 1);
+    cdsp_rng_seed(&b, 77, 1);
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &a, &ra), CDSP_OK);
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &b, &rb), CDSP_OK);
+    assert_memory_equal(&ra, &rb, sizeof ra);
+    prior = ra;
+    prior.direction[0] = -ra.direction[0];
+    prior.direction[1] = -ra.direction[1];
+    prior.direction[2] = -ra.direction[2];
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, &prior, &ws, &a, &rb), CDSP_OK);
+    assert_true((double)(rb.direction[0] * ra.direction[0] + rb.direction[1] * ra.direction[1] +
+                         rb.direction[2] * ra.direction[2]) < -0.999);
+    /* swapping the contours keeps n1.P = r, n2.P = -r */
+    {
+        double n1p = 0, n2p = 0;
+        int i;
+        for (i = 0; i < 3; i++) {
+            n1p += (double)(rb.normals[0][i] * rb.point[i]);
+            n2p += (double)(rb.normals[1][i] * rb.point[i]);
+        }
+        assert_true(fabs(n1p - 8) < 1e-3 && fabs(n2p + 8) < 1e-3);
+    }
+}
+
+static void two_lines(cdsp_edge *e, size_t per, double u1, double u2, double g1, double g2,
+                      double slope2)
+{
+    size_t i;
+    for (i = 0; i < per; i++) {
+        double v = 100 + 4.0 * (double)i;
+        e[2 * i].x = (cdsp_real)u1;
+        e[2 * i].y = (cdsp_real)v;
+        e[2 * i].gx = (cdsp_real)g1;
+        e[2 * i].gy = 0;
+        e[2 * i + 1].x = (cdsp_real)(u2 + slope2 * (v - 500));
+        e[2 * i + 1].y = (cdsp_real)v;
+        e[2 * i + 1].gx = (cdsp_real)g2;
+        e[2 * i + 1].gy = (cdsp_real)(-g2 * slope2);
+    }
+}
+
+/* Table: point sets that are not a pipe, and arguments that are not valid. */
+static void test_not_a_pipe(void **state)
+{
+    cdsp_camera cam;
+    cdsp_params prm, bad;
+    cdsp_rng rng;
+    cdsp_result r;
+    static const struct {
+        const char *what;
+        double u1, u2, g1, g2, slope2;
+        size_t per;
+        cdsp_status want;
+    } rows[] = {
+        {"a pipe: stripe, opposite gradients", 1000, 1100, 60, -60, 0, 200, CDSP_OK},
+        {"dark pipe: gradients point out", 1000, 1100, -60, 60, 0, 200, CDSP_OK},
+        {"staircase: same gradients", 1000, 1100, 60, 60, 0, 200, CDSP_E_NO_PIPE},
+        {"X: lines cross in the middle", 1000, 1000, 60, -60, 0.5, 200, CDSP_E_NO_PIPE},
+        {"two contours 1 px apart", 1000, 1001, 60, -60, 0, 200, CDSP_E_NO_PIPE},
+        {"too few points", 1000, 1100, 60, -60, 0, 1, CDSP_E_FEW_POINTS},
+    };
+    size_t i;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 1, 1);
+    for (i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        cdsp_status st;
+        two_lines(pts, rows[i].per, rows[i].u1, rows[i].u2, rows[i].g1, rows[i].g2, rows[i].slope2);
+        st = cdsp_points_solve(&cam, 8, pts, 2 * rows[i].per, &prm, NULL, &ws, &rng, &r);
+        if (st != rows[i].want)
+            fail_msg("%s: got %s, want %s", rows[i].what, cdsp_strerror(st), cdsp_strerror(rows[i].want));
+    }
+    /* polarity and distance constraints */
+    two_lines(pts, 200, 1000, 1100, 60, -60, 0);
+    prm.pair.polarity = -1;
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, 400, &prm, NULL, &ws, &rng, &r), CDSP_E_NO_PIPE);
+    prm.pair.polarity = 1;
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, 400, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+    prm.pair.max_distance = r.distance / 2;
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, 400, &prm, NULL, &ws, &rng, &r), CDSP_E_NO_PIPE);
+    cdsp_params_default(&prm);
+    /* arguments */
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, CDSP_MAX_POINTS + 1, &prm, NULL, &ws, &rng, &r),
+                     CDSP_E_CAPACITY);
+    assert_int_equal(cdsp_points_solve(&cam, 0, pts, 400, &prm, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    assert_int_equal(cdsp_points_solve(&cam, (cdsp_real)NAN, pts, 400, &prm, NULL, &ws, &rng, &r),
+                     CDSP_E_NONFINITE);
+    assert_int_equal(cdsp_points_solve(NULL, 8, pts, 400, &prm, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    assert_int_equal(cdsp_points_solve(&cam, 8, NULL, 400, &prm, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, 0, &prm, NULL, &ws, &rng, &r), CDSP_E_FEW_POINTS);
+    bad = prm;
+    bad.pair.max_lines = 1;
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, 400, &bad, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    bad = prm;
+    bad.pair.confidence = 1;
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, 400, &bad, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    bad = prm;
+    bad.pair.inlier_px = (cdsp_real)NAN;
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, 400, &bad, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    pts[7].y = (cdsp_real)INFINITY;
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, 400, &prm, NULL, &ws, &rng, &r), CDSP_E_NONFINITE);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_line_fit),
+        cmocka_unit_test(test_exact_points),
+        cmocka_unit_test(test_noise_calibrated),
+        cmocka_unit_test(test_clutter),
+        cmocka_unit_test(test_reproducible_and_prior),
+        cmocka_unit_test(test_not_a_pipe),
+    };
+    return cmocka_run_group_tests_name("points", tests, NULL, NULL);
+}
