@@ -1,0 +1,323 @@
+/*
+ * test_frame.c - frame -> pose on rendered frames: clean frames, clutter and
+ * visible end caps, a moving sequence in tracking mode (losing and finding
+ * the pipe again), 16-bit frames, and hostile arguments.
+ *
+ * Tolerances: the solver's own 1-sigma (from the line fits' residuals),
+ * times 6, plus an allowance for the edge detector's shading bias where the
+ * pipe is shaded: a contour shifted by delta px moves the axis by about
+ * d * delta / f sideways and d * 2 delta / w in depth (w the pipe's width in
+ * px), see edges.c; delta <= 0.12 px was measured for the default light at
+ * this scale (README, "Accuracy").
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <math.h>
+#include <string.h>
+#include <stdio.h>
+#include <cmocka.h>
+#include "support.h"
+
+static cdsp_frame_ws ws;
+
+#define W 640
+#define H 480
+#define F 800.0
+
+static void foot(const double P[3], const double v[3], double f[3])
+{
+    double n2 = v[0] * v[0] + v[1] * v[1] + v[2] * v[2];
+    double t = (P[0] * v[0] + P[1] * v[1] + P[2] * v[2]) / n2;
+    int i;
+    for (i = 0; i < 3; i++)
+        f[i] = P[i] - t * v[i];
+}
+
+/* |error of P_C| against 6 sigma + the shading allowance for delta px. */
+static void check_pose(const char *what, const cdsp_result *r, const double P[3], const double v[3],
+                       double radius, double delta_px)
+{
+    double f[3], got[3], dir[3], err = 0, sig = 0, d, w, allow;
+    int i;
+    foot(P, v, f);
+    sup_result_pose(r, got, dir, NULL);
+    for (i = 0; i < 3; i++) {
+        err += (got[i] - f[i]) * (got[i] - f[i]);
+        sig += (double)(r->sigma_point[i] * r->sigma_point[i]);
+    }
+    err = sqrt(err);
+    sig = sqrt(sig);
+    d = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    w = 2 * F * radius / d;
+    allow = 6 * sig + d * delta_px * (1 / F + 2 / w) + 1e-9 * d;
+    if (err > allow)
+        fail_msg("%s: P_C off by %.4f (allowed %.4f: sigma %.4f, d %.1f)", what, err, allow, sig, d);
+    /* direction: the contours' angle error, a few 1e-3 rad at worst here */
+    if (sup_axis_angle(dir, v) > 6 * sqrt((double)(r->sigma_direction[0] * r->sigma_direction[0] +
+                                                  r->sigma_direction[1] * r->sigma_direction[1] +
+                                                  r->sigma_direction[2] * r->sigma_direction[2])) +
+                                        4 * delta_px / w + 1e-7)
+        fail_msg("%s: direction off by %.5f rad", what, sup_axis_angle(dir, v));
+}
+
+static cdsp_status solve(const cdsp_scene *s, const cdsp_camera *cam, int bits, uint64_t seed,
+                         const cdsp_result *prior, cdsp_result *out)
+{
+    cdsp_image img;
+    cdsp_params prm;
+    cdsp_rng rng;
+    cdsp_status st;
+    void *buf = sup_render(s, cam, bits, seed, &img);
+    assert_non_null(buf);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, seed, 3);
+    st = cdsp_frame_solve(&img, cam, s->radius, &prm, prior, &ws, &rng, out);
+    free(buf);
+    return st;
+}
+
+/* Flat-lit pipes in random poses: only noise limits the answer. */
+static void test_clean_frames(void **state)
+{
+    cdsp_camera cam;
+    cdsp_rng gen;
+    int t, done = 0;
+    (void)state;
+    sup_camera(&cam, W, H, F, -0.15, 0.02);
+    cdsp_rng_seed(&gen, 31, 1);
+    for (t = 0; t < 200 && done < 10; t++) {
+        double P[3], v[3], l[2][3], pin[2];
+        cdsp_scene s;
+        cdsp_result r;
+        char what[32];
+        sup_random_pipe(&gen, 250, 600, P, v);
+        P[0] = 40 * ((double)cdsp_rng_uniform(&gen) - 0.5); /* through the middle of the view */
+        P[1] = 40 * ((double)cdsp_rng_uniform(&gen) - 0.5);
+        /* keep poses whose contours cross the middle of the frame */
+        if (!sup_contour_lines(&cam, P, v, 8, l, pin) || fabs(pin[0] - W / 2.0) > 120 ||
+            fabs(pin[1] - H / 2.0) > 90)
+            continue;
+        sup_scene(&s, P, v, 8);
+        s.ambient = 1;
+        assert_int_equal(solve(&s, &cam, 8, (uint64_t)t, NULL, &r), CDSP_OK);
+        assert_true(r.flags & CDSP_FLAG_FULL_SEARCH);
+        snprintf(what, sizeof what, "pose %d", t);
+        check_pose(what, &r, P, v, 8, 0.0);
+        done++;
+    }
+    assert_true(done >= 8);
+}
+
+/* A finite pipe whose near end cap is in view, under directional light,
+ * with three support bars behind it (one crossing it): the pipe is found,
+ * not a bar and not the cap's edge, and the visible segment stops at the cap. */
+static void test_clutter_and_caps(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_result r;
+    double P[3] = {10, 0, 420}, v[3] = {0.15, 1, 0.35}, vn, endp[3], seg_end;
+    int i;
+    (void)state;
+    sup_camera(&cam, W, H, F, -0.15, 0.02);
+    sup_scene(&s, P, v, 8);
+    s.half_length = 90; /* the near end's cap sits inside the frame */
+    s.n_clutter = 3;
+    /* a vertical column left of the pipe, a horizontal beam crossing behind
+     * it, a slanted strut: bars of the pipe's width or narrower, shorter than it */
+    {
+        const double bars[3][7] = {
+            {-120, -60, 700, -120, 70, 700, 9},
+            {-150, 40, 800, 160, 40, 800, 6},
+            {80, -90, 650, 160, -10, 650, 5},
+        };
+        for (i = 0; i < 3; i++) {
+            int k;
+            for (k = 0; k < 3; k++) {
+                s.clutter[i].p0[k] = (cdsp_real)bars[i][k];
+                s.clutter[i].p1[k] = (cdsp_real)bars[i][3 + k];
+            }
+            s.clutter[i].half_width = (cdsp_real)bars[i][6];
+            s.clutter[i].level = (cdsp_real)(i == 1 ? 0.55 : 0.9);
+        }
+    }
+    assert_int_equal(solve(&s, &cam, 8, 5, NULL, &r), CDSP_OK);
+    check_pose("clutter+caps", &r, P, v, 8, 0.12);
+    /* the segment ends near the cap: within the cap's radius plus a px */
+    vn = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (i = 0; i < 3; i++)
+        endp[i] = P[i] - 90 * v[i] / vn;
+    seg_end = 1e9;
+    for (i = 0; i < 2; i++) {
+        double d2 = 0;
+        int k;
+        for (k = 0; k < 3; k++)
+            d2 += pow((double)r.segment[i][k] - endp[k], 2);
+        if (sqrt(d2) < seg_end)
+            seg_end = sqrt(d2);
+    }
+    if (seg_end > 8 + 2 * 420 / F + 2)
+        fail_msg("visible segment ends %.2f from the cap", seg_end);
+}
+
+/* A sequence: the pipe drifts and turns; after the first frame each frame
+ * is tracked from the previous result. Then the pipe leaves the view (no
+ * pipe), and comes back (found by a full search). */
+static void test_tracking_sequence(void **state)
+{
+    cdsp_camera cam;
+    cdsp_result prev, r;
+    int t, tracked = 0, have = 0;
+    (void)state;
+    sup_camera(&cam, W, H, F, -0.15, 0.02);
+    for (t = 0; t < 24; t++) {
+        double P[3] = {-20 + 1.5 * t, 5 - 0.5 * t, 400 + 3 * t};
+        double v[3] = {0.2 + 0.01 * t, 1, 0.2};
+        cdsp_scene s;
+        cdsp_status st;
+        char what[32];
+        if (t >= 18 && t < 20)
+            P[0] = 5000; /* out of view */
+        sup_scene(&s, P, v, 8);
+        s.ambient = 1;
+        st = solve(&s, &cam, 8, (uint64_t)(100 + t), have ? &prev : NULL, &r);
+        if (t >= 18 && t < 20) {
+            assert_true(st == CDSP_E_NO_PIPE || st == CDSP_E_FEW_POINTS);
+            have = 0;
+            continue;
+        }
+        assert_int_equal(st, CDSP_OK);
+        snprintf(what, sizeof what, "frame %d", t);
+        check_pose(what, &r, P, v, 8, 0.0);
+        if (have) {
+            assert_true(r.flags & CDSP_FLAG_TRACKED);
+            tracked++;
+            /* the direction's sign follows the prior */
+            assert_true((double)(r.direction[0] * prev.direction[0] + r.direction[1] * prev.direction[1] +
+                                 r.direction[2] * prev.direction[2]) > 0);
+        } else {
+            assert_true(r.flags & CDSP_FLAG_FULL_SEARCH);
+        }
+        prev = r;
+        have = 1;
+    }
+    assert_int_equal(tracked, 17 + 3);
+}
+
+/* A jump larger than the band: tracking finds nothing where the pipe was
+ * and falls back to a full search that does. */
+static void test_tracking_fallback(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_result a, b;
+    double P[3] = {-40, 0, 400}, v[3] = {0.1, 1, 0.1}, Q[3] = {40, 0, 400};
+    (void)state;
+    sup_camera(&cam, W, H, F, 0, 0);
+    sup_scene(&s, P, v, 8);
+    s.ambient = 1;
+    assert_int_equal(solve(&s, &cam, 8, 1, NULL, &a), CDSP_OK);
+    sup_scene(&s, Q, v, 8);
+    s.ambient = 1;
+    assert_int_equal(solve(&s, &cam, 8, 2, &a, &b), CDSP_OK);
+    assert_true(b.flags & CDSP_FLAG_FULL_SEARCH);
+    check_pose("after jump", &b, Q, v, 8, 0.0);
+}
+
+static void test_16bit(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_result r;
+    double P[3] = {0, 10, 380}, v[3] = {1, 0.2, 0.3};
+    (void)state;
+    sup_camera(&cam, W, H, F, -0.1, 0);
+    sup_scene(&s, P, v, 8);
+    s.ambient = 1;
+    assert_int_equal(solve(&s, &cam, 16, 9, NULL, &r), CDSP_OK);
+    check_pose("16-bit", &r, P, v, 8, 0.0);
+    {
+        cdsp_image img;
+        uint16_t *px = sup_render(&s, &cam, 16, 9, &img);
+        cdsp_params prm;
+        cdsp_rng rng;
+        size_t i;
+        /* the same frame as Mono12 (values >> 4, bits = 12) */
+        for (i = 0; i < (size_t)W * H; i++)
+            px[i] >>= 4;
+        img.bits = 12;
+        cdsp_params_default(&prm);
+        cdsp_rng_seed(&rng, 1, 1);
+        assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+        check_pose("12-bit", &r, P, v, 8, 0.0);
+        free(px);
+    }
+}
+
+static void test_args(void **state)
+{
+    cdsp_camera cam, other;
+    cdsp_scene s;
+    cdsp_image img;
+    cdsp_params prm;
+    cdsp_rng rng;
+    cdsp_result r;
+    double P[3] = {0, 0, 400}, v[3] = {0, 1, 0};
+    void *buf;
+    (void)state;
+    sup_camera(&cam, W, H, F, 0, 0);
+    sup_scene(&s, P, v, 8);
+    buf = sup_render(&s, &cam, 8, 1, &img);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 1, 1);
+    other = cam;
+    other.width = 641;
+    assert_int_equal(cdsp_frame_solve(&img, &other, 8, &prm, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    assert_int_equal(cdsp_frame_solve(&img, &cam, -8, &prm, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    assert_int_equal(cdsp_frame_solve(NULL, &cam, 8, &prm, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, NULL, &rng, &r), CDSP_E_ARG);
+    prm.edge.step = 0;
+    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    cdsp_params_default(&prm);
+    /* a region of interest without the pipe */
+    prm.edge.roi.x = 0;
+    prm.edge.roi.y = 0;
+    prm.edge.roi.w = 200;
+    prm.edge.roi.h = 480;
+    {
+        cdsp_status st = cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r);
+        assert_true(st == CDSP_E_NO_PIPE || st == CDSP_E_FEW_POINTS);
+    }
+    /* a prior full of NaN is ignored (full search) */
+    cdsp_params_default(&prm);
+    memset(&r, 0, sizeof r);
+    r.lines[0][0] = (cdsp_real)NAN;
+    {
+        cdsp_result out;
+        assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, &r, &ws, &rng, &out), CDSP_OK);
+        assert_true(out.flags & CDSP_FLAG_FULL_SEARCH);
+    }
+    /* a flat frame: nothing to find */
+    memset(buf, 100, (size_t)W * H);
+    {
+        cdsp_status st = cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r);
+        assert_true(st == CDSP_E_FEW_POINTS || st == CDSP_E_NO_PIPE);
+    }
+    free(buf);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_clean_frames),
+        cmocka_unit_test(test_clutter_and_caps),
+        cmocka_unit_test(test_tracking_sequence),
+        cmocka_unit_test(test_tracking_fallback),
+        cmocka_unit_test(test_16bit),
+        cmocka_unit_test(test_args),
+    };
+    return cmocka_run_group_tests_name("frame", tests, NULL, NULL);
+}
