@@ -78,6 +78,14 @@ int br_visible(const br_camera *cam, const br_board *b, const br_pose *pose, dou
     return 1;
 }
 
+/* Samples of a pixel that straddles regions: the Fibonacci lattice
+ * ((a + 1/2) / N, frac((a k + 1/2) / N)), N = 89, k = 55. Every sample has
+ * its own column and row, so even an edge along the pixel grid is located
+ * to 1/89 px (a square ss x ss grid would quantize it to 1/ss), and the
+ * lattice covers the square evenly in every direction. */
+#define BR_SAMPLES 89
+#define BR_LATTICE_K 55
+
 /* The renderer's mapping, precomputed per pose. */
 typedef struct {
     const br_camera *cam;
@@ -159,8 +167,7 @@ static int region(const mapping *m, double u, double v, double *shade)
     return 1 + (j + 1) * (b->cols + 1) + (i + 1);
 }
 
-int br_render(const br_camera *cam, const br_board *b, const br_pose *pose, int ss,
-              double *img)
+int br_render(const br_camera *cam, const br_board *b, const br_pose *pose, double *img)
 {
     mapping m;
     double R[9], H[9], shade;
@@ -189,7 +196,7 @@ int br_render(const br_camera *cam, const br_board *b, const br_pose *pose, int 
             const int *c0 = lab + (size_t)v * (size_t)(W + 1) + (size_t)u;
             const int *c1 = c0 + W + 1;
             double sum = 0;
-            int a, q;
+            int a;
             if (c0[0] == c0[1] && c0[0] == c1[0] && c0[0] == c1[1]) {
                 /* One region at the four corners: the footprint's image on
                  * the board is a near-parallelogram (curvature ~1e-6 px
@@ -198,12 +205,12 @@ int br_render(const br_camera *cam, const br_board *b, const br_pose *pose, int 
                 img[(size_t)v * (size_t)W + (size_t)u] = shade;
                 continue;
             }
-            for (a = 0; a < ss; a++)
-                for (q = 0; q < ss; q++) {
-                    region(&m, u - 0.5 + (q + 0.5) / ss, v - 0.5 + (a + 0.5) / ss, &shade);
-                    sum += shade;
-                }
-            img[(size_t)v * (size_t)W + (size_t)u] = sum / (ss * ss);
+            for (a = 0; a < BR_SAMPLES; a++) {
+                region(&m, u - 0.5 + (a + 0.5) / BR_SAMPLES,
+                       v - 0.5 + fmod((a * BR_LATTICE_K + 0.5) / BR_SAMPLES, 1.0), &shade);
+                sum += shade;
+            }
+            img[(size_t)v * (size_t)W + (size_t)u] = sum / BR_SAMPLES;
         }
     free(lab);
     return 1;

@@ -8,7 +8,8 @@
  * normalized point (1-D Newton on the radius, to machine precision) ->
  * ray -> intersection with the board plane. Pixels whose four footprint
  * corners fall in one region (one square, the border or the background)
- * are that region's intensity; the others are supersampled. */
+ * are that region's intensity; the others are supersampled (89 samples on
+ * a Fibonacci lattice). */
 #ifndef BOARD_RENDER_H
 #define BOARD_RENDER_H
 
@@ -52,10 +53,8 @@ int br_project_board(const br_camera *cam, const br_pose *pose, double X, double
  * least margin px from its edges (findChessboardCorners needs it whole). */
 int br_visible(const br_camera *cam, const br_board *b, const br_pose *pose, double margin);
 
-/* Renders into img (width x height, row-major), ss x ss samples in the
- * pixels that need them. 0 on allocation failure. */
-int br_render(const br_camera *cam, const br_board *b, const br_pose *pose, int ss,
-              double *img);
+/* Renders into img (width x height, row-major). 0 on allocation failure. */
+int br_render(const br_camera *cam, const br_board *b, const br_pose *pose, double *img);
 
 /* Seeded normal noise (splitmix64 + Box-Muller): reproducible everywhere. */
 typedef struct {

@@ -107,10 +107,11 @@ $(MCU_DIR)/$(1)/fw.out: $(MCU_DIR)/$(1)/fw.elf tests/mcu/qemu.sh
 # default capacities; newlib-nano as firmware would link it; all of the
 # board's RAM so the default frame workspace fits.
 MCU_$(1)_PROBES := $(MCU_DIR)/$(1)/probe-points.elf $(MCU_DIR)/$(1)/probe-frame.elf \
-                   $(MCU_DIR)/$(1)/probe-both.elf
+                   $(MCU_DIR)/$(1)/probe-both.elf $(MCU_DIR)/$(1)/probe-all.elf
 $(MCU_DIR)/$(1)/probe-points.elf: MCU_PROBE_DEFS := -DPROBE_POINTS -DEXAMPLE_NO_FRAME
 $(MCU_DIR)/$(1)/probe-frame.elf: MCU_PROBE_DEFS := -DPROBE_FRAME -DEXAMPLE_NO_POINTS
 $(MCU_DIR)/$(1)/probe-both.elf: MCU_PROBE_DEFS := -DPROBE_POINTS -DPROBE_FRAME
+$(MCU_DIR)/$(1)/probe-all.elf: MCU_PROBE_DEFS := -DPROBE_POINTS -DPROBE_FRAME -DPROBE_ALL
 $(MCU_DIR)/$(1)/probe-%.elf: tests/mcu/probe.c tests/mcu/example.c tests/mcu/example.h \
                              tests/mcu/mps2.ld $(3)
 	@mkdir -p $$(@D)
@@ -125,8 +126,8 @@ $(MCU_DIR)/$(1)/su/%.o: lib/%.c include/cdsp.h lib/internal.h
 	@mkdir -p $$(@D)
 	$(MCU_CC) $$(MCU_$(1)_FLAGS) -fstack-usage -fcallgraph-info=su -c $$< -o $$@
 
-$(MCU_DIR)/$(1)/stack.txt: $$(MCU_$(1)_SU) $(MCU_DIR)/$(1)/probe-both.elf tests/mcu/stack.py
-	python3 tests/mcu/stack.py --target $(1) --elf $(MCU_DIR)/$(1)/probe-both.elf \
+$(MCU_DIR)/$(1)/stack.txt: $$(MCU_$(1)_SU) $(MCU_DIR)/$(1)/probe-all.elf tests/mcu/stack.py
+	python3 tests/mcu/stack.py --target $(1) --elf $(MCU_DIR)/$(1)/probe-all.elf \
 	  --objdump arm-none-eabi-objdump $$(MCU_$(1)_SU:.o=.ci) >$$@.tmp && mv $$@.tmp $$@
 
 $(MCU_DIR)/$(1)/size.txt: $$(MCU_$(1)_PROBES) tests/mcu/size.py

@@ -51,7 +51,8 @@ void mcu_abort_exit(void)
         ;
 }
 
-/* Paint [limit, sp - 64) so reads below this frame's callers start clean. */
+/* Everything below the current stack pointer is free (no interrupts run
+ * in these tests): paint [limit, sp) so the next call starts clean. */
 static inline uint32_t *current_sp(void)
 {
     uint32_t *sp;
@@ -62,7 +63,7 @@ static inline uint32_t *current_sp(void)
 void *mcu_stack_mark(void)
 {
     uint32_t *sp = current_sp(), *p;
-    for (p = __mcu_stack_limit; p < sp - 16; p++)
+    for (p = __mcu_stack_limit; p < sp; p++)
         *p = MCU_PAINT;
     return sp;
 }

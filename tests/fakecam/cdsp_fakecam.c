@@ -1,0 +1,349 @@
+/*
+ * cdsp_fakecam - a fake GigE Vision camera that shows a pipe of known pose.
+ *
+ * Built on libaravis's own camera simulator (ArvGvFakeCamera: GVCP control
+ * and GVSP streaming over UDP, GenICam registers for size, pixel format and
+ * frame rate), with the picture drawn by libcdsp's renderer in the fake
+ * camera's fill-pattern callback: frame N shows the pipe of
+ * tests/fakecam/fakecam_path.h at the camera's current width, height and
+ * pixel format (Mono8 or Mono16). A client that includes the same header
+ * knows the ground truth of every frame, or can redraw it pixel for pixel.
+ *
+ * Usage: cdsp_fakecam [options]   (--help lists them)
+ * It prints one line "cdsp_fakecam: ready ..." on stdout when the camera
+ * answers, and runs until SIGINT/SIGTERM or --duration.
+ * Exit status: 0 stopped by a signal or --duration, 1 the camera could not
+ * start (address not local, GVCP port 3956 taken...), 2 usage error.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <getopt.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <arv.h>
+
+#include "cdsp.h"
+#include "fakecam_path.h"
+
+typedef struct {
+    const char *serial;
+    const char *address;
+    int width, height;
+    double rate;
+    ArvPixelFormat pixel_format;
+    double loss_per_thousand;
+    const char *truth_path;
+    double duration;
+    int verbose;
+} fakecam_options;
+
+/* Renderer state, owned by the fake camera's streaming thread (the callback
+ * runs there, under the fake camera's fill-pattern mutex). */
+typedef struct {
+    ArvFakeCamera *fake;
+    float *scratch;
+    size_t scratch_len;
+    FILE *truth;
+    const char *truth_path;
+    unsigned long frames;
+    int warned_format, warned_size, warned_render;
+    int verbose;
+} fakecam_state;
+
+static volatile sig_atomic_t stop_requested;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    stop_requested = 1;
+}
+
+static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint32 gain,
+                       ArvPixelFormat pixel_format)
+{
+    fakecam_state *st = data;
+    size_t size, need, bpp;
+    /* The fake camera hands its own buffer to fill: the const is Aravis's
+     * reader-side view. Its size: arv_buffer_get_data() reports the bytes
+     * received so far (0 here); the fake camera has already checked that the
+     * buffer holds its current payload. */
+    void *img = (void *)arv_buffer_get_data(buffer, NULL);
+    int w = arv_buffer_get_image_width(buffer), h = arv_buffer_get_image_height(buffer);
+    guint64 id = arv_buffer_get_frame_id(buffer);
+    int bits;
+    cdsp_camera cam;
+    cdsp_scene scene;
+    cdsp_rng rng;
+    cdsp_status s;
+
+    (void)exposure_us;  /* the scene is drawn the same whatever the exposure */
+    (void)gain;
+    if (!img || w <= 0 || h <= 0)
+        return;
+    switch (pixel_format) {
+    case ARV_PIXEL_FORMAT_MONO_8: bits = 8; break;
+    case ARV_PIXEL_FORMAT_MONO_16: bits = 16; break;
+    default: bits = 0; break;
+    }
+    size = arv_fake_camera_get_payload(st->fake);
+    bpp = bits > 8 ? 2 : 1;
+    need = (size_t)w * (size_t)h * bpp;
+    if (size < need) {
+        if (!st->warned_size++)
+            fprintf(stderr, "cdsp_fakecam: payload of %zu bytes for a %dx%d frame of %zu bytes: "
+                    "frame left as is\n", size, w, h, need);
+        return;
+    }
+    if (bits == 0) {
+        if (!st->warned_format++)
+            fprintf(stderr, "cdsp_fakecam: pixel format 0x%08x is not drawn (Mono8 and Mono16 "
+                    "are): frames are black\n", (unsigned)pixel_format);
+        memset(img, 0, size);
+        return;
+    }
+
+    fakecam_frame(id, w, h, &cam, &scene, &rng);
+    if (cdsp_render_scratch_size(w, h) > st->scratch_len) {
+        size_t len = cdsp_render_scratch_size(w, h);
+        float *p = realloc(st->scratch, len * sizeof *p);
+        if (!p) {
+            fprintf(stderr, "cdsp_fakecam: out of memory for a %dx%d frame\n", w, h);
+            memset(img, 0, need);
+            return;
+        }
+        st->scratch = p;
+        st->scratch_len = len;
+    }
+    s = cdsp_render(&scene, &cam, img, 0, bits, st->scratch, st->scratch_len, &rng);
+    if (s != CDSP_OK) {
+        if (!st->warned_render++)
+            fprintf(stderr, "cdsp_fakecam: cdsp_render failed for frame %lu (%dx%d, %d bit): %s\n",
+                    (unsigned long)id, w, h, bits, cdsp_strerror(s));
+        memset(img, 0, need);
+        return;
+    }
+    st->frames++;
+    if (st->truth) {
+        double p[3], v[3];
+        fakecam_pose(id, p, v);
+        fprintf(st->truth, "%lu %.9g %.9g %.9g %.9g %.9g %.9g\n", (unsigned long)id, p[0], p[1],
+                p[2], v[0], v[1], v[2]);
+        fflush(st->truth);
+    }
+    if (st->verbose > 1)
+        fprintf(stderr, "cdsp_fakecam: frame %lu %dx%d %d bit\n", (unsigned long)id, w, h, bits);
+}
+
+/* ------------------------------------------------------------------------
+ * Command line: one table gives the options, their help and defaults.
+ * ---------------------------------------------------------------------- */
+enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TRUTH, OPT_DURATION };
+
+static const struct {
+    struct option opt;
+    const char *arg, *help;
+} option_table[] = {
+    {{"serial", required_argument, NULL, 's'}, "SERIAL",
+     "serial number (default CDSP01; Aravis names the camera Aravis-Fake-SERIAL)"},
+    {{"interface", required_argument, NULL, 'i'}, "ADDR",
+     "IPv4 address or interface to serve on (default 127.0.0.1)"},
+    {{"size", required_argument, NULL, OPT_SIZE}, "WxH",
+     "initial frame size, up to 2048x2048 (default 640x480; clients may change it)"},
+    {{"rate", required_argument, NULL, OPT_RATE}, "FPS",
+     "initial frame rate, 1..1000 (default 25)"},
+    {{"pixel-format", required_argument, NULL, OPT_FORMAT}, "FMT",
+     "initial pixel format, Mono8 or Mono16 (default Mono8)"},
+    {{"gvsp-lost-ratio", required_argument, NULL, 'r'}, "N",
+     "drop N of every 1000 GVSP packets, 0..1000 (default 0; the fake camera "
+     "never answers resend requests)"},
+    {{"truth", required_argument, NULL, OPT_TRUTH}, "FILE",
+     "append 'frame_id x y z dx dy dz' (axis point and direction, mm) per frame drawn"},
+    {{"duration", required_argument, NULL, OPT_DURATION}, "SECONDS",
+     "stop after this long (default 0: until SIGINT/SIGTERM)"},
+    {{"verbose", no_argument, NULL, 'v'}, NULL, "more messages (twice: one per frame)"},
+    {{"help", no_argument, NULL, 'h'}, NULL, "this help"},
+};
+#define N_OPTIONS (sizeof option_table / sizeof option_table[0])
+
+static void usage(FILE *f, int status)
+{
+    size_t i;
+    fprintf(f, "usage: cdsp_fakecam [options]\n"
+               "A fake GigE Vision camera showing the pipe of tests/fakecam/fakecam_path.h.\n");
+    for (i = 0; i < N_OPTIONS; i++) {
+        const struct option *o = &option_table[i].opt;
+        char left[64];
+        if (o->val < 256)
+            snprintf(left, sizeof left, "-%c, --%s%s%s", o->val, o->name,
+                     option_table[i].arg ? " " : "", option_table[i].arg ? option_table[i].arg : "");
+        else
+            snprintf(left, sizeof left, "    --%s %s", o->name, option_table[i].arg);
+        fprintf(f, "  %-30s %s\n", left, option_table[i].help);
+    }
+    exit(status);
+}
+
+static double parse_number(const char *opt, const char *s, double lo, double hi)
+{
+    char *end;
+    double v;
+    errno = 0;
+    v = strtod(s, &end);
+    if (end == s || *end || errno || !(v >= lo && v <= hi)) {
+        fprintf(stderr, "cdsp_fakecam: --%s '%s': expected a number in [%g, %g]\n", opt, s, lo, hi);
+        exit(2);
+    }
+    return v;
+}
+
+static void parse_options(int argc, char **argv, fakecam_options *o)
+{
+    struct option longopts[N_OPTIONS + 1];
+    size_t i;
+    int c;
+
+    for (i = 0; i < N_OPTIONS; i++)
+        longopts[i] = option_table[i].opt;
+    memset(&longopts[N_OPTIONS], 0, sizeof longopts[N_OPTIONS]);
+
+    o->serial = "CDSP01";
+    o->address = "127.0.0.1";
+    o->width = 640;
+    o->height = 480;
+    o->rate = 25.0;
+    o->pixel_format = ARV_PIXEL_FORMAT_MONO_8;
+    o->loss_per_thousand = 0.0;
+    o->truth_path = NULL;
+    o->duration = 0.0;
+    o->verbose = 0;
+
+    while ((c = getopt_long(argc, argv, "s:i:r:vh", longopts, NULL)) != -1) {
+        switch (c) {
+        case 's':
+            o->serial = optarg;
+            /* the GVBS serial number register holds 16 bytes with the NUL */
+            if (!*optarg || strlen(optarg) > 15) {
+                fprintf(stderr, "cdsp_fakecam: --serial '%s': expected 1 to 15 characters\n", optarg);
+                exit(2);
+            }
+            break;
+        case 'i': o->address = optarg; break;
+        case OPT_SIZE: {
+            int w, h, n = 0;
+            if (sscanf(optarg, "%dx%d%n", &w, &h, &n) != 2 || optarg[n] || w < 16 || h < 16 ||
+                w > 2048 || h > 2048 || w % 4) {
+                fprintf(stderr, "cdsp_fakecam: --size '%s': expected WxH, 16..2048 each, "
+                        "W a multiple of 4\n", optarg);
+                exit(2);
+            }
+            o->width = w;
+            o->height = h;
+            break;
+        }
+        case OPT_RATE: o->rate = parse_number("rate", optarg, 1.0, 1000.0); break;
+        case OPT_FORMAT:
+            if (!strcmp(optarg, "Mono8"))
+                o->pixel_format = ARV_PIXEL_FORMAT_MONO_8;
+            else if (!strcmp(optarg, "Mono16"))
+                o->pixel_format = ARV_PIXEL_FORMAT_MONO_16;
+            else {
+                fprintf(stderr, "cdsp_fakecam: --pixel-format '%s': expected Mono8 or Mono16\n", optarg);
+                exit(2);
+            }
+            break;
+        case 'r':
+            o->loss_per_thousand = parse_number("gvsp-lost-ratio", optarg, 0.0, 1000.0);
+            break;
+        case OPT_TRUTH: o->truth_path = optarg; break;
+        case OPT_DURATION: o->duration = parse_number("duration", optarg, 0.0, 1e7); break;
+        case 'v': o->verbose++; break;
+        case 'h': usage(stdout, 0); break;
+        default: usage(stderr, 2);
+        }
+    }
+    if (optind != argc) {
+        fprintf(stderr, "cdsp_fakecam: unexpected argument '%s'\n", argv[optind]);
+        usage(stderr, 2);
+    }
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int main(int argc, char **argv)
+{
+    fakecam_options o;
+    fakecam_state st;
+    ArvGvFakeCamera *gv;
+    ArvFakeCamera *fake;
+    struct sigaction sa;
+    struct timespec tick = {0, 100000000L};
+    double t_end;
+
+    parse_options(argc, argv, &o);
+    memset(&st, 0, sizeof st);
+    st.verbose = o.verbose;
+    st.truth_path = o.truth_path;
+    if (o.truth_path) {
+        st.truth = fopen(o.truth_path, "a");
+        if (!st.truth) {
+            fprintf(stderr, "cdsp_fakecam: --truth %s: cannot open: %s\n", o.truth_path,
+                    strerror(errno));
+            return 2;
+        }
+    }
+
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+
+    gv = arv_gv_fake_camera_new(o.address, o.serial);
+    if (!gv || !arv_gv_fake_camera_is_running(gv)) {
+        fprintf(stderr, "cdsp_fakecam: the fake camera did not start on '%s' (an address of this "
+                "machine? GVCP port 3956 already taken by another camera?)\n", o.address);
+        if (gv)
+            g_object_unref(gv);
+        return 1;
+    }
+    fake = arv_gv_fake_camera_get_fake_camera(gv);
+    st.fake = fake;
+    g_object_set(gv, "gvsp-lost-ratio", o.loss_per_thousand / 1000.0, NULL);
+    arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_WIDTH, (guint32)o.width);
+    arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_HEIGHT, (guint32)o.height);
+    arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_PIXEL_FORMAT,
+                                   (guint32)o.pixel_format);
+    arv_fake_camera_write_register(fake, ARV_FAKE_CAMERA_REGISTER_ACQUISITION_FRAME_PERIOD_US,
+                                   (guint32)(1e6 / o.rate + 0.5));
+    arv_fake_camera_set_fill_pattern(fake, fill_frame, &st);
+
+    printf("cdsp_fakecam: ready: Aravis-Fake-%s on %s, %dx%d %s at %g fps, GVSP loss %g/1000\n",
+           o.serial, o.address, o.width, o.height,
+           o.pixel_format == ARV_PIXEL_FORMAT_MONO_16 ? "Mono16" : "Mono8", o.rate,
+           o.loss_per_thousand);
+    fflush(stdout);
+
+    t_end = o.duration > 0 ? now_s() + o.duration : 0;
+    while (!stop_requested && (t_end == 0 || now_s() < t_end))
+        nanosleep(&tick, NULL);
+
+    /* Unref joins the streaming thread: st is no longer in use after it. */
+    g_object_unref(gv);
+    if (st.truth)
+        fclose(st.truth);
+    free(st.scratch);
+    if (o.verbose)
+        fprintf(stderr, "cdsp_fakecam: stopped after drawing %lu frames\n", st.frames);
+    return 0;
+}
