@@ -136,13 +136,13 @@ $(MCU_DIR)/$(1)/size.txt: $$(MCU_$(1)_PROBES) tests/mcu/size.py
 .PHONY: check-mcu-$(1)
 check-mcu-$(1): $(MCU_DIR)/$(1)/hello.elf $(MCU_DIR)/$(1)/fw.elf $(MCU_DIR)/host/fw-$(6).out \
                 $(MCU_DIR)/$(1)/stack.txt
-	@$(RUN) "mcu/$(1)-hello" tests/mcu/qemu.sh $(MCU_TIMEOUT) $(5) $(MCU_DIR)/$(1)/hello.elf \
+	@$$(RUN) "mcu/$(1)-hello" tests/mcu/qemu.sh $(MCU_TIMEOUT) $(5) $(MCU_DIR)/$(1)/hello.elf \
 	  $(MCU_DIR)/$(1)/hello.out
-	@$(RUN) "mcu/$(1)-fw-run" tests/mcu/qemu.sh $(MCU_TIMEOUT) $(5) $(MCU_DIR)/$(1)/fw.elf \
+	@$$(RUN) "mcu/$(1)-fw-run" tests/mcu/qemu.sh $(MCU_TIMEOUT) $(5) $(MCU_DIR)/$(1)/fw.elf \
 	  $(MCU_DIR)/$(1)/fw.out
-	@$(RUN) "mcu/$(1)-fw-vs-host" python3 tests/mcu/compare.py $(MCU_DIR)/host/fw-$(6).out \
+	@$$(RUN) "mcu/$(1)-fw-vs-host" python3 tests/mcu/compare.py $(MCU_DIR)/host/fw-$(6).out \
 	  $(MCU_DIR)/$(1)/fw.out
-	@$(RUN) "mcu/$(1)-stack-bound" python3 tests/mcu/stack.py --check-measured \
+	@$$(RUN) "mcu/$(1)-stack-bound" python3 tests/mcu/stack.py --check-measured \
 	  $(MCU_DIR)/$(1)/fw.out $(MCU_DIR)/$(1)/stack.txt
 endef
 
