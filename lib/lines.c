@@ -48,14 +48,14 @@ static size_t golden_stride(size_t n)
     return 1;
 }
 #define MIN_SAMPLE_DIST_PX 4.0  /* closer sample pairs give a poorly defined angle */
-#define REFINE_PASSES 3
+#define REFINE_PASSES 4
 
 /* Moments of a point set about a nearby origin (o), enough for the TLS fit
  * and the polarity of the set. */
 typedef struct {
     cdsp_real ox, oy;
     cdsp_real n, sx, sy, sxx, syy, sxy;
-    cdsp_real sgx, sgy, sg;
+    cdsp_real sgx, sgy;
 } moments;
 
 static void mom_init(moments *m, cdsp_real ox, cdsp_real oy)
@@ -63,7 +63,7 @@ static void mom_init(moments *m, cdsp_real ox, cdsp_real oy)
     m->ox = ox;
     m->oy = oy;
     m->n = m->sx = m->sy = m->sxx = m->syy = m->sxy = R(0);
-    m->sgx = m->sgy = m->sg = R(0);
+    m->sgx = m->sgy = R(0);
 }
 
 static void mom_add(moments *m, const cdsp_edge *e)
@@ -77,11 +77,10 @@ static void mom_add(moments *m, const cdsp_edge *e)
     m->sxy += dx * dy;
     m->sgx += e->gx;
     m->sgy += e->gy;
-    m->sg += R_SQRT(e->gx * e->gx + e->gy * e->gy);
 }
 
-/* TLS line from moments: fills l, centroid, dir, strength (count/extent
- * statistics are the stats pass's job). */
+/* TLS line from moments: fills l, centroid, dir (count, extent, residual
+ * and strength are the stats pass's job). */
 static cdsp_status mom_fit(const moments *m, cdsp_line *out)
 {
     cdsp_real mx, my, cxx, cyy, cxy, rms2, s, M[9], U[9], S[3], V[9], a, b, c, norm;
@@ -143,30 +142,35 @@ static cdsp_status mom_fit(const moments *m, cdsp_line *out)
     out->centroid[1] = my + m->oy;
     out->dir[0] = -out->l[1];
     out->dir[1] = out->l[0];
-    out->strength = m->sg / m->n;
     return CDSP_OK;
 }
 
-/* Residual RMS, extent and spread along the line, and count over the
- * selected points (idx, or label == want, or all). */
-static void line_stats(const cdsp_edge *pts, size_t n, const uint32_t *idx, const uint8_t *label,
-                       uint8_t want, cdsp_line *ln)
+/* Residual RMS, extent and spread along the line, mean gradient length and
+ * count over the selected points (idx, or label == want, or all); with a
+ * label array, the selected points are relabelled `relabel` on the way. */
+static void line_stats(const cdsp_edge *pts, size_t n, const uint32_t *idx, uint8_t *label,
+                       uint8_t want, uint8_t relabel, cdsp_line *ln)
 {
     size_t i;
-    cdsp_real ss = R(0), tmin = R_MAX, tmax = -R_MAX, spread = R(0), cnt = R(0);
+    cdsp_real ss = R(0), tmin = R_MAX, tmax = -R_MAX, spread = R(0), cnt = R(0), sg = R(0);
     for (i = 0; i < n; i++) {
         const cdsp_edge *e;
         cdsp_real d, t;
-        if (idx)
+        if (idx) {
             e = &pts[idx[i]];
-        else if (label && label[i] != want)
-            continue;
-        else
+        } else if (label) {
+            if (label[i] != want)
+                continue;
+            label[i] = relabel;
             e = &pts[i];
+        } else {
+            e = &pts[i];
+        }
         d = ln->l[0] * e->x + ln->l[1] * e->y + ln->l[2];
         t = ln->dir[0] * (e->x - ln->centroid[0]) + ln->dir[1] * (e->y - ln->centroid[1]);
         ss += d * d;
         spread += t * t;
+        sg += R_SQRT(e->gx * e->gx + e->gy * e->gy);
         if (t < tmin)
             tmin = t;
         if (t > tmax)
@@ -178,6 +182,7 @@ static void line_stats(const cdsp_edge *pts, size_t n, const uint32_t *idx, cons
     ln->spread = spread;
     ln->t_min = cnt > R(0) ? tmin : R(0);
     ln->t_max = cnt > R(0) ? tmax : R(0);
+    ln->strength = cnt > R(0) ? sg / cnt : R(0);
 }
 
 cdsp_status cdsp_line_fit(const cdsp_edge *pts, const uint32_t *idx, size_t n, cdsp_line *out)
@@ -203,7 +208,7 @@ cdsp_status cdsp_line_fit(const cdsp_edge *pts, const uint32_t *idx, size_t n, c
     st = mom_fit(&m, out);
     if (st != CDSP_OK)
         return st;
-    line_stats(pts, n, idx, NULL, 0, out);
+    line_stats(pts, n, idx, NULL, 0, 0, out);
     return CDSP_OK;
 }
 
@@ -334,7 +339,10 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
         if (best_sub == 0)
             break;
 
-        /* Refine: inliers of the current line -> TLS fit -> inliers again. */
+        /* Refine: inliers of the current line -> TLS fit -> inliers again,
+         * until the inlier count settles. The line kept is the fit of the
+         * last inlier set. */
+        cnt = 0;
         for (pass = 0; pass < REFINE_PASSES; pass++) {
             cdsp_line fit;
             uint32_t prev = cnt;
@@ -357,19 +365,7 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                     label[i] = LABEL_FREE;
             break;
         }
-        /* Final membership follows the final line. */
-        mom_init(&m, lines[*nlines].centroid[0], lines[*nlines].centroid[1]);
-        cnt = select_inliers(pts, n, label, lines[*nlines].l, thr, cos2, &m);
-        if (cnt < (uint32_t)p->min_inliers || mom_fit(&m, &lines[*nlines]) != CDSP_OK) {
-            for (i = 0; i < n; i++)
-                if (label[i] == LABEL_TRIAL)
-                    label[i] = LABEL_FREE;
-            break;
-        }
-        for (i = 0; i < n; i++)
-            if (label[i] == LABEL_TRIAL)
-                label[i] = (uint8_t)(k + 1);
-        line_stats(pts, n, NULL, label, (uint8_t)(k + 1), &lines[*nlines]);
+        line_stats(pts, n, NULL, label, LABEL_TRIAL, (uint8_t)(k + 1), &lines[*nlines]);
         nfree -= cnt;
         (*nlines)++;
     }
