@@ -27,6 +27,7 @@ ALL_TARGETS :=
 CHECK_STEPS :=
 BENCH_STEPS :=
 
+.DEFAULT_GOAL := all
 .PHONY: all check check-steps bench bench-steps demo deps clean size-m4f
 
 # ---------------------------------------------------------------------------
