@@ -1,0 +1,151 @@
+/*
+ * tool_internal.h - private to cdsp_tool: the command-line table, shared helpers and
+ * the entry point of each subcommand (tool_<name>.c).
+ */
+#ifndef CDSP_TOOL_H
+#define CDSP_TOOL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "cdsp.h"
+#include "cdsp_host.h"
+
+/* Exit statuses, the same for every subcommand. */
+enum {
+    TOOL_EXIT_OK = 0,      /* everything done */
+    TOOL_EXIT_PARTIAL = 1, /* some input failed (no pipe, unreadable frame, ...) */
+    TOOL_EXIT_USAGE = 2    /* bad command line, calibration or input file */
+};
+
+/* ------------------------------------------------------------------------
+ * The command line of a subcommand is one table: parsing, range checks,
+ * defaults and the OPTIONS section of --help all come from it.
+ * ---------------------------------------------------------------------- */
+typedef enum {
+    OPT_FLAG,   /* int, set to 1 */
+    OPT_INT,    /* int in [min, max] */
+    OPT_U64,    /* uint64_t */
+    OPT_REAL,   /* double in [min, max] */
+    OPT_STR,    /* const char * (argv string, not copied) */
+    OPT_VEC3,   /* double[3], "x,y,z" */
+    OPT_ROI,    /* cdsp_roi, "x,y,w,h" */
+    OPT_CHOICE, /* int index into the '|'-separated `choices` */
+    OPT_LIST    /* double list: tool_list, "a,b,c" */
+} opt_kind;
+
+#define TOOL_LIST_MAX 64
+typedef struct {
+    int n;
+    double v[TOOL_LIST_MAX];
+} tool_list;
+
+typedef struct {
+    const char *name;    /* long name, without "--" */
+    char short_name;     /* 0: none */
+    opt_kind kind;
+    void *target;
+    double min, max;     /* OPT_INT / OPT_REAL range, inclusive */
+    const char *arg;     /* placeholder in --help ("N", "PATH"); NULL for flags */
+    const char *help;    /* one or more sentences; the default is appended */
+    const char *choices; /* OPT_CHOICE: "pgm|png" */
+    int no_default;      /* 1: do not print a default */
+} tool_opt;
+
+typedef struct {
+    const char *name;        /* "solve" */
+    const char *summary;     /* one line, for NAME and `cdsp_tool --help` */
+    const char *synopsis;    /* after "cdsp_tool NAME " */
+    const char *description; /* paragraphs separated by blank lines */
+    const char *after;       /* extra sections after OPTIONS (OUTPUT, EXAMPLES, ...) */
+    const char *exit_status; /* EXIT STATUS section */
+} tool_doc;
+
+/* Parse argv[1..] (argv[0] is the subcommand name). Positional arguments
+ * are collected into pos (argv pointers, *npos of them, caller array of
+ * argc entries). Returns 0 to go on, or exit status + 1 to stop: --help
+ * printed (1 -> exit 0) or a usage error reported (3 -> exit 2). */
+int tool_parse(const tool_doc *doc, const tool_opt *opts, int argc, char **argv, char **pos,
+               int *npos);
+void tool_help(const tool_doc *doc, const tool_opt *opts);
+/* "cdsp_tool NAME: message" on stderr and TOOL_EXIT_USAGE. */
+int tool_usage_error(const char *cmd, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+void tool_warn(const char *cmd, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Monotonic clock, microseconds. */
+double tool_now_us(void);
+
+/* mkdir -p of one directory level (its parent must exist); 0 or -1 with
+ * errno. An existing directory is fine. */
+int tool_mkdir(const char *path);
+
+/* ------------------------------------------------------------------------
+ * Frame lists: paths as given; a directory stands for its *.pgm and *.png
+ * files in name order; "--list FILE" adds one path per line ("-": stdin).
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    char **path;
+    size_t n, cap;
+} tool_frames;
+
+int tool_frames_add(tool_frames *f, const char *cmd, const char *arg);
+int tool_frames_add_list(tool_frames *f, const char *cmd, const char *listfile);
+void tool_frames_free(tool_frames *f);
+
+/* Progress on stderr, only when it is a terminal and there is a lot to do. */
+typedef struct {
+    const char *what;
+    size_t total;
+    int enabled;
+    double t0, last;
+} tool_progress;
+
+void tool_progress_start(tool_progress *p, const char *what, size_t total, int quiet);
+void tool_progress_update(tool_progress *p, size_t done);
+void tool_progress_end(tool_progress *p);
+
+/* ------------------------------------------------------------------------
+ * Geometry helpers shared by sim, bench and export.
+ * ---------------------------------------------------------------------- */
+/* The paper's simulated camera (METHOD.md): 2448 x 2048, 3.45 um pixels,
+ * f = 12 mm, principal point at the centre, no distortion. */
+void tool_paper_camera(cdsp_camera *cam);
+
+/* The paper's pipes p1..p4 (index 0..3) in camera coordinates, mm: a point
+ * on the axis, the unit direction, and the half length (250 mm). The
+ * camera sits at world (150, 200, 300) looking at the world origin, world
+ * Z up (image up). */
+void tool_paper_pipe(int k, double point[3], double dir[3], double *half_length);
+
+/* Ground truth of an axis: foot of the perpendicular from the optical
+ * centre, unit direction with the library's sign rule (largest-magnitude
+ * component positive), distance. */
+void tool_axis_truth(const double point[3], const double dir[3], double foot[3],
+                     double unit[3], double *distance);
+
+/* Distance of X from the line through q with unit direction v. */
+double tool_line_distance(const double X[3], const double q[3], const double v[3]);
+
+/* Subcommands. */
+int tool_solve_main(int argc, char **argv);   /* also "overlay" */
+int tool_sim_main(int argc, char **argv);
+int tool_export_main(int argc, char **argv);
+int tool_bench_main(int argc, char **argv);
+
+/* overlay drawing (tool_overlay.c): the frame in gray with the edge points
+ * (distorted positions; label per point: 0 other, 1 / 2 contour inliers),
+ * the two contours and the projected visible axis when r != NULL.
+ * Writes an RGB PNG. */
+int tool_overlay_write(const char *path, const cdsp_host_image *img, const cdsp_camera *cam,
+                       const cdsp_edge *edges, const uint8_t *label, size_t n,
+                       const cdsp_result *r, cdsp_host_err *err);
+
+#endif
