@@ -40,10 +40,14 @@ typedef struct {
     double timeout;
     long max_incomplete;    /* < 0: no limit */
     long min_incomplete;
+    unsigned cycle;         /* the camera's --cycle */
+    const char *truth;      /* the camera's --truth file, or NULL */
+    int expect_wrap;
     int verbose;
 } probe_options;
 
-enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TIMEOUT, OPT_MAXINC, OPT_MININC };
+enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TIMEOUT, OPT_MAXINC, OPT_MININC, OPT_CYCLE,
+       OPT_TRUTH, OPT_WRAP };
 
 static const struct {
     struct option opt;
@@ -63,6 +67,13 @@ static const struct {
      "fail if more frames than this arrive incomplete (default: no limit)"},
     {{"min-incomplete", required_argument, NULL, OPT_MININC}, "N",
      "fail if fewer than this arrive incomplete (checks a GVSP loss ratio; default 0)"},
+    {{"cycle", required_argument, NULL, OPT_CYCLE}, "N",
+     "the camera runs with --cycle N (default 0)"},
+    {{"truth", required_argument, NULL, OPT_TRUTH}, "FILE",
+     "the camera's --truth file: every checked frame must be listed there with "
+     "its pose from fakecam_path.h"},
+    {{"expect-wrap", no_argument, NULL, OPT_WRAP}, NULL,
+     "fail unless the 16-bit frame id wraps while streaming"},
     {{"verbose", no_argument, NULL, 'v'}, NULL, "one line per frame"},
     {{"help", no_argument, NULL, 'h'}, NULL, "this help"},
 };
@@ -147,6 +158,9 @@ static void parse_options(int argc, char **argv, probe_options *o)
         case OPT_TIMEOUT: o->timeout = parse_number("timeout", optarg, 1, 3600); break;
         case OPT_MAXINC: o->max_incomplete = (long)parse_number("max-incomplete", optarg, 0, 1e9); break;
         case OPT_MININC: o->min_incomplete = (long)parse_number("min-incomplete", optarg, 0, 1e9); break;
+        case OPT_CYCLE: o->cycle = (unsigned)parse_number("cycle", optarg, 0, 1000); break;
+        case OPT_TRUTH: o->truth = optarg; break;
+        case OPT_WRAP: o->expect_wrap = 1; break;
         case 'v': o->verbose = 1; break;
         case 'h': usage(stdout, 0); break;
         default: usage(stderr, 2);
@@ -241,7 +255,7 @@ static int check_frame(const probe_options *o, ArvBuffer *b, void *expect, size_
         *scratch = p;
         *scratch_len = cdsp_render_scratch_size(w, h);
     }
-    fakecam_frame(id, w, h, &cam, &scene, &rng);
+    fakecam_frame(id, o->cycle, w, h, &cam, &scene, &rng);
     s = cdsp_render(&scene, &cam, expect, 0, bits, *scratch, *scratch_len, &rng);
     if (s != CDSP_OK) {
         fprintf(stderr, "arv_probe: cdsp_render failed for frame %lu: %s\n", (unsigned long)id,
@@ -273,6 +287,64 @@ static int check_frame(const probe_options *o, ArvBuffer *b, void *expect, size_
     return -1;
 }
 
+/* Every id in ids[0..n) must appear in the camera's truth file with the
+ * pose fakecam_pose() gives (printed with 17 digits: exact to the last
+ * bit after the round trip through text). */
+static int check_truth(const probe_options *o, const guint64 *ids, long n)
+{
+    FILE *f = fopen(o->truth, "r");
+    char *found;
+    char line[512];
+    long i, lineno = 0, missing = 0;
+
+    if (!f) {
+        fprintf(stderr, "arv_probe: --truth %s: cannot open: %s\n", o->truth, strerror(errno));
+        return -1;
+    }
+    found = calloc(65536, 1);
+    if (!found) {
+        fclose(f);
+        fprintf(stderr, "arv_probe: out of memory\n");
+        return -1;
+    }
+    while (fgets(line, sizeof line, f)) {
+        unsigned long id;
+        double p[3], v[3], pe[3], ve[3];
+        int k;
+        lineno++;
+        if (sscanf(line, "%lu %lf %lf %lf %lf %lf %lf", &id, &p[0], &p[1], &p[2], &v[0], &v[1],
+                   &v[2]) != 7) {
+            fprintf(stderr, "arv_probe: %s:%ld: expected 'frame_id x y z dx dy dz'\n", o->truth,
+                    lineno);
+            goto bad;
+        }
+        fakecam_pose(id, o->cycle, pe, ve);
+        for (k = 0; k < 3; k++)
+            if (p[k] != pe[k] || v[k] != ve[k]) {
+                fprintf(stderr, "arv_probe: %s:%ld: frame %lu: pose differs from fakecam_pose()\n",
+                        o->truth, lineno, id);
+                goto bad;
+            }
+        found[id & 0xFFFFu] = 1;
+    }
+    fclose(f);
+    for (i = 0; i < n; i++)
+        if (!found[ids[i] & 0xFFFFu])
+            missing++;
+    free(found);
+    if (missing) {
+        fprintf(stderr, "arv_probe: %s: %ld of the %ld checked frames are not listed\n", o->truth,
+                missing, n);
+        return -1;
+    }
+    printf("arv_probe: all %ld checked frames are in %s with their poses\n", n, o->truth);
+    return 0;
+bad:
+    fclose(f);
+    free(found);
+    return -1;
+}
+
 int main(int argc, char **argv)
 {
     probe_options o;
@@ -284,11 +356,18 @@ int main(int argc, char **argv)
     float *scratch = NULL;
     size_t scratch_len = 0, payload;
     long verified = 0, incomplete = 0, received = 0;
+    guint64 *ids = NULL;
+    int wrapped = 0;
     guint64 last_id = 0;
     int have_last = 0, rc = 1, i, x, y, w, h;
     double t0, deadline;
 
     parse_options(argc, argv, &o);
+    ids = malloc((size_t)o.frames * sizeof *ids);
+    if (!ids) {
+        fprintf(stderr, "arv_probe: out of memory\n");
+        return 1;
+    }
     t0 = now_s();
     deadline = t0 + o.timeout;
 
@@ -367,13 +446,15 @@ int main(int argc, char **argv)
                 arv_stream_push_buffer(stream, b);
                 goto stop;
             }
+            if (have_last && id < last_id)
+                wrapped = 1;
             last_id = id;
             have_last = 1;
             if (check_frame(&o, b, expect, payload, &scratch, &scratch_len) < 0) {
                 arv_stream_push_buffer(stream, b);
                 goto stop;
             }
-            verified++;
+            ids[verified++] = id;
             if (o.verbose)
                 printf("frame %lu: exact\n", (unsigned long)id);
         }
@@ -389,8 +470,16 @@ int main(int argc, char **argv)
                 "GVSP loss ratio applied?)\n", incomplete, o.min_incomplete);
         goto stop;
     }
-    printf("arv_probe: %ld frames pixel-exact (last id %lu), %ld incomplete, %ld received in "
-           "%.2f s\n", verified, (unsigned long)last_id, incomplete, received, now_s() - t0);
+    if (o.expect_wrap && !wrapped) {
+        fprintf(stderr, "arv_probe: the frame id did not wrap (first %lu, last %lu)\n",
+                (unsigned long)ids[0], (unsigned long)last_id);
+        goto stop;
+    }
+    printf("arv_probe: %ld frames pixel-exact (ids %lu..%lu%s), %ld incomplete, %ld received in "
+           "%.2f s\n", verified, (unsigned long)ids[0], (unsigned long)last_id,
+           wrapped ? ", across the 16-bit wrap" : "", incomplete, received, now_s() - t0);
+    if (o.truth && check_truth(&o, ids, verified) < 0)
+        goto stop;
     rc = 0;
 stop:
     arv_camera_stop_acquisition(camera, &err);
@@ -411,6 +500,7 @@ done:
     g_free(device_id);
     free(expect);
     free(scratch);
+    free(ids);
     arv_shutdown();
     if (rc)
         fprintf(stderr, "arv_probe: FAIL\n");

@@ -26,6 +26,11 @@
 #include <string.h>
 #include <time.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <arv.h>
 
 #include "cdsp.h"
@@ -40,19 +45,28 @@ typedef struct {
     double loss_per_thousand;
     const char *truth_path;
     double duration;
+    unsigned cycle;
     int verbose;
 } fakecam_options;
+
+/* One rendered frame kept for --cycle. */
+typedef struct {
+    uint8_t *data;
+    int w, h, bits;
+} fakecam_slot;
 
 /* Renderer state, owned by the fake camera's streaming thread (the callback
  * runs there, under the fake camera's fill-pattern mutex). */
 typedef struct {
     ArvFakeCamera *fake;
+    unsigned cycle;
+    fakecam_slot *slots;    /* cycle entries, or NULL */
     float *scratch;
     size_t scratch_len;
     FILE *truth;
     const char *truth_path;
     unsigned long frames;
-    int warned_format, warned_size, warned_render;
+    int warned_format, warned_size, warned_render, warned_slow, warned_cache;
     int verbose;
 } fakecam_state;
 
@@ -62,6 +76,13 @@ static void on_signal(int sig)
 {
     (void)sig;
     stop_requested = 1;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint32 gain,
@@ -81,6 +102,8 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
     cdsp_scene scene;
     cdsp_rng rng;
     cdsp_status s;
+    guint32 period_us;
+    double t0, t_draw;
 
     (void)exposure_us;  /* the scene is drawn the same whatever the exposure */
     (void)gain;
@@ -108,7 +131,16 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
         return;
     }
 
-    fakecam_frame(id, w, h, &cam, &scene, &rng);
+    if (st->slots) {
+        fakecam_slot *sl = &st->slots[(id & 0xFFFFu) % st->cycle];
+        if (sl->data && sl->w == w && sl->h == h && sl->bits == bits) {
+            memcpy(img, sl->data, need);
+            goto drawn;
+        }
+    }
+
+    t0 = now_s();
+    fakecam_frame(id, st->cycle, w, h, &cam, &scene, &rng);
     if (cdsp_render_scratch_size(w, h) > st->scratch_len) {
         size_t len = cdsp_render_scratch_size(w, h);
         float *p = realloc(st->scratch, len * sizeof *p);
@@ -128,11 +160,34 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
         memset(img, 0, need);
         return;
     }
+    t_draw = now_s() - t0;
+    if (!st->warned_slow && arv_fake_camera_read_register(st->fake,
+            ARV_FAKE_CAMERA_REGISTER_ACQUISITION_FRAME_PERIOD_US, &period_us) &&
+        t_draw * 1e6 > (double)period_us) {
+        st->warned_slow = 1;
+        fprintf(stderr, "cdsp_fakecam: drawing a %dx%d frame takes %.0f ms, longer than the frame "
+                "period of %.0f ms: frames come slower than asked (--cycle N keeps N frames "
+                "drawn)\n", w, h, 1e3 * t_draw, 1e-3 * (double)period_us);
+    }
+    if (st->slots) {
+        fakecam_slot *sl = &st->slots[(id & 0xFFFFu) % st->cycle];
+        uint8_t *p = realloc(sl->data, need);
+        if (p) {
+            memcpy(p, img, need);
+            sl->data = p;
+            sl->w = w;
+            sl->h = h;
+            sl->bits = bits;
+        } else if (!st->warned_cache++) {
+            fprintf(stderr, "cdsp_fakecam: out of memory for the frame cache: drawing every frame\n");
+        }
+    }
+drawn:
     st->frames++;
     if (st->truth) {
         double p[3], v[3];
-        fakecam_pose(id, p, v);
-        fprintf(st->truth, "%lu %.9g %.9g %.9g %.9g %.9g %.9g\n", (unsigned long)id, p[0], p[1],
+        fakecam_pose(id, st->cycle, p, v);
+        fprintf(st->truth, "%lu %.17g %.17g %.17g %.17g %.17g %.17g\n", (unsigned long)id, p[0], p[1],
                 p[2], v[0], v[1], v[2]);
         fflush(st->truth);
     }
@@ -143,7 +198,7 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
 /* ------------------------------------------------------------------------
  * Command line: one table gives the options, their help and defaults.
  * ---------------------------------------------------------------------- */
-enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TRUTH, OPT_DURATION };
+enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TRUTH, OPT_DURATION, OPT_CYCLE };
 
 static const struct {
     struct option opt;
@@ -164,6 +219,9 @@ static const struct {
      "never answers resend requests)"},
     {{"truth", required_argument, NULL, OPT_TRUTH}, "FILE",
      "append 'frame_id x y z dx dy dz' (axis point and direction, mm) per frame drawn"},
+    {{"cycle", required_argument, NULL, OPT_CYCLE}, "N",
+     "show only N poses in turn, each drawn once and kept (0..1000, default 0: "
+     "every frame drawn; see fakecam_path.h)"},
     {{"duration", required_argument, NULL, OPT_DURATION}, "SECONDS",
      "stop after this long (default 0: until SIGINT/SIGTERM)"},
     {{"verbose", no_argument, NULL, 'v'}, NULL, "more messages (twice: one per frame)"},
@@ -221,6 +279,7 @@ static void parse_options(int argc, char **argv, fakecam_options *o)
     o->loss_per_thousand = 0.0;
     o->truth_path = NULL;
     o->duration = 0.0;
+    o->cycle = 0;
     o->verbose = 0;
 
     while ((c = getopt_long(argc, argv, "s:i:r:vh", longopts, NULL)) != -1) {
@@ -262,6 +321,7 @@ static void parse_options(int argc, char **argv, fakecam_options *o)
             break;
         case OPT_TRUTH: o->truth_path = optarg; break;
         case OPT_DURATION: o->duration = parse_number("duration", optarg, 0.0, 1e7); break;
+        case OPT_CYCLE: o->cycle = (unsigned)parse_number("cycle", optarg, 0.0, 1000.0); break;
         case 'v': o->verbose++; break;
         case 'h': usage(stdout, 0); break;
         default: usage(stderr, 2);
@@ -273,11 +333,27 @@ static void parse_options(int argc, char **argv, fakecam_options *o)
     }
 }
 
-static double now_s(void)
+/* GigE Vision control (GVCP) listens on UDP port 3956. Aravis binds it with
+ * SO_REUSEADDR, so a second fake camera on the same address would start
+ * too and the two would split the traffic between them. A plain bind
+ * (without SO_REUSEADDR) fails while anyone holds the port: refuse then.
+ * Returns 0 when the port is free or addr is an interface name. */
+static int gvcp_port_taken(const char *addr)
 {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+    struct sockaddr_in sa;
+    int fd, r;
+
+    memset(&sa, 0, sizeof sa);
+    sa.sin_family = AF_INET;
+    sa.sin_port = htons(3956);
+    if (inet_pton(AF_INET, addr, &sa.sin_addr) != 1)
+        return 0;
+    fd = socket(AF_INET, SOCK_DGRAM, 0);
+    if (fd < 0)
+        return 0;
+    r = bind(fd, (struct sockaddr *)&sa, sizeof sa);
+    close(fd);
+    return r < 0 && errno == EADDRINUSE;
 }
 
 int main(int argc, char **argv)
@@ -293,6 +369,14 @@ int main(int argc, char **argv)
     parse_options(argc, argv, &o);
     memset(&st, 0, sizeof st);
     st.verbose = o.verbose;
+    st.cycle = o.cycle;
+    if (o.cycle) {
+        st.slots = calloc(o.cycle, sizeof *st.slots);
+        if (!st.slots) {
+            fprintf(stderr, "cdsp_fakecam: out of memory for --cycle %u\n", o.cycle);
+            return 1;
+        }
+    }
     st.truth_path = o.truth_path;
     if (o.truth_path) {
         st.truth = fopen(o.truth_path, "a");
@@ -309,6 +393,12 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
 
+    if (gvcp_port_taken(o.address)) {
+        fprintf(stderr, "cdsp_fakecam: UDP port 3956 (GVCP) on %s is already taken, by another "
+                "GigE Vision camera or program; only one fake camera per address can work\n",
+                o.address);
+        return 1;
+    }
     gv = arv_gv_fake_camera_new(o.address, o.serial);
     if (!gv || !arv_gv_fake_camera_is_running(gv)) {
         fprintf(stderr, "cdsp_fakecam: the fake camera did not start on '%s' (an address of this "
@@ -343,6 +433,12 @@ int main(int argc, char **argv)
     if (st.truth)
         fclose(st.truth);
     free(st.scratch);
+    if (st.slots) {
+        unsigned i;
+        for (i = 0; i < o.cycle; i++)
+            free(st.slots[i].data);
+        free(st.slots);
+    }
     if (o.verbose)
         fprintf(stderr, "cdsp_fakecam: stopped after drawing %lu frames\n", st.frames);
     return 0;

@@ -4,13 +4,15 @@
  * function of the frame id. The fake camera renders with it, and a test on
  * the receiving side (tests/fakecam/arv_probe.c, the daemon's end-to-end
  * test) includes the same header to know the ground truth of every frame it
- * receives, or to redraw the frame and compare pixels.
+ * receives, or to redraw the frame and compare pixels. Sender and receiver
+ * must agree on the camera's --cycle (0 unless the test says otherwise).
  *
  * Frame ids: GVSP (GigE Vision 1.x) carries a 16-bit block id, and the fake
- * camera's counter starts at 65000, so it wraps within the first 22 s at
+ * camera's counter starts at 65401, so it wraps within the first 6 s at
  * 25 fps. Everything here depends on (frame_id & 0xFFFF) only, so the id the
  * camera drew with and the one a client reads from ArvBuffer agree across the
- * wrap whether the client sees 16 or 64 bits.
+ * wrap whether the client sees 16 or 64 bits. (Aravis 0.8's fake camera
+ * counts 65401, 65402, ..., 65535, 1, 2, ...: 0 is not a valid block id.)
  *
  * Geometry (camera frame of cdsp.h: X right, Y down, Z forward, mm):
  * a pipe of radius FAKECAM_RADIUS, infinite, seen at 350..550 mm, drifting
@@ -55,13 +57,26 @@ static inline void fakecam_camera(int w, int h, cdsp_camera *cam)
     cam->height = h;
 }
 
-/* Ground truth of frame frame_id: a point on the axis and the axis's unit
- * direction, camera frame, mm. The point is the axis's crossing with the
- * plane Y = 0. */
-static inline void fakecam_pose(uint64_t frame_id, double point[3], double dir[3])
+/* The path position frame frame_id shows, 0..65535. cycle = 0: every frame
+ * id its own position (the pose repeats every FAKECAM_PERIOD ids, the noise
+ * never within the 16-bit id range). cycle = N > 0 (cdsp_fakecam --cycle N):
+ * only N frames, evenly spread over one period, shown in turn, so the
+ * camera can keep them rendered and serve at full rate at any size. */
+static inline uint32_t fakecam_phase(uint64_t frame_id, unsigned cycle)
+{
+    uint32_t id = (uint32_t)(frame_id & 0xFFFFu);
+    if (cycle == 0)
+        return id;
+    return (uint32_t)((uint64_t)(id % cycle) * FAKECAM_PERIOD / cycle);
+}
+
+/* Ground truth of frame frame_id (with the camera's --cycle): a point on
+ * the axis and the axis's unit direction, camera frame, mm. The point is
+ * the axis's crossing with the plane Y = 0. */
+static inline void fakecam_pose(uint64_t frame_id, unsigned cycle, double point[3], double dir[3])
 {
     const double two_pi = 6.283185307179586;
-    double a = two_pi * (double)((frame_id & 0xFFFFu) % FAKECAM_PERIOD) / FAKECAM_PERIOD;
+    double a = two_pi * (double)(fakecam_phase(frame_id, cycle) % FAKECAM_PERIOD) / FAKECAM_PERIOD;
     double tilt = 0.35 * sin(a);        /* in the image plane, rad */
     double d[3], n;
 
@@ -84,22 +99,22 @@ static inline void fakecam_pose(uint64_t frame_id, double point[3], double dir[3
  *   cdsp_render(&scene, &cam, out, stride, bits, scratch,
  *               cdsp_render_scratch_size(w, h), &rng)
  * bits 8 (Mono8) or 16 (Mono16, full 16-bit range, little-endian host). */
-static inline void fakecam_frame(uint64_t frame_id, int w, int h, cdsp_camera *cam,
-                                 cdsp_scene *scene, cdsp_rng *rng)
+static inline void fakecam_frame(uint64_t frame_id, unsigned cycle, int w, int h,
+                                 cdsp_camera *cam, cdsp_scene *scene, cdsp_rng *rng)
 {
     double p[3], v[3];
     int i;
 
     fakecam_camera(w, h, cam);
     cdsp_scene_default(scene);
-    fakecam_pose(frame_id, p, v);
+    fakecam_pose(frame_id, cycle, p, v);
     for (i = 0; i < 3; i++) {
         scene->axis_point[i] = (cdsp_real)p[i];
         scene->axis_dir[i] = (cdsp_real)v[i];
     }
     scene->radius = (cdsp_real)FAKECAM_RADIUS;
     scene->half_length = (cdsp_real)0;
-    cdsp_rng_seed(rng, FAKECAM_NOISE_SEED, (uint64_t)(frame_id & 0xFFFFu));
+    cdsp_rng_seed(rng, FAKECAM_NOISE_SEED, (uint64_t)fakecam_phase(frame_id, cycle));
 }
 
 #endif /* FAKECAM_PATH_H */
