@@ -130,8 +130,9 @@ $(MCU_DIR)/$(1)/stack.txt: $$(MCU_$(1)_SU) $(MCU_DIR)/$(1)/probe-all.elf tests/m
 	python3 tests/mcu/stack.py --target $(1) --elf $(MCU_DIR)/$(1)/probe-all.elf \
 	  --objdump arm-none-eabi-objdump $$(MCU_$(1)_SU:.o=.ci) >$$@.tmp && mv $$@.tmp $$@
 
-$(MCU_DIR)/$(1)/size.txt: $$(MCU_$(1)_PROBES) tests/mcu/size.py
-	python3 tests/mcu/size.py --target $(1) $$(MCU_$(1)_PROBES:=.map) >$$@.tmp && mv $$@.tmp $$@
+$(MCU_DIR)/$(1)/size.txt: $$(MCU_$(1)_PROBES) $(MCU_DIR)/$(1)/stack.txt tests/mcu/size.py
+	python3 tests/mcu/size.py --target $(1) --stack $(MCU_DIR)/$(1)/stack.txt \
+	  $$(MCU_$(1)_PROBES:=.map) >$$@.tmp && mv $$@.tmp $$@
 
 .PHONY: check-mcu-$(1)
 check-mcu-$(1): $(MCU_DIR)/$(1)/hello.elf $(MCU_DIR)/$(1)/fw.elf $(MCU_DIR)/host/fw-$(6).out \
@@ -155,9 +156,14 @@ MCU_LIBS := $(m4f_LIB) $(mcu_m7_LIB) $(mcu_m3_LIB) $(mcu_riscv64_LIB)
 .PHONY: mcu size stack check-mcu check-mcu-libs
 mcu: $(MCU_LIBS) $(foreach t,$(MCU_TARGETS),$(MCU_$(t)_PROBES))
 	@for a in $(MCU_LIBS); do echo "built $$a"; done
+	@echo "riscv64 without tests/mcu/freestanding (gcc's own headers only), what blocks lib/:"; \
+	 for f in $(LIB_SRC); do \
+	   $(MCU_RV_CC) $(filter-out -Itests/mcu/freestanding -MMD -MP,$(MCU_RV64_CFLAGS)) \
+	     -fsyntax-only $$f 2>&1 | sed -n 's/^\([^:]*\):[0-9]*:[0-9]*: fatal error: \([^:]*\): No such file.*/  \1 includes <\2>/p'; \
+	 done | sort | uniq
 	@echo "riscv64 (freestanding) needs from the firmware's C library:" \
-	  $$(riscv64-unknown-elf-nm -u $(mcu_riscv64_LIB) | awk '{print $$NF}' | grep -v '^cdsp_' | \
-	     grep -v '^cdsp__' | sort -u | tr '\n' ' ')
+	  $$(riscv64-unknown-elf-nm -u $(mcu_riscv64_LIB) | awk 'NF == 2 && $$1 == "U" {print $$2}' | \
+	     grep -v '^cdsp_' | sort -u | tr '\n' ' ')
 
 size: $(foreach t,$(MCU_TARGETS),$(MCU_DIR)/$(t)/size.txt)
 	@cat $^
