@@ -26,3 +26,19 @@ $(BUILD)/cdsp_calib: $(CALIB_OBJ)
 ALL_TARGETS += $(BUILD)/cdsp_calib
 
 -include $(CALIB_OBJ:.o=.d)
+
+# The check: synthetic boards rendered by tests/calib/board_render.c, the
+# real binary run on them, its YAML read back with libyaml.
+CALIB_TEST := $(BUILD)/calib/test_calib
+
+$(CALIB_TEST): tests/calib/test_calib.c tests/calib/board_render.c tests/calib/board_render.h
+	@mkdir -p $(@D)
+	$(CC) $(HOST_CFLAGS) -Itests/calib tests/calib/test_calib.c tests/calib/board_render.c \
+	  -lcmocka -lyaml -lm -o $@
+
+.PHONY: check-calib
+check-calib: $(BUILD)/cdsp_calib $(CALIB_TEST)
+	@rm -rf $(BUILD)/calib/work
+	@$(RUN) "calib/test_calib" $(CALIB_TEST) $(BUILD)/cdsp_calib $(BUILD)/calib/work
+
+CHECK_STEPS += check-calib

@@ -14,8 +14,8 @@ static const struct {
     const char *summary;
 } commands[] = {
     {"solve", tool_solve_main, "pipe axes from saved frames, one JSON object per frame"},
-    {"overlay", tool_solve_main, "solve, and draw edges, contours and the axis over each frame"},
-    {"sim", tool_sim_main, "simulated frames of a pipe of known pose, calibration, ground truth"},
+    {"overlay", tool_solve_main, "solve, and draw edges, contours and axis over each frame"},
+    {"sim", tool_sim_main, "simulated frames of a known pipe, calibration, ground truth"},
     {"export", tool_export_main, "solved pipes as a PLY or OBJ mesh of cylinders"},
     {"bench", tool_bench_main, "the paper's accuracy study on simulated data"},
 };

@@ -111,7 +111,7 @@ int tool_sim_main(int argc, char **argv)
     cdsp_host_json j;
     FILE *f;
     static const tool_doc doc = {
-        "sim", "simulated frames of a pipe of known pose, calibration, ground truth",
+        "sim", "simulated frames of a known pipe, calibration, ground truth",
         "--out DIR [OPTIONS]", sim_description, sim_after, sim_exit};
 
     memset(&o, 0, sizeof o);

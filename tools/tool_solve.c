@@ -513,8 +513,8 @@ int tool_solve_main(int argc, char **argv)
         "--calib CAM.yaml --radius R [OPTIONS] FRAME|DIR...", solve_description, solve_after,
         solve_exit};
     static const tool_doc overlay_doc = {
-        "overlay", "solve, and draw edges, contours and the axis over each frame",
-        "--calib CAM.yaml --radius R --out DIR [OPTIONS] FRAME|DIR...", overlay_description,
+        "overlay", "solve, and draw edges, contours and axis over each frame",
+        "--calib CAM.yaml --radius R --out DIR [OPTIONS] FRAME...", overlay_description,
         solve_after, solve_exit};
     memset(&J, 0, sizeof J);
     J.overlay = strcmp(argv[0], "overlay") == 0;

@@ -17,6 +17,7 @@ static json_object *parse(const char *text)
     json_tokener *tok = json_tokener_new();
     json_object *o;
     assert_non_null(text);
+    json_tokener_set_flags(tok, JSON_TOKENER_STRICT | JSON_TOKENER_VALIDATE_UTF8);
     o = json_tokener_parse_ex(tok, text, (int)strlen(text));
     if (!o || json_tokener_get_error(tok) != json_tokener_success ||
         (size_t)json_tokener_get_parse_end(tok) != strlen(text))

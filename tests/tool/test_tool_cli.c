@@ -1,8 +1,1224 @@
+/*
+ * test_tool_cli.c - the real cdsp_tool binary ($CDSP_TOOL) on frames it
+ * simulated itself: poses against the ground truth, JSON read back by
+ * json-c in strict mode, exit statuses, bad frames and calibrations,
+ * --threads against one thread byte for byte, --track, --csv, --roi,
+ * overlay pictures, meshes, bench files, and an 8192 x 8192 frame.
+ *
+ * Tolerances: a pose is compared with the truth through the geometry of
+ * its own frame. Each contour's two visible ends are moved by +-b px
+ * (all 16 combinations) and the closed form is solved again; the largest
+ * change of the point, its offset from the axis, the distance and the
+ * direction is the tolerance, with
+ *   b = the contour accuracy we require of subpixel edges and line fits on
+ *       a rendered frame (the renderer is exact to 0.01 px):
+ *       0.03 px on flat-shaded pipes (the partial-area edge model holds),
+ *       0.1 px on shaded ones (--preset paper: the shading darkens the pipe
+ *       toward its contours, which pulls the edges inward by ~0.04 px)
+ *     + 3 x 2 rms / sqrt(n) (three standard deviations of a fitted line's end
+ *       from n points with the frame's measured residual rms).
+ */
 #define _POSIX_C_SOURCE 200809L
 #include "tool_test.h"
-static void placeholder(void **state) { (void)state; }
+
+#include <errno.h>
+#include <fcntl.h>
+#include <json-c/json.h>
+#include <math.h>
+#include <spng.h>
+#include <stdint.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+
+#include "cdsp.h"
+#include "cdsp_host.h"
+
+#define EDGE_BIAS_FLAT_PX 0.03
+#define EDGE_BIAS_SHADED_PX 0.1
+
+/* ---- running the tool ------------------------------------------------------ */
+
+typedef struct {
+    int status; /* exit status, or 128 + signal */
+    char *out, *err;
+    size_t out_len;
+} run_result;
+
+static const char *tool_path(void)
+{
+    const char *p = getenv("CDSP_TOOL");
+    return p && *p ? p : "build/cdsp_tool";
+}
+
+/* (the buffer pointer lives in static storage: gcc 12's -Wdangling-pointer
+ * cannot see into the library and would suspect the address of a local) */
+static void *slurp_buf;
+
+static char *slurp(const char *path, size_t *len)
+{
+    size_t n;
+    cdsp_host_err err;
+    if (cdsp_host_read_file(path, (size_t)1 << 30, &slurp_buf, &n, &err) != 0)
+        fail_msg("%s", err.msg);
+    if (len)
+        *len = n;
+    return slurp_buf;
+}
+
+/* Run cdsp_tool with args (NULL-terminated), stdin from /dev/null or the
+ * file `in`, and collect stdout and stderr. */
+static run_result run_in(const char *in, const char *const *args)
+{
+    run_result r;
+    const char *out_path = tt_path("run.out"), *err_path = tt_path("run.err");
+    const char *argv[64];
+    pid_t pid;
+    int st, i, n = 0;
+    argv[n++] = tool_path();
+    for (i = 0; args[i]; i++)
+        argv[n++] = args[i];
+    argv[n] = NULL;
+    pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        int fi = open(in ? in : "/dev/null", O_RDONLY);
+        int fo = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fi < 0 || fo < 0 || fe < 0)
+            _exit(120);
+        dup2(fi, 0);
+        dup2(fo, 1);
+        dup2(fe, 2);
+        execv(argv[0], (char *const *)argv);
+        _exit(121);
+    }
+    assert_int_equal(waitpid(pid, &st, 0), pid);
+    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    if (r.status == 121)
+        fail_msg("cannot run %s (set CDSP_TOOL)", argv[0]);
+    r.out = slurp(out_path, &r.out_len);
+    r.err = slurp(err_path, NULL);
+    return r;
+}
+
+#define RUN(...) run_in(NULL, (const char *const[]){__VA_ARGS__, NULL})
+
+static void run_free(run_result *r)
+{
+    free(r->out);
+    free(r->err);
+}
+
+static void expect_status(const run_result *r, int want)
+{
+    if (r->status != want)
+        fail_msg("exit status %d, wanted %d; stderr: %s", r->status, want, r->err);
+}
+
+/* ---- JSON --------------------------------------------------------------------- */
+
+static json_object *parse_strict(const char *text, size_t len)
+{
+    json_tokener *tok = json_tokener_new();
+    json_object *o;
+    json_tokener_set_flags(tok, JSON_TOKENER_STRICT | JSON_TOKENER_VALIDATE_UTF8);
+    o = json_tokener_parse_ex(tok, text, (int)len);
+    if (!o || json_tokener_get_error(tok) != json_tokener_success ||
+        (size_t)json_tokener_get_parse_end(tok) != len)
+        fail_msg("not one strict JSON value: %.*s", (int)len, text);
+    json_tokener_free(tok);
+    return o;
+}
+
+/* Every line of out as a JSON object; returns the count. */
+static int parse_lines(const char *out, json_object **recs, int cap)
+{
+    int n = 0;
+    const char *p = out;
+    while (*p) {
+        const char *nl = strchr(p, '\n');
+        assert_non_null(nl); /* every record ends with a newline */
+        assert_true(n < cap);
+        recs[n] = parse_strict(p, (size_t)(nl - p));
+        assert_true(json_object_is_type(recs[n], json_type_object));
+        n++;
+        p = nl + 1;
+    }
+    return n;
+}
+
+static void put_all(json_object **recs, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        json_object_put(recs[i]);
+}
+
+static json_object *key(json_object *o, const char *k)
+{
+    json_object *v = NULL;
+    if (!json_object_object_get_ex(o, k, &v))
+        fail_msg("no \"%s\" in %s", k, json_object_to_json_string(o));
+    return v;
+}
+
+static int has(json_object *o, const char *k)
+{
+    return json_object_object_get_ex(o, k, NULL);
+}
+
+static double num(json_object *o)
+{
+    if (!json_object_is_type(o, json_type_double) && !json_object_is_type(o, json_type_int))
+        fail_msg("not a number: %s", json_object_to_json_string(o));
+    return json_object_get_double(o);
+}
+
+static void vec(json_object *a, double *v, int n)
+{
+    int i;
+    assert_true(json_object_is_type(a, json_type_array));
+    assert_int_equal(json_object_array_length(a), n);
+    for (i = 0; i < n; i++)
+        v[i] = num(json_object_array_get_idx(a, (size_t)i));
+}
+
+static const char *str(json_object *o)
+{
+    assert_true(json_object_is_type(o, json_type_string));
+    return json_object_get_string(o);
+}
+
+/* The schema of an ok record: every field, of the right type and shape. */
+static void check_ok_schema(json_object *r)
+{
+    double v[3], seg[3], l[3];
+    int k;
+    json_object *s;
+    assert_string_equal(str(key(r, "status")), "ok");
+    assert_false(has(r, "error"));
+    vec(key(r, "point"), v, 3);
+    vec(key(r, "direction"), v, 3);
+    assert_true(fabs(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - 1) < 1e-9);
+    assert_true(num(key(r, "distance")) > 0);
+    assert_true(num(key(r, "radius")) > 0);
+    for (k = 0; k < 2; k++) {
+        vec(json_object_array_get_idx(key(r, "lines"), (size_t)k), l, 3);
+        assert_true(fabs(l[0] * l[0] + l[1] * l[1] - 1) < 1e-9);
+        vec(json_object_array_get_idx(key(r, "segment"), (size_t)k), seg, 3);
+        assert_true(json_object_get_int(json_object_array_get_idx(key(r, "inliers"), (size_t)k)) >=
+                    12);
+    }
+    assert_int_equal(json_object_array_length(key(r, "lines")), 2);
+    assert_int_equal(json_object_array_length(key(r, "segment")), 2);
+    s = key(r, "sigma");
+    vec(key(s, "point"), v, 3);
+    vec(key(s, "direction"), v, 3);
+    assert_true(num(key(s, "distance")) >= 0);
+    assert_true(json_object_is_type(key(r, "tracked"), json_type_boolean));
+    assert_true(json_object_get_int(key(r, "edges")) > 0);
+}
+
+/* ---- the ground truth and the tolerance ----------------------------------------- */
+
+typedef struct {
+    cdsp_camera cam;
+    double radius;
+    json_object *doc; /* truth.json */
+} truth;
+
+static void truth_load(truth *t, const char *dir)
+{
+    char path[600];
+    char *text;
+    size_t len;
+    cdsp_host_err err;
+    snprintf(path, sizeof path, "%s/camera.yaml", dir);
+    if (cdsp_host_calib_read(path, &t->cam, &err) != 0)
+        fail_msg("%s", err.msg);
+    snprintf(path, sizeof path, "%s/truth.json", dir);
+    text = slurp(path, &len);
+    while (len && text[len - 1] == '\n')
+        len--;
+    t->doc = parse_strict(text, len);
+    free(text);
+    t->radius = num(key(t->doc, "radius"));
+}
+
+static json_object *truth_frame(const truth *t, size_t i)
+{
+    return json_object_array_get_idx(key(t->doc, "frames"), i);
+}
+
+static double angle_between(const double a[3], const double b[3])
+{
+    double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+    double d = fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
+    return atan2(sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]), d);
+}
+
+typedef struct {
+    double point;    /* |P_C - true P_C| */
+    double offset;   /* distance of P_C from the true axis */
+    double distance; /* |distance - true distance| */
+    double angle;    /* angle between the directions, rad */
+} tolerance;
+
+/* Distance of X from the line through q with direction v. */
+static double line_dist(const double X[3], const double q[3], const double v[3])
+{
+    double d[3] = {X[0] - q[0], X[1] - q[1], X[2] - q[2]};
+    double c[3] = {d[1] * v[2] - d[2] * v[1], d[2] * v[0] - d[0] * v[2], d[0] * v[1] - d[1] * v[0]};
+    return sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
+
+/* Foot of the perpendicular of pixel p on line l (a^2 + b^2 = 1). */
+static void foot_on_line(const double l[3], const double p[2], double out[2])
+{
+    double s = l[0] * p[0] + l[1] * p[1] + l[2];
+    out[0] = p[0] - s * l[0];
+    out[1] = p[1] - s * l[1];
+}
+
+static void line_through(const double p[2], const double q[2], cdsp_real l[3])
+{
+    double a = q[1] - p[1], b = p[0] - q[0], n = sqrt(a * a + b * b);
+    l[0] = (cdsp_real)(a / n);
+    l[1] = (cdsp_real)(b / n);
+    l[2] = (cdsp_real)(-(a * p[0] + b * p[1]) / n);
+}
+
+/* The tolerance of a record against its truth frame (see the top). */
+static tolerance tolerance_for(const truth *t, json_object *tf, json_object *rec, double bias)
+{
+    tolerance tol = {0, 0, 0, 0};
+    double tl[2][3], seg[2][3], ends[2][2][2], b[2], P[3], v[3], d;
+    cdsp_real ap[3], ad[3], l1[3], l2[3], p_in[2];
+    cdsp_result base;
+    int k, e, combo, i;
+    vec(key(tf, "axis_point"), P, 3);
+    vec(key(tf, "axis_dir"), v, 3);
+    for (i = 0; i < 3; i++) {
+        ap[i] = (cdsp_real)P[i];
+        ad[i] = (cdsp_real)v[i];
+    }
+    assert_int_equal(cdsp_cylinder_contours(&t->cam, ap, ad, (cdsp_real)t->radius, 1, l1, l2, p_in),
+                     CDSP_OK);
+    for (k = 0; k < 2; k++) {
+        double rms = num(json_object_array_get_idx(key(rec, "rms"), (size_t)k));
+        double n = num(json_object_array_get_idx(key(rec, "inliers"), (size_t)k));
+        vec(json_object_array_get_idx(key(tf, "lines"), (size_t)k), tl[k], 3);
+        vec(json_object_array_get_idx(key(rec, "segment"), (size_t)k), seg[k], 3);
+        b[k] = bias + 3 * 2 * rms / sqrt(n);
+    }
+    /* the visible ends of each contour: the solved segment's ends, projected
+     * (without distortion: the lines are undistorted) onto each true line */
+    for (e = 0; e < 2; e++) {
+        double pix[2] = {(double)t->cam.fx * seg[e][0] / seg[e][2] + (double)t->cam.cx,
+                         (double)t->cam.fy * seg[e][1] / seg[e][2] + (double)t->cam.cy};
+        for (k = 0; k < 2; k++)
+            foot_on_line(tl[k], pix, ends[k][e]);
+    }
+    {
+        cdsp_real L1[3], L2[3];
+        for (i = 0; i < 3; i++) {
+            L1[i] = (cdsp_real)tl[0][i];
+            L2[i] = (cdsp_real)tl[1][i];
+        }
+        assert_int_equal(cdsp_axis_solve(&t->cam, L1, L2, p_in, (cdsp_real)t->radius, &base),
+                         CDSP_OK);
+    }
+    for (combo = 0; combo < 16; combo++) {
+        double q[2][2][2];
+        cdsp_real L[2][3];
+        cdsp_result r;
+        double dv[3], dP = 0;
+        for (k = 0; k < 2; k++) {
+            for (e = 0; e < 2; e++) {
+                double s = (combo >> (2 * k + e)) & 1 ? b[k] : -b[k];
+                q[k][e][0] = ends[k][e][0] + s * tl[k][0];
+                q[k][e][1] = ends[k][e][1] + s * tl[k][1];
+            }
+            line_through(q[k][0], q[k][1], L[k]);
+            if (L[k][0] * tl[k][0] + L[k][1] * tl[k][1] < 0)
+                for (i = 0; i < 3; i++)
+                    L[k][i] = -L[k][i];
+        }
+        assert_int_equal(cdsp_axis_solve(&t->cam, L[0], L[1], p_in, (cdsp_real)t->radius, &r),
+                         CDSP_OK);
+        for (i = 0; i < 3; i++) {
+            dP += (double)((r.point[i] - base.point[i]) * (r.point[i] - base.point[i]));
+            dv[i] = (double)r.direction[i];
+        }
+        d = fabs((double)(r.distance - base.distance));
+        {
+            double X[3] = {(double)r.point[0], (double)r.point[1], (double)r.point[2]};
+            double q0[3] = {(double)base.point[0], (double)base.point[1], (double)base.point[2]};
+            double bv[3] = {(double)base.direction[0], (double)base.direction[1],
+                            (double)base.direction[2]};
+            double off = line_dist(X, q0, bv);
+            if (off > tol.offset)
+                tol.offset = off;
+        }
+        if (sqrt(dP) > tol.point)
+            tol.point = sqrt(dP);
+        if (d > tol.distance)
+            tol.distance = d;
+        {
+            double bv[3] = {(double)base.direction[0], (double)base.direction[1],
+                            (double)base.direction[2]};
+            double a = angle_between(dv, bv);
+            if (a > tol.angle)
+                tol.angle = a;
+        }
+    }
+    return tol;
+}
+
+/* An ok record within the tolerance of its truth frame. */
+static void check_pose_b(const truth *t, json_object *tf, json_object *rec, double bias)
+{
+    double p[3], tp[3], dir[3], tdir[3], dist, tdist, dP, off, ang;
+    tolerance tol;
+    check_ok_schema(rec);
+    tol = tolerance_for(t, tf, rec, bias);
+    vec(key(rec, "point"), p, 3);
+    vec(key(tf, "point"), tp, 3);
+    vec(key(rec, "direction"), dir, 3);
+    vec(key(tf, "direction"), tdir, 3);
+    dist = num(key(rec, "distance"));
+    tdist = num(key(tf, "distance"));
+    dP = sqrt((p[0] - tp[0]) * (p[0] - tp[0]) + (p[1] - tp[1]) * (p[1] - tp[1]) +
+              (p[2] - tp[2]) * (p[2] - tp[2]));
+    off = line_dist(p, tp, tdir);
+    ang = angle_between(dir, tdir);
+    if (getenv("CDSP_TEST_VERBOSE"))
+        fprintf(stderr,
+                "%s: |dP| %.4f (tol %.4f), offset %.4f (tol %.4f), |dd| %.4f (tol %.4f), "
+                "angle %.3g (tol %.3g)\n",
+                str(key(rec, "frame")), dP, tol.point, off, tol.offset, fabs(dist - tdist),
+                tol.distance, ang, tol.angle);
+    if (dP > tol.point || off > tol.offset || fabs(dist - tdist) > tol.distance || ang > tol.angle)
+        fail_msg("%s: |dP| %.4f (tol %.4f), offset %.4f (tol %.4f), |dd| %.4f (tol %.4f), "
+                 "angle %.3g (tol %.3g) rad",
+                 str(key(rec, "frame")), dP, tol.point, off, tol.offset, fabs(dist - tdist),
+                 tol.distance, ang, tol.angle);
+    /* the tolerances are not vacuous: the axis within a radius of the truth,
+     * the distance within 2 %, the direction within 2 degrees */
+    assert_true(tol.offset < t->radius);
+    assert_true(tol.distance < 0.02 * tdist);
+    assert_true(tol.angle < 2 * 3.14159265358979 / 180);
+}
+
+static void check_pose(const truth *t, json_object *tf, json_object *rec)
+{
+    check_pose_b(t, tf, rec, EDGE_BIAS_FLAT_PX);
+}
+
+/* ---- fixtures -------------------------------------------------------------- */
+
+static char seq_dir[600], dist_dir[600], png_dir[600];
+
+static void sim_or_fail(const char *const *args)
+{
+    run_result r = run_in(NULL, args);
+    expect_status(&r, 0);
+    run_free(&r);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    snprintf(seq_dir, sizeof seq_dir, "%s", tt_path("seq"));
+    snprintf(dist_dir, sizeof dist_dir, "%s", tt_path("dist"));
+    snprintf(png_dir, sizeof png_dir, "%s", tt_path("png16"));
+    /* a moving, turning pipe; flat shading (the method's image model) with
+     * the default blur, sensor noise and background texture */
+    sim_or_fail((const char *const[]){"sim", "--out", seq_dir, "--frames", "8", "--move",
+                                      "1.5,0.6,-2", "--turn", "0.7", "--ambient", "1", NULL});
+    /* strong lens distortion, a pipe across the frame */
+    sim_or_fail((const char *const[]){"sim", "--out", dist_dir, "--frames", "3", "--k1", "-0.3",
+                                      "--k2", "0.1", "--p1", "0.001", "--p2", "-0.0015",
+                                      "--point", "10,20,350", "--dir", "1,0.3,0.2", "--move",
+                                      "0,-8,0", "--ambient", "1", NULL});
+    /* 16-bit PNG, dark pipe on a bright background */
+    sim_or_fail((const char *const[]){"sim", "--out", png_dir, "--frames", "2", "--bits", "16",
+                                      "--format", "png", "--pipe-level", "0.2",
+                                      "--background-level", "0.7", "--ambient", "1", "--point",
+                                      "-20,0,500", "--dir", "0.5,1,-0.2", NULL});
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    char cmd[640];
+    (void)state;
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tt_tmpdir());
+    return system(cmd) == 0 ? 0 : -1;
+}
+
+static char *calib_of(const char *dir)
+{
+    static char p[4][700];
+    static int k;
+    char *b = p[k++ & 3];
+    snprintf(b, sizeof p[0], "%s/camera.yaml", dir);
+    return b;
+}
+
+/* Solve dir's frames and check every pose against its truth. */
+static void solve_and_check(const char *dir, const char *extra1, const char *extra2, int n_expect)
+{
+    truth t;
+    json_object *recs[64];
+    run_result r;
+    int n, i;
+    truth_load(&t, dir);
+    if (extra2)
+        r = RUN("solve", "--calib", calib_of(dir), "--radius", "8", extra1, extra2, dir);
+    else if (extra1)
+        r = RUN("solve", "--calib", calib_of(dir), "--radius", "8", extra1, dir);
+    else
+        r = RUN("solve", "--calib", calib_of(dir), "--radius", "8", dir);
+    expect_status(&r, 0);
+    n = parse_lines(r.out, recs, 64);
+    assert_int_equal(n, n_expect);
+    for (i = 0; i < n; i++) {
+        json_object *tf = truth_frame(&t, (size_t)i);
+        char want[700];
+        snprintf(want, sizeof want, "%s/%s", dir, str(key(tf, "frame")));
+        assert_string_equal(str(key(recs[i], "frame")), want); /* input order */
+        check_pose(&t, tf, recs[i]);
+        assert_true(num(key(recs[i], "time_us")) >= 0);
+    }
+    put_all(recs, n);
+    json_object_put(t.doc);
+    run_free(&r);
+}
+
+/* ---- tests: poses ------------------------------------------------------------ */
+
+static void poses_of_a_sequence(void **state)
+{
+    (void)state;
+    solve_and_check(seq_dir, NULL, NULL, 8);
+}
+
+static void poses_with_lens_distortion(void **state)
+{
+    (void)state;
+    solve_and_check(dist_dir, NULL, NULL, 3);
+}
+
+static void poses_from_16bit_png(void **state)
+{
+    (void)state;
+    solve_and_check(png_dir, "--polarity", "dark", 2);
+}
+
+static void tracking_a_sequence(void **state)
+{
+    truth t;
+    json_object *recs[16];
+    run_result r, r3;
+    int n, i, tracked = 0;
+    (void)state;
+    truth_load(&t, seq_dir);
+    r = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--track", "--no-time",
+            seq_dir);
+    expect_status(&r, 0);
+    n = parse_lines(r.out, recs, 16);
+    assert_int_equal(n, 8);
+    assert_false(json_object_get_boolean(key(recs[0], "tracked")));
+    for (i = 0; i < n; i++) {
+        check_pose(&t, truth_frame(&t, (size_t)i), recs[i]);
+        tracked += json_object_get_boolean(key(recs[i], "tracked"));
+        assert_false(has(recs[i], "time_us"));
+    }
+    /* the pipe moves a few px per frame, well inside the band */
+    assert_int_equal(tracked, n - 1);
+    /* threads only read ahead: the same bytes */
+    r3 = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--track", "--no-time", "-j",
+             "3", seq_dir);
+    expect_status(&r3, 0);
+    assert_int_equal(r3.out_len, r.out_len);
+    assert_memory_equal(r3.out, r.out, r.out_len);
+    put_all(recs, n);
+    json_object_put(t.doc);
+    run_free(&r);
+    run_free(&r3);
+}
+
+static void paper_preset(void **state)
+{
+    const char *dir = tt_path("paper");
+    truth t;
+    json_object *recs[8];
+    run_result r;
+    int n, i;
+    (void)state;
+    r = RUN("sim", "--out", dir, "--preset", "paper");
+    expect_status(&r, 0);
+    run_free(&r);
+    truth_load(&t, dir);
+    assert_int_equal(t.cam.width, 2448);
+    assert_int_equal(t.cam.height, 2048);
+    assert_true(fabs((double)t.cam.fx - 3478.26) < 0.01);
+    /* the paper's distances from the camera to p1..p4 (METHOD.md geometry) */
+    {
+        static const double want[4] = {360.5551, 424.2641, 335.4102, 390.5125};
+        for (i = 0; i < 4; i++)
+            assert_true(fabs(num(key(truth_frame(&t, (size_t)i), "distance")) - want[i]) < 1e-3);
+    }
+    r = RUN("solve", "--calib", calib_of(dir), "--radius", "8", dir);
+    expect_status(&r, 0);
+    n = parse_lines(r.out, recs, 8);
+    assert_int_equal(n, 4);
+    for (i = 0; i < n; i++)
+        check_pose_b(&t, truth_frame(&t, (size_t)i), recs[i], EDGE_BIAS_SHADED_PX);
+    put_all(recs, n);
+    json_object_put(t.doc);
+    run_free(&r);
+}
+
+/* ---- tests: output forms ---------------------------------------------------------- */
+
+static void threads_give_identical_output(void **state)
+{
+    const char *const threads[] = {"2", "3", "8", "0"};
+    run_result one, many, one_csv, many_csv;
+    size_t i;
+    (void)state;
+    /* frames repeated so that the workers overtake each other */
+    one = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--no-time", seq_dir,
+              seq_dir, seq_dir);
+    expect_status(&one, 0);
+    for (i = 0; i < sizeof threads / sizeof threads[0]; i++) {
+        many = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--no-time", "-j",
+                   threads[i], seq_dir, seq_dir, seq_dir);
+        expect_status(&many, 0);
+        assert_int_equal(many.out_len, one.out_len);
+        assert_memory_equal(many.out, one.out, one.out_len);
+        run_free(&many);
+    }
+    one_csv = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--csv", "--no-time",
+                  seq_dir);
+    many_csv = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--csv", "--no-time",
+                   "--threads=4", seq_dir);
+    expect_status(&many_csv, 0);
+    assert_int_equal(many_csv.out_len, one_csv.out_len);
+    assert_memory_equal(many_csv.out, one_csv.out, one_csv.out_len);
+    run_free(&one);
+    run_free(&one_csv);
+    run_free(&many_csv);
+}
+
+/* Split a CSV line without quoted fields. */
+static int split(char *line, char **f, int cap)
+{
+    int n = 0;
+    char *p = line;
+    for (;;) {
+        char *c = strchr(p, ',');
+        assert_true(n < cap);
+        f[n++] = p;
+        if (!c)
+            break;
+        *c = 0;
+        p = c + 1;
+    }
+    return n;
+}
+
+static void csv_matches_json(void **state)
+{
+    run_result j, c;
+    json_object *recs[16];
+    char *line, *save = NULL, *f[64], *h[64];
+    int n, nh, row = 0, i;
+    (void)state;
+    j = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", seq_dir);
+    c = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--csv", seq_dir);
+    expect_status(&c, 0);
+    n = parse_lines(j.out, recs, 16);
+    line = strtok_r(c.out, "\n", &save);
+    nh = split(line, h, 64);
+    assert_string_equal(h[0], "frame");
+    assert_string_equal(h[nh - 1], "time_us");
+    while ((line = strtok_r(NULL, "\n", &save)) != NULL) {
+        double p[3], l[3];
+        assert_int_equal(split(line, f, 64), nh);
+        assert_true(row < n);
+        assert_string_equal(f[0], str(key(recs[row], "frame")));
+        assert_string_equal(f[1], "ok");
+        vec(key(recs[row], "point"), p, 3);
+        vec(json_object_array_get_idx(key(recs[row], "lines"), 1), l, 3);
+        for (i = 0; i < nh; i++) {
+            if (strcmp(h[i], "point_y") == 0)
+                assert_true(strtod(f[i], NULL) == p[1]);
+            if (strcmp(h[i], "line_2_c") == 0)
+                assert_true(strtod(f[i], NULL) == l[2]);
+            if (strcmp(h[i], "distance") == 0)
+                assert_true(strtod(f[i], NULL) == num(key(recs[row], "distance")));
+        }
+        row++;
+    }
+    assert_int_equal(row, n);
+    put_all(recs, n);
+    run_free(&j);
+    run_free(&c);
+}
+
+static void roi_and_list(void **state)
+{
+    truth t;
+    json_object *recs[4];
+    run_result r;
+    const char *list = tt_path("list.txt");
+    char text[1400], roi[64];
+    json_object *tf;
+    double foot[3], u, v;
+    (void)state;
+    truth_load(&t, seq_dir);
+    tf = truth_frame(&t, 0);
+    vec(key(tf, "point"), foot, 3);
+    u = (double)t.cam.fx * foot[0] / foot[2] + (double)t.cam.cx;
+    v = (double)t.cam.fy * foot[1] / foot[2] + (double)t.cam.cy;
+    /* a box around the foot of the axis: found */
+    snprintf(roi, sizeof roi, "%d,%d,%d,%d", (int)u - 100, (int)v - 100, 200, 200);
+    snprintf(text, sizeof text, "%s/frame_0000.pgm\n\n%s/frame_0000.pgm\n", seq_dir, seq_dir);
+    tt_write_str(list, text);
+    r = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--roi", roi, "--list", list);
+    expect_status(&r, 0);
+    assert_int_equal(parse_lines(r.out, recs, 4), 2);
+    check_pose(&t, tf, recs[0]);
+    put_all(recs, 2);
+    run_free(&r);
+    /* a box in the corner away from the pipe: no pipe, exit 1 */
+    snprintf(roi, sizeof roi, "%d,0,60,60", u > t.cam.width / 2 ? 0 : t.cam.width - 60);
+    r = run_in(list, (const char *const[]){"solve", "--calib", calib_of(seq_dir), "--radius", "8",
+                                           "--roi", roi, "--list", "-", NULL});
+    expect_status(&r, 1);
+    assert_int_equal(parse_lines(r.out, recs, 4), 2);
+    assert_string_equal(str(key(recs[0], "status")), "error");
+    assert_true(strcmp(str(key(recs[0], "error")), "no-pipe") == 0 ||
+                strcmp(str(key(recs[0], "error")), "few-points") == 0);
+    put_all(recs, 2);
+    run_free(&r);
+    json_object_put(t.doc);
+}
+
+/* ---- tests: bad input ------------------------------------------------------------- */
+
+static void write_bytes(const char *name, const void *data, size_t len)
+{
+    tt_write(tt_path(name), data, len);
+}
+
+static void bad_frames_get_error_records(void **state)
+{
+    const char *dir = tt_path("bad");
+    char good[700], p[12][700], *text;
+    size_t len;
+    run_result r;
+    json_object *recs[16];
+    int n, i;
+    static const char *const names[] = {
+        "bad/truncated.pgm", "bad/empty.pgm", "bad/corrupt.png", "bad/color.ppm",
+        "bad/huge.pgm", "bad/missing.pgm", "bad/small.pgm", "bad/blank.pgm", "bad/comment.pgm"};
+    (void)state;
+    assert_int_equal(mkdir(dir, 0777), 0);
+    snprintf(good, sizeof good, "%s/frame_0000.pgm", seq_dir);
+    text = slurp(good, &len);
+    write_bytes("bad/truncated.pgm", text, len - 1000);
+    write_bytes("bad/empty.pgm", "", 0);
+    {
+        /* a real PNG of the right size with a damaged data byte */
+        cdsp_host_image im;
+        cdsp_host_err err;
+        char *png;
+        size_t plen;
+        assert_int_equal(cdsp_host_image_read(good, &im, &err), 0);
+        assert_int_equal(cdsp_host_png_write(tt_path("bad/corrupt.png"), &im, &err), 0);
+        png = slurp(tt_path("bad/corrupt.png"), &plen);
+        png[plen / 2] ^= 0x40;
+        write_bytes("bad/corrupt.png", png, plen);
+        free(png);
+        /* a blank frame of the right size: no edges at all */
+        memset(im.data, 90, im.stride * (size_t)im.height);
+        assert_int_equal(cdsp_host_pgm_write(tt_path("bad/blank.pgm"), &im, &err), 0);
+        cdsp_host_image_free(&im);
+        /* the right size, a different size */
+        assert_int_equal(cdsp_host_image_alloc(&im, 320, 240, 8, &err), 0);
+        assert_int_equal(cdsp_host_pgm_write(tt_path("bad/small.pgm"), &im, &err), 0);
+        cdsp_host_image_free(&im);
+    }
+    write_bytes("bad/color.ppm", "P6\n640 480\n255\n\0\0\0", 18);
+    {
+        size_t hl = 70000;
+        char *h = malloc(hl);
+        memcpy(h, "P5\n#", 4);
+        memset(h + 4, 'c', hl - 4);
+        write_bytes("bad/huge.pgm", h, hl);
+        free(h);
+    }
+    {
+        /* the good frame behind a header full of comments: fine */
+        char *c = malloc(len + 200);
+        size_t hdr = (size_t)(strstr(text, "255\n") - text) + 4;
+        size_t k = (size_t)snprintf(c, 200, "P5 # made by hand\n# another\n640\n#w\n480 255\n");
+        memcpy(c + k, text + hdr, len - hdr);
+        write_bytes("bad/comment.pgm", c, k + len - hdr);
+        free(c);
+    }
+    for (i = 0; i < 9; i++)
+        snprintf(p[i], sizeof p[i], "%s", tt_path(names[i]));
+    r = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", good, p[0], p[1], p[2], p[3],
+            p[4], p[5], p[6], p[7], p[8], good);
+    expect_status(&r, 1);
+    n = parse_lines(r.out, recs, 16);
+    assert_int_equal(n, 11);
+    /* the run went on past every bad frame */
+    check_ok_schema(recs[0]);
+    check_ok_schema(recs[9]);  /* comments in the header */
+    check_ok_schema(recs[10]);
+    {
+        static const struct {
+            const char *error, *words;
+        } want[8] = {
+            {"bad-frame", "truncated PGM raster"}, {"bad-frame", "empty file"},
+            {"bad-frame", "PNG"},                  {"bad-frame", "PPM color image"},
+            {"bad-frame", "header longer than"},   {"bad-frame", "cannot open"},
+            {"size-mismatch", "image is 320x240 but"}, {NULL, NULL},
+        };
+        for (i = 0; i < 8; i++) {
+            json_object *rec = recs[i + 1];
+            const char *msg;
+            assert_string_equal(str(key(rec, "frame")), p[i]);
+            assert_string_equal(str(key(rec, "status")), "error");
+            assert_false(has(rec, "point"));
+            msg = str(key(rec, "message"));
+            if (want[i].error) {
+                assert_string_equal(str(key(rec, "error")), want[i].error);
+                tt_assert_contains(msg, want[i].words);
+                assert_true(strncmp(msg, p[i], strlen(p[i])) == 0); /* names the file */
+            } else { /* the blank frame */
+                assert_true(strcmp(str(key(rec, "error")), "few-points") == 0 ||
+                            strcmp(str(key(rec, "error")), "no-pipe") == 0);
+            }
+        }
+    }
+    put_all(recs, n);
+    run_free(&r);
+    /* the same with threads: same records */
+    {
+        run_result a = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--no-time",
+                           good, p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], good);
+        run_result b = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--no-time",
+                           "-j", "4", good, p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8],
+                           good);
+        expect_status(&b, 1);
+        assert_int_equal(a.out_len, b.out_len);
+        assert_memory_equal(a.out, b.out, a.out_len);
+        run_free(&a);
+        run_free(&b);
+    }
+    free(text);
+}
+
+static void bad_calibrations_exit_2(void **state)
+{
+    static const struct {
+        const char *text, *msg;
+    } cases[] = {
+        {"image_width: 640\nimage_height: 480\ncamera_matrix:\n  rows: 3\n  cols: 3\n"
+         "  data: [800, 0, 319.5, 0, 800, 239.5, 0, 0]\ndistortion_model: plumb_bob\n"
+         "distortion_coefficients:\n  rows: 1\n  cols: 5\n  data: [0, 0, 0, 0, 0]\n",
+         "camera_matrix.data: expected 9 numbers, got 8"},
+        {"image_width: 640\ncamera_matrix:\n  data: [800, 0, 319.5, 0, 800, 239.5, 0, 0, 1]\n"
+         "distortion_model: plumb_bob\ndistortion_coefficients:\n  data: [0, 0, 0, 0, 0]\n",
+         "image_height: missing"},
+        {"image_width: 640\nimage_height: 480\n"
+         "camera_matrix:\n  data: [800, 0, 319.5, 0, 800, 239.5, 0, 0, 1]\n"
+         "distortion_model: plumb_bob\n",
+         "distortion_coefficients: missing"},
+        {"image_width: 640\nimage_height: [480\n", "YAML error"},
+        {"", "empty calibration file"},
+    };
+    size_t i;
+    char frame[700];
+    (void)state;
+    snprintf(frame, sizeof frame, "%s/frame_0000.pgm", seq_dir);
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const char *cal = tt_path("broken.yaml");
+        char want[800];
+        run_result r;
+        tt_write_str(cal, cases[i].text);
+        r = RUN("solve", "--calib", cal, "--radius", "8", frame);
+        expect_status(&r, 2);
+        assert_int_equal(r.out_len, 0); /* nothing processed */
+        snprintf(want, sizeof want, "%s: %s", cal, cases[i].msg);
+        tt_assert_contains(r.err, want);
+        run_free(&r);
+    }
+    {
+        run_result r = RUN("solve", "--calib", tt_path("nope.yaml"), "--radius", "8", frame);
+        expect_status(&r, 2);
+        tt_assert_contains(r.err, "nope.yaml: cannot open");
+        run_free(&r);
+    }
+}
+
+static void usage_errors_exit_2(void **state)
+{
+    char frame[700];
+    const char *cal;
+    (void)state;
+    snprintf(frame, sizeof frame, "%s/frame_0000.pgm", seq_dir);
+    cal = calib_of(seq_dir);
+    {
+        const struct {
+            run_result r;
+            const char *msg;
+        } cases[] = {
+            {RUN("solve", "--calib", cal, frame), "--radius R is required"},
+            {RUN("solve", "--radius", "8", frame), "--calib CAM.yaml is required"},
+            {RUN("solve", "--calib", cal, "--radius", "-1", frame), "--radius: -1 is outside"},
+            {RUN("solve", "--calib", cal, "--radius", "eight", frame),
+             "--radius: expected a number, got 'eight'"},
+            {RUN("solve", "--calib", cal, "--radius", "8", "--frobnicate", frame),
+             "unknown option '--frobnicate'"},
+            {RUN("solve", "--calib", cal, "--radius", "8", "--roi", "1,2,3", frame),
+             "--roi: expected X,Y,W,H"},
+            {RUN("solve", "--calib", cal, "--radius", "8", "--roi", "600,400,100,100", frame),
+             "reaches outside the 640x480 image"},
+            {RUN("solve", "--calib", cal, "--radius", "8", "-j", "x", frame),
+             "--threads: expected an integer"},
+            {RUN("solve", "--calib", cal, "--radius", "8"), "no frames given"},
+            {RUN("solve", "--calib", cal, "--radius", "8", "--polarity", "up", frame),
+             "--polarity: expected one of any|bright|dark"},
+            {RUN("solve", "--calib", cal, "--radius"), "--radius needs a value"},
+            {RUN("overlay", "--calib", cal, "--radius", "8", frame), "--out DIR is required"},
+            {RUN("sim", "--out", tt_path("x"), "--bits", "12"), "--bits: 8 or 16"},
+            {RUN("sim", "--out", tt_path("x"), "--dir", "0,0,0"), "must not be zero"},
+            {RUN("sim", "--out", "/proc/no/such/dir"), "cannot create the directory"},
+            {RUN("export"), "no input given"},
+            {RUN("bench", "--trials", "0"), "--trials: 0 is outside"},
+            {RUN("frobnicate"), "unknown command 'frobnicate'"},
+        };
+        size_t i;
+        for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+            run_result r = cases[i].r;
+            if (r.status != 2 || !strstr(r.err, cases[i].msg))
+                fail_msg("case %zu: status %d, stderr \"%s\", wanted \"%s\"", i, r.status, r.err,
+                         cases[i].msg);
+            assert_int_equal(r.out_len, 0);
+            run_free(&r);
+        }
+    }
+    {
+        run_result r = run_in(NULL, (const char *const[]){NULL});
+        expect_status(&r, 2);
+        tt_assert_contains(r.err, "usage: cdsp_tool COMMAND");
+        run_free(&r);
+    }
+}
+
+static void help_pages(void **state)
+{
+    static const char *const cmds[] = {"solve", "overlay", "sim", "export", "bench"};
+    static const char *const sections[] = {"NAME\n", "SYNOPSIS\n", "DESCRIPTION\n", "OPTIONS\n",
+                                           "EXIT STATUS\n", "    -h, --help\n"};
+    size_t i, k;
+    (void)state;
+    for (i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
+        run_result r = RUN(cmds[i], "--help");
+        run_result h = RUN("help", cmds[i]);
+        char name[64];
+        expect_status(&r, 0);
+        expect_status(&h, 0);
+        for (k = 0; k < sizeof sections / sizeof sections[0]; k++)
+            tt_assert_contains(r.out, sections[k]);
+        snprintf(name, sizeof name, "cdsp_tool %s - ", cmds[i]);
+        tt_assert_contains(r.out, name);
+        tt_assert_contains(r.out, "    2  ");
+        assert_string_equal(r.out, h.out);
+        /* man-page width */
+        {
+            const char *p = r.out;
+            while (*p) {
+                const char *nl = strchr(p, '\n');
+                assert_non_null(nl);
+                if (nl - p > 80)
+                    fail_msg("%s --help: line longer than 80: %.*s", cmds[i], (int)(nl - p), p);
+                p = nl + 1;
+            }
+        }
+        run_free(&r);
+        run_free(&h);
+    }
+    {
+        run_result r = RUN("--help");
+        expect_status(&r, 0);
+        for (i = 0; i < sizeof cmds / sizeof cmds[0]; i++)
+            tt_assert_contains(r.out, cmds[i]);
+        run_free(&r);
+    }
+}
+
+/* ---- tests: overlay, export, bench ------------------------------------------------ */
+
+static void overlay_draws_the_pipe(void **state)
+{
+    const char *out = tt_path("ov");
+    truth t;
+    run_result r;
+    json_object *recs[4];
+    char png[800];
+    int n, green = 0, magenta = 0, red = 0;
+    (void)state;
+    truth_load(&t, dist_dir);
+    r = RUN("overlay", "--calib", calib_of(dist_dir), "--radius", "8", "--out", out, dist_dir);
+    expect_status(&r, 0);
+    n = parse_lines(r.out, recs, 4);
+    assert_int_equal(n, 3);
+    snprintf(png, sizeof png, "%s/frame_0000_overlay.png", out);
+    assert_string_equal(str(key(recs[0], "overlay")), png);
+    check_pose(&t, truth_frame(&t, 0), recs[0]);
+    /* an RGB picture of the frame's size with the marks in their colours */
+    {
+        char *buf;
+        size_t len, size, i;
+        struct spng_ihdr ihdr;
+        unsigned char *rgb;
+        spng_ctx *ctx = spng_ctx_new(0);
+        buf = slurp(png, &len);
+        assert_int_equal(spng_set_png_buffer(ctx, buf, len), 0);
+        assert_int_equal(spng_get_ihdr(ctx, &ihdr), 0);
+        assert_int_equal(ihdr.width, t.cam.width);
+        assert_int_equal(ihdr.height, t.cam.height);
+        assert_int_equal(ihdr.color_type, SPNG_COLOR_TYPE_TRUECOLOR);
+        assert_int_equal(spng_decoded_image_size(ctx, SPNG_FMT_RGB8, &size), 0);
+        rgb = malloc(size);
+        assert_int_equal(spng_decode_image(ctx, rgb, size, SPNG_FMT_RGB8, 0), 0);
+        for (i = 0; i < size; i += 3) {
+            green += rgb[i] == 0 && rgb[i + 1] == 230 && rgb[i + 2] == 0;
+            magenta += rgb[i] == 255 && rgb[i + 1] == 0 && rgb[i + 2] == 255;
+            red += rgb[i] == 255 && rgb[i + 1] == 30 && rgb[i + 2] == 30;
+        }
+        free(rgb);
+        free(buf);
+        spng_ctx_free(ctx);
+    }
+    /* both contours' inliers and the axis are drawn (the frame itself is
+     * gray: r = g = b) */
+    assert_true(green > 100);
+    assert_true(magenta > 100);
+    assert_true(red > 100);
+    put_all(recs, n);
+    json_object_put(t.doc);
+    run_free(&r);
+}
+
+static double seg_dist(const double p[3], const double a[3], const double b[3])
+{
+    double ab[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, ap[3] = {p[0] - a[0], p[1] - a[1],
+                                                                       p[2] - a[2]};
+    double t = (ab[0] * ap[0] + ab[1] * ap[1] + ab[2] * ap[2]) /
+               (ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2]);
+    double q[3] = {a[0] + t * ab[0] - p[0], a[1] + t * ab[1] - p[1], a[2] + t * ab[2] - p[2]};
+    return sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+}
+
+static void export_meshes(void **state)
+{
+    const char *poses = tt_path("poses.jsonl"), *ply = tt_path("pipes.ply");
+    run_result r;
+    json_object *recs[16];
+    char *text, *p;
+    int n, nv = -1, nf = -1, i, k;
+    (void)state;
+    r = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", seq_dir);
+    expect_status(&r, 0);
+    tt_write(poses, r.out, r.out_len);
+    n = parse_lines(r.out, recs, 16);
+    run_free(&r);
+    r = RUN("export", "--out", ply, "--sides", "12", poses);
+    expect_status(&r, 0);
+    run_free(&r);
+    text = slurp(ply, NULL);
+    assert_true(strncmp(text, "ply\nformat ascii 1.0\n", 21) == 0);
+    p = strstr(text, "element vertex ");
+    assert_non_null(p);
+    nv = atoi(p + 15);
+    p = strstr(text, "element face ");
+    assert_non_null(p);
+    nf = atoi(p + 13);
+    assert_int_equal(nv, 5 + n * (2 * 12 + 2));
+    assert_int_equal(nf, 6 + n * 4 * 12);
+    /* every ring vertex of pipe k lies at the radius from its segment */
+    p = strstr(text, "end_header\n") + 11;
+    for (i = 0; i < 5; i++)
+        p = strchr(p, '\n') + 1;
+    for (k = 0; k < n; k++) {
+        double s0[3], s1[3];
+        vec(json_object_array_get_idx(key(recs[k], "segment"), 0), s0, 3);
+        vec(json_object_array_get_idx(key(recs[k], "segment"), 1), s1, 3);
+        for (i = 0; i < 2 * 12 + 2; i++) {
+            double v[3];
+            char *end;
+            v[0] = strtod(p, &end);
+            v[1] = strtod(end, &end);
+            v[2] = strtod(end, &end);
+            if (i < 24)
+                assert_true(fabs(seg_dist(v, s0, s1) - 8) < 1e-9 * 500);
+            else
+                assert_true(seg_dist(v, s0, s1) < 1e-9 * 500);
+            p = strchr(p, '\n') + 1;
+        }
+    }
+    /* faces: 3 indices each, all in range */
+    for (i = 0; i < nf; i++) {
+        int a, b, c;
+        assert_int_equal(sscanf(p, "3 %d %d %d", &a, &b, &c), 3);
+        assert_true(a >= 0 && a < nv && b >= 0 && b < nv && c >= 0 && c < nv);
+        p = strchr(p, '\n') + 1;
+    }
+    assert_int_equal(*p, 0);
+    free(text);
+    put_all(recs, n);
+    /* OBJ to stdout, from the truth file too */
+    {
+        char truth_path[700];
+        int v = 0, f = 0, o = 0;
+        const char *q;
+        snprintf(truth_path, sizeof truth_path, "%s/truth.json", seq_dir);
+        r = RUN("export", "--format", "obj", "--no-camera", "--sides", "8", truth_path);
+        expect_status(&r, 0);
+        for (q = r.out; *q; q = strchr(q, '\n') + 1) {
+            v += q[0] == 'v' && q[1] == ' ';
+            f += q[0] == 'f' && q[1] == ' ';
+            o += q[0] == 'o' && q[1] == ' ';
+        }
+        assert_int_equal(o, 8);
+        assert_int_equal(v, 8 * (2 * 8 + 2));
+        assert_int_equal(f, 8 * 4 * 8);
+        run_free(&r);
+    }
+    /* malformed input: file and line named, exit 2; only errors: exit 1 */
+    tt_write_str(tt_path("bad.jsonl"), "{\"status\":\"error\",\"error\":\"no-pipe\"}\n{oops\n");
+    r = RUN("export", tt_path("bad.jsonl"));
+    expect_status(&r, 2);
+    tt_assert_contains(r.err, "bad.jsonl:2: ");
+    run_free(&r);
+    tt_write_str(tt_path("none.jsonl"), "{\"status\":\"error\",\"error\":\"no-pipe\"}\n");
+    r = RUN("export", "--out", tt_path("none.ply"), tt_path("none.jsonl"));
+    expect_status(&r, 1);
+    run_free(&r);
+}
+
+static void bench_files(void **state)
+{
+    const char *out = tt_path("bench");
+    char path[800], *text, *line, *save = NULL;
+    run_result r;
+    int rows = 0;
+    (void)state;
+    r = RUN("bench", "--out", out, "--levels", "0,0.5", "--trials", "2", "--no-frames", "-q");
+    expect_status(&r, 0);
+    tt_assert_contains(r.out, "Table 1.");
+    tt_assert_contains(r.out, "Table 2.");
+    tt_assert_contains(r.out, "Table 3.");
+    run_free(&r);
+    /* the radius table is exact: |dr| / r x distance (METHOD.md) */
+    snprintf(path, sizeof path, "%s/bench_radius.csv", out);
+    text = slurp(path, NULL);
+    line = strtok_r(text, "\n", &save);
+    assert_string_equal(line, "dr_mm,rmse_p1,rmse_p2,rmse_p3,rmse_p4,rmse_mean,exact,paper_rmse");
+    while ((line = strtok_r(NULL, "\n", &save)) != NULL) {
+        char *f[16];
+        assert_int_equal(split(line, f, 16), 8);
+        assert_true(fabs(strtod(f[5], NULL) - strtod(f[6], NULL)) < 1e-4 * strtod(f[6], NULL));
+        /* and reproduces the paper's table to its 4 digits */
+        assert_true(fabs(strtod(f[5], NULL) - strtod(f[7], NULL)) < 0.0015);
+        rows++;
+    }
+    assert_int_equal(rows, 6);
+    free(text);
+    snprintf(path, sizeof path, "%s/bench_noise.csv", out);
+    text = slurp(path, NULL);
+    tt_assert_contains(text, "noise_px,rmse_p1");
+    free(text);
+    snprintf(path, sizeof path, "%s/bench_noise.svg", out);
+    text = slurp(path, NULL);
+    assert_true(strncmp(text, "<?xml", 5) == 0);
+    tt_assert_contains(text, "</svg>\n");
+    free(text);
+}
+
+/* ---- tests: size limits ------------------------------------------------------------ */
+
+/* An 8192 x 8192 frame: a bright vertical band of a known width, its edges
+ * exactly between two pixel columns. */
+static void frame_of_8192_squared(void **state)
+{
+    const int W = 8192, H = 8192, u0 = 4000, u1 = 4120;
+    cdsp_host_image im;
+    cdsp_host_err err;
+    cdsp_camera cam;
+    const char *frame = tt_path("big.pgm"), *cal = tt_path("big.yaml");
+    run_result r;
+    json_object *recs[2];
+    int y;
+    double l[3];
+    (void)state;
+    assert_int_equal(cdsp_host_image_alloc(&im, W, H, 8, &err), 0);
+    for (y = 0; y < H; y++) {
+        unsigned char *row = (unsigned char *)im.data + (size_t)y * im.stride;
+        memset(row, 60, (size_t)W);
+        memset(row + u0, 200, (size_t)(u1 - u0));
+    }
+    assert_int_equal(cdsp_host_pgm_write(frame, &im, &err), 0);
+    cdsp_host_image_free(&im);
+    memset(&cam, 0, sizeof cam);
+    cam.width = W;
+    cam.height = H;
+    cam.fx = cam.fy = 10000;
+    cam.cx = cam.cy = (W - 1) / 2.0;
+    assert_int_equal(cdsp_host_calib_write(cal, &cam, "big", &err), 0);
+    r = RUN("solve", "--calib", cal, "--radius", "8", frame);
+    expect_status(&r, 0);
+    assert_int_equal(parse_lines(r.out, recs, 2), 1);
+    check_ok_schema(recs[0]);
+    /* the contours are the columns u = 3999.5 and u = 4119.5 */
+    vec(json_object_array_get_idx(key(recs[0], "lines"), 0), l, 3);
+    assert_true(fabs(fabs(l[0]) - 1) < 1e-6);
+    assert_true(fabs(fabs(l[2] / l[0]) - 3999.5) < 0.05 || fabs(fabs(l[2] / l[0]) - 4119.5) < 0.05);
+    json_object_put(recs[0]);
+    run_free(&r);
+    remove(frame);
+}
+
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(placeholder)};
-    return cmocka_run_group_tests_name("tool_cli", tests, NULL, NULL);
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(poses_of_a_sequence),
+        cmocka_unit_test(poses_with_lens_distortion),
+        cmocka_unit_test(poses_from_16bit_png),
+        cmocka_unit_test(tracking_a_sequence),
+        cmocka_unit_test(paper_preset),
+        cmocka_unit_test(threads_give_identical_output),
+        cmocka_unit_test(csv_matches_json),
+        cmocka_unit_test(roi_and_list),
+        cmocka_unit_test(bad_frames_get_error_records),
+        cmocka_unit_test(bad_calibrations_exit_2),
+        cmocka_unit_test(usage_errors_exit_2),
+        cmocka_unit_test(help_pages),
+        cmocka_unit_test(overlay_draws_the_pipe),
+        cmocka_unit_test(export_meshes),
+        cmocka_unit_test(bench_files),
+        cmocka_unit_test(frame_of_8192_squared),
+    };
+    return cmocka_run_group_tests_name("tool_cli", tests, setup, teardown);
 }
