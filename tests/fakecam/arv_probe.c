@@ -218,9 +218,11 @@ static char *discover(const probe_options *o, double deadline)
     return NULL;
 }
 
-/* Compare a received frame with the one the renderer draws for its id. */
+/* Compare a received frame with the one the renderer draws for its id.
+ * expect: expect_len bytes where the expected frame is drawn, or already
+ * is when *drawn (--cycle: the same few frames come round again). */
 static int check_frame(const probe_options *o, ArvBuffer *b, void *expect, size_t expect_len,
-                       float **scratch, size_t *scratch_len)
+                       int *drawn, float **scratch, size_t *scratch_len)
 {
     size_t size = 0, n, i, differ = 0;
     const void *img = arv_buffer_get_image_data(b, &size);
@@ -246,21 +248,24 @@ static int check_frame(const probe_options *o, ArvBuffer *b, void *expect, size_
                 (unsigned long)id, size, w, h, bits);
         return -1;
     }
-    if (cdsp_render_scratch_size(w, h) > *scratch_len) {
-        float *p = realloc(*scratch, cdsp_render_scratch_size(w, h) * sizeof *p);
-        if (!p) {
-            fprintf(stderr, "arv_probe: out of memory\n");
+    if (!*drawn) {
+        if (cdsp_render_scratch_size(w, h) > *scratch_len) {
+            float *p = realloc(*scratch, cdsp_render_scratch_size(w, h) * sizeof *p);
+            if (!p) {
+                fprintf(stderr, "arv_probe: out of memory\n");
+                return -1;
+            }
+            *scratch = p;
+            *scratch_len = cdsp_render_scratch_size(w, h);
+        }
+        fakecam_frame(id, o->cycle, w, h, &cam, &scene, &rng);
+        s = cdsp_render(&scene, &cam, expect, 0, bits, *scratch, *scratch_len, &rng);
+        if (s != CDSP_OK) {
+            fprintf(stderr, "arv_probe: cdsp_render failed for frame %lu: %s\n",
+                    (unsigned long)id, cdsp_strerror(s));
             return -1;
         }
-        *scratch = p;
-        *scratch_len = cdsp_render_scratch_size(w, h);
-    }
-    fakecam_frame(id, o->cycle, w, h, &cam, &scene, &rng);
-    s = cdsp_render(&scene, &cam, expect, 0, bits, *scratch, *scratch_len, &rng);
-    if (s != CDSP_OK) {
-        fprintf(stderr, "arv_probe: cdsp_render failed for frame %lu: %s\n", (unsigned long)id,
-                cdsp_strerror(s));
-        return -1;
+        *drawn = o->cycle > 0;
     }
     if (!memcmp(img, expect, n))
         return 0;
@@ -352,7 +357,9 @@ int main(int argc, char **argv)
     ArvCamera *camera = NULL;
     ArvStream *stream = NULL;
     char *device_id = NULL;
-    void *expect = NULL;
+    uint8_t *expect = NULL;     /* max(1, cycle) frames of payload bytes */
+    int *drawn = NULL;
+    unsigned n_slots;
     float *scratch = NULL;
     size_t scratch_len = 0, payload;
     long verified = 0, incomplete = 0, received = 0;
@@ -403,9 +410,11 @@ int main(int argc, char **argv)
     printf("arv_probe: %dx%d %s, payload %zu bytes, %.3g fps\n", w, h,
            o.pixel_format == ARV_PIXEL_FORMAT_MONO_16 ? "Mono16" : "Mono8", payload,
            arv_camera_get_frame_rate(camera, NULL));
-    expect = malloc(payload ? payload : 1);
-    if (!expect) {
-        fprintf(stderr, "arv_probe: out of memory for %zu bytes\n", payload);
+    n_slots = o.cycle ? o.cycle : 1;
+    expect = malloc(n_slots * (payload ? payload : 1));
+    drawn = calloc(n_slots, sizeof *drawn);
+    if (!expect || !drawn) {
+        fprintf(stderr, "arv_probe: out of memory for %u frames of %zu bytes\n", n_slots, payload);
         goto done;
     }
 
@@ -450,7 +459,9 @@ int main(int argc, char **argv)
                 wrapped = 1;
             last_id = id;
             have_last = 1;
-            if (check_frame(&o, b, expect, payload, &scratch, &scratch_len) < 0) {
+            unsigned slot = o.cycle ? (unsigned)((id & 0xFFFFu) % o.cycle) : 0;
+            if (check_frame(&o, b, expect + (size_t)slot * payload, payload, &drawn[slot],
+                            &scratch, &scratch_len) < 0) {
                 arv_stream_push_buffer(stream, b);
                 goto stop;
             }
@@ -499,6 +510,7 @@ done:
         g_object_unref(camera);
     g_free(device_id);
     free(expect);
+    free(drawn);
     free(scratch);
     free(ids);
     arv_shutdown();

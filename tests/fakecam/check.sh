@@ -6,9 +6,14 @@
 #   1. 640x480 Mono8, the camera's default format, poses checked against the
 #      camera's --truth file;
 #   2. 320x240 Mono16, set by the client;
-#   3. 320x240 Mono8 at 100 fps, long enough to cross the 16-bit frame id wrap;
+#   3. 320x240 Mono8 at 100 fps with --cycle 10 (10 poses drawn once, then
+#      served from memory), long enough to cross the 16-bit frame id wrap;
 #   4. a new camera dropping 20 of every 1000 GVSP packets: incomplete frames
 #      must appear, and every complete one must still be exact.
+# Incomplete frames are tolerated in steps 1-3: on a loaded machine the
+# receiving thread can fall behind and the socket buffer overflow (GVSP is
+# UDP, and the fake camera never resends); each step still needs its count
+# of exact frames within its timeout.
 # Only 127.0.0.1 is used. GVCP has one fixed port (3956) and lo has one
 # address here, so one fake camera at a time per machine: every test that
 # runs one holds the lock /tmp/cdsp-fakecam-gvcp.lock (flock) while it does.
@@ -69,13 +74,20 @@ step() {
 }
 
 start_camera --truth "$work/truth.txt" || exit 1
-step "640x480 Mono8 with ground truth" -n 15 --truth "$work/truth.txt" --timeout 30
+step "640x480 Mono8 with ground truth" -n 10 --truth "$work/truth.txt" --timeout 30
 step "320x240 Mono16" -n 20 --size 320x240 --pixel-format Mono16 --rate 50 --timeout 30
-step "16-bit frame id wrap" -n 120 --size 320x240 --rate 100 --expect-wrap --timeout 40
+stop_camera
+
+start_camera --cycle 10 || exit 1
+step "16-bit frame id wrap, --cycle 10" -n 150 --cycle 10 --size 320x240 --rate 100 \
+    --expect-wrap --timeout 30
 stop_camera
 
 start_camera -r 20 --size 320x240 || exit 1
-step "GVSP loss 20/1000" -n 10 --min-incomplete 3 --rate 50 --timeout 30
+# A 320x240 Mono8 frame is about 57 packets: 0.98^57 = 32 % arrive whole.
+# 20 whole frames with fewer than 5 incomplete ones: probability 0.32^20 *
+# sum_{k<5} C(19+k,k) 0.68^k < 1e-6 if the loss works.
+step "GVSP loss 20/1000" -n 20 --min-incomplete 5 --rate 50 --timeout 30
 stop_camera
 grep -v '^cdsp_fakecam: drawing' "$work/cam.err" >&2
 echo "PASS: fake GigE Vision camera on 127.0.0.1: frames pixel-exact in every step"

@@ -19,7 +19,8 @@
 #   --format WxH:FOURCC     format set on both vivid nodes (default 640x480:GREY)
 #   --log FILE              keep the console log there (default: a temp file)
 # Inside the VM the command runs as root in /, with CDSP_VIVID_CAP and
-# CDSP_VIVID_OUT naming the capture and output device nodes.
+# CDSP_VIVID_OUT naming the capture and output device nodes; lo is up
+# (127.0.0.1), there is no other network; /tmp is a tmpfs.
 #
 # Environment: CDSP_VM_CACHE (kernel cache, default build/vm/cache),
 # QEMU (default qemu-system-x86_64), CDSP_VM_MEM (MiB, default 512).
@@ -35,7 +36,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 
 die() { echo "$prog: $2" >&2; exit "$1"; }
-usage() { sed -n '15,30p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
+usage() { sed -n '15,31p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 
 files=()
 timeout_s=240
@@ -71,7 +72,8 @@ for tool in "$qemu" apt-get apt-cache dpkg-deb depmod cpio timeout flock ldd /bi
 done
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/cdsp-vm.XXXXXX") || die 3 "cannot create a temporary directory"
-trap 'rm -rf "$work"' EXIT
+x=""   # kernel extraction directory, while one exists
+trap 'rm -rf "$work" ${x:+"$x"}' EXIT
 trap 'exit 130' INT TERM
 
 # ---------------------------------------------------------------------------
@@ -106,8 +108,9 @@ if [ ! -f "$kdir/.complete" ]; then
         [ -n "$deb" ] || die 3 "apt-get download $pkg left no .deb in '$cache'"
     fi
     echo "$prog: extracting $(basename "$deb")" >&2
-    x=$work/extract
-    mkdir -p "$x"
+    # About 400 MB unpacked: next to the cache, not in a possibly small /tmp.
+    x=$cache/.extract-$$
+    rm -rf "$x" && mkdir -p "$x"
     dpkg-deb -x "$deb" "$x" || die 3 "dpkg-deb cannot extract '$deb' (delete it to download again)"
     # Debian ships no modules.dep (postinst runs depmod): make one.
     if [ ! -d "$x/lib/modules/$kver" ] && [ -d "$x/usr/lib/modules/$kver" ]; then
@@ -143,6 +146,7 @@ if [ ! -f "$kdir/.complete" ]; then
     touch "$kdir.new/.complete"
     rm -rf "$kdir" && mv "$kdir.new" "$kdir" || die 3 "cannot move '$kdir.new' to '$kdir'"
     rm -rf "$x"
+    x=""
     # Keep only this kernel: drop older versions and their packages.
     for old in "$cache"/*; do
         case $old in
@@ -192,6 +196,7 @@ mount -t proc proc /proc
 mount -t sysfs sys /sys
 mount -t devtmpfs dev /dev
 mount -t tmpfs tmp /tmp
+ip link set lo up   # for tests that talk UDP on 127.0.0.1 inside the VM
 result() { echo "CDSP-VM-RESULT $token \$*"; sync; poweroff -f; sleep 5; echo o >/proc/sysrq-trigger; exit 1; }
 setup() { "\$@" >/tmp/setup.log 2>&1 || { cat /tmp/setup.log; result "FAIL setup: \$*"; }; }
 for m in /lib/modules/vivid/*.ko; do
@@ -234,6 +239,7 @@ chmod 755 "$root/init"
 # ---------------------------------------------------------------------------
 [ -n "$log" ] || log=$work/console.log
 mkdir -p "$(dirname "$log")" || die 3 "cannot create the directory of '$log'"
+echo "$prog: booting $kver with a $(( $(stat -c %s "$work/initramfs.cpio") / 1048576 )) MiB initramfs, timeout ${timeout_s} s"
 start=$(date +%s)
 timeout -k 10 "$timeout_s" "$qemu" -accel tcg -m "$mem" -smp 1 -nic none \
     -kernel "$kdir/vmlinuz" -initrd "$work/initramfs.cpio" \
