@@ -79,3 +79,9 @@ check-tool: $(tool_UNIT) $(tool_UNIT_ASAN) $(tool_E2E) $(tool_BIN)
 	  $(RUN) "tool/test_tool_cli" $(tool_E2E)
 
 CHECK_STEPS += check-tool
+
+# The paper's accuracy study (figures, not pass/fail): `make bench`.
+.PHONY: bench-tool
+bench-tool: $(tool_BIN)
+	$(tool_BIN) bench --out $(BUILD)/bench-tool
+BENCH_STEPS += bench-tool

@@ -38,6 +38,7 @@ typedef struct {
     double foot[3], dist;
     cdsp_edge pts[CDSP_MAX_POINTS]; /* exact contour points, undistorted px */
     size_t n;
+    double length_px; /* visible length of the longer contour, px */
 } pipe_case;
 
 /* ---- the paper's pipes and their exact contours ---------------------------- */
@@ -84,6 +85,7 @@ static int make_case(const cdsp_camera *cam, int k, double r, int per_line, pipe
     /* a pixel inside the pipe's image: the axis' midpoint of visibility is
      * found below; start from the foot's projection as a reference */
     pc->n = 0;
+    pc->length_px = 0;
     for (side = 0; side < 2; side++) {
         double n[3], p0[2] = {0, 0}, p1[2] = {0, 0}, len, g[2], nn;
         int found = 0, steps = 20000, m;
@@ -104,6 +106,8 @@ static int make_case(const cdsp_camera *cam, int k, double r, int per_line, pipe
         if (!found)
             return -1;
         len = hypot(p1[0] - p0[0], p1[1] - p0[1]);
+        if (len > pc->length_px)
+            pc->length_px = len;
         m = per_line < (int)len ? per_line : (int)len;
         if (m < 20)
             return -1;
@@ -399,9 +403,13 @@ int tool_bench_main(int argc, char **argv)
 
     printf("cdsp_tool bench: the accuracy study of Yao et al. 2024 (METHOD.md), simulated\n"
            "camera %dx%d, fx = fy = %.2f px; pipes p1..p4, r = %g mm, 500 mm long, at\n"
-           "%.1f / %.1f / %.1f / %.1f mm; contour points per line: %zu / %zu / %zu / %zu\n\n",
+           "%.1f / %.1f / %.1f / %.1f mm; visible contours %.0f / %.0f / %.0f / %.0f px long,\n"
+           "%zu / %zu / %zu / %zu points per line (at most --points; the points path takes\n"
+           "%d points in all). RMSE falls as 1 / sqrt(points per line): the paper's one\n"
+           "point per pixel would give sqrt(points / length) times the figures below.\n\n",
            cam.width, cam.height, (double)cam.fx, r, pc[0].dist, pc[1].dist, pc[2].dist,
-           pc[3].dist, pc[0].n / 2, pc[1].n / 2, pc[2].n / 2, pc[3].n / 2);
+           pc[3].dist, pc[0].length_px, pc[1].length_px, pc[2].length_px, pc[3].length_px,
+           pc[0].n / 2, pc[1].n / 2, pc[2].n / 2, pc[3].n / 2, CDSP_MAX_POINTS);
 
     /* ---- table 1 ---- */
     csv = open_csv(&B, "bench_noise.csv", path, sizeof path);
@@ -510,9 +518,12 @@ int tool_bench_main(int argc, char **argv)
         goto out;
     fprintf(csv, "path,median_us,mean_us,runs,paper_us\n");
     printf("Table 3. Time per reconstruction (this machine, one thread)\n");
-    printf("  points path, 2 x ~%d points:       mean %9.1f us   paper  998.4 us "
-           "(simulation)\n",
-           B.points, t_points / (double)n_points_runs);
+    {
+        char label[64];
+        snprintf(label, sizeof label, "points path, 2 x %d points:", B.points);
+        printf("  %-34s mean   %8.1f us   paper  998.4 us (simulation)\n", label,
+               t_points / (double)n_points_runs);
+    }
     fprintf(csv, "points,,%.1f,%ld,998.4\n", t_points / (double)n_points_runs, n_points_runs);
     if (!B.no_frames) {
         cdsp_scene scene;
@@ -596,16 +607,15 @@ int tool_bench_main(int argc, char **argv)
             double mean = 0;
             for (i = 0; i < nfull; i++)
                 mean += full[i] / nfull;
-            printf("  frame path, full search:           median %7.1f us   paper 1917 us "
-                   "(real data)\n",
-                   full[nfull / 2]);
+            printf("  %-34s median %8.1f us   paper 1917 us (real data)\n",
+                   "frame path, full search:", full[nfull / 2]);
             fprintf(csv, "frame_full,%.1f,%.1f,%d,1917\n", full[nfull / 2], mean, nfull);
         }
         if (ntrack) {
             double mean = 0;
             for (i = 0; i < ntrack; i++)
                 mean += track[i] / ntrack;
-            printf("  frame path, tracking:              median %7.1f us\n", track[ntrack / 2]);
+            printf("  %-34s median %8.1f us\n", "frame path, tracking:", track[ntrack / 2]);
             fprintf(csv, "frame_tracking,%.1f,%.1f,%d,\n", track[ntrack / 2], mean, ntrack);
         }
         printf("  axis RMSE on the rendered frames (mm): p1 %.4f  p2 %.4f  p3 %.4f  p4 %.4f\n",

@@ -342,7 +342,13 @@ void tool_help(const tool_doc *doc, const tool_opt *opts)
     FILE *f = stdout;
     fprintf(f, "NAME\n    cdsp_tool %s - %s\n\n", doc->name, doc->summary);
     fprintf(f, "SYNOPSIS\n    cdsp_tool %s %s\n\n", doc->name, doc->synopsis);
-    fprintf(f, "DESCRIPTION\n%s\n", doc->description);
+    {
+        /* paragraphs, then exactly one blank line */
+        size_t n = strlen(doc->description);
+        while (n > 0 && doc->description[n - 1] == '\n')
+            n--;
+        fprintf(f, "DESCRIPTION\n%.*s\n\n", (int)n, doc->description);
+    }
     fprintf(f, "OPTIONS\n");
     for (o = opts; o->name; o++) {
         char def[256], text[1400];

@@ -582,6 +582,29 @@ static void paper_preset(void **state)
     run_free(&r);
 }
 
+/* The committed example data (docs/cdsp_tool.md's walkthrough) still
+ * solves within its tolerance (flat-shaded: sim --ambient 1). */
+static void examples_solve(void **state)
+{
+    const char *env = getenv("CDSP_EXAMPLES");
+    const char *dir = env && *env ? env : "examples/sim640";
+    truth t;
+    json_object *recs[8];
+    run_result r;
+    int n, i;
+    (void)state;
+    truth_load(&t, dir);
+    r = RUN("solve", "--calib", calib_of(dir), "--radius", "8", "--track", dir);
+    expect_status(&r, 0);
+    n = parse_lines(r.out, recs, 8);
+    assert_int_equal(n, 4);
+    for (i = 0; i < n; i++)
+        check_pose(&t, truth_frame(&t, (size_t)i), recs[i]);
+    put_all(recs, n);
+    json_object_put(t.doc);
+    run_free(&r);
+}
+
 /* ---- tests: output forms ---------------------------------------------------------- */
 
 static void threads_give_identical_output(void **state)
@@ -967,6 +990,28 @@ static void help_pages(void **state)
     }
 }
 
+/* docs/cdsp_tool.md carries every manual page exactly as --help prints it
+ * (tests/tool/update_docs.sh refreshes them). */
+static void docs_match_help(void **state)
+{
+    static const char *const cmds[] = {"solve", "overlay", "sim", "export", "bench"};
+    const char *env = getenv("CDSP_DOCS");
+    char *doc = slurp(env && *env ? env : "docs/cdsp_tool.md", NULL);
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
+        run_result r = RUN(cmds[i], "--help");
+        char *block = malloc(r.out_len + 64);
+        sprintf(block, "```text\n%s```\n", r.out);
+        if (!strstr(doc, block))
+            fail_msg("docs/cdsp_tool.md: the %s manual differs from --help "
+                     "(run tests/tool/update_docs.sh)", cmds[i]);
+        free(block);
+        run_free(&r);
+    }
+    free(doc);
+}
+
 /* ---- tests: overlay, export, bench ------------------------------------------------ */
 
 static void overlay_draws_the_pipe(void **state)
@@ -1208,6 +1253,7 @@ int main(void)
         cmocka_unit_test(poses_from_16bit_png),
         cmocka_unit_test(tracking_a_sequence),
         cmocka_unit_test(paper_preset),
+        cmocka_unit_test(examples_solve),
         cmocka_unit_test(threads_give_identical_output),
         cmocka_unit_test(csv_matches_json),
         cmocka_unit_test(roi_and_list),
@@ -1215,6 +1261,7 @@ int main(void)
         cmocka_unit_test(bad_calibrations_exit_2),
         cmocka_unit_test(usage_errors_exit_2),
         cmocka_unit_test(help_pages),
+        cmocka_unit_test(docs_match_help),
         cmocka_unit_test(overlay_draws_the_pipe),
         cmocka_unit_test(export_meshes),
         cmocka_unit_test(bench_files),
