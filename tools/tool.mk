@@ -70,13 +70,42 @@ $(tool_E2E): tests/tool/test_tool_cli.c tests/tool/tool_test.h $(CDSP_HOST_LIB) 
 	@mkdir -p $(@D)
 	$(CC) $(tool_CFLAGS) -Itests/tool $< $(CDSP_HOST_LIB) $(host_LIB) $(tool_PKG_LIBS) -lcmocka -lm -o $@
 
+# cdsp_tool itself under ASan/UBSan (libcdsp and libcdsp_host too) and
+# under TSan (the --threads pipeline), for the same end-to-end suite.
+tool_ASAN_BIN := $(BUILD)/tools-asan/cdsp_tool
+tool_ASAN_TOOL_OBJ := $(patsubst tools/%.c,$(BUILD)/tools-asan/%.o,$(tool_SRC))
+$(BUILD)/tools-asan/%.o: tools/%.c
+	@mkdir -p $(@D)
+	$(CLANG) $(tool_ASAN_CFLAGS) -c $< -o $@
+$(tool_ASAN_BIN): $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LIB) $(asan_LIB)
+	$(CLANG) $(tool_ASAN_CFLAGS) $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LIB) $(asan_LIB) \
+	  $(tool_PKG_LIBS) -lpthread -lm -o $@
+
+tool_TSAN_CFLAGS := $(BASE_CFLAGS) -O1 -g -fsanitize=thread -Itools/common $(tool_PKG_CFLAGS)
+tool_TSAN_BIN := $(BUILD)/tools-tsan/cdsp_tool
+tool_TSAN_OBJ := $(patsubst tools/%.c,$(BUILD)/tools-tsan/%.o,$(tool_SRC))
+$(BUILD)/tools-tsan/%.o: tools/%.c
+	@mkdir -p $(@D)
+	$(CLANG) $(tool_TSAN_CFLAGS) -c $< -o $@
+$(tool_TSAN_BIN): $(tool_TSAN_OBJ) $(CDSP_HOST_LIB) $(host_LIB)
+	$(CLANG) $(tool_TSAN_CFLAGS) $(tool_TSAN_OBJ) $(CDSP_HOST_LIB) $(host_LIB) \
+	  $(tool_PKG_LIBS) -lpthread -lm -o $@
+
+-include $(tool_ASAN_TOOL_OBJ:.o=.d) $(tool_TSAN_OBJ:.o=.d)
+
+# Sanitizer findings exit with statuses the suite never expects (66, 86, 87).
+tool_SAN_ENV := ASAN_OPTIONS=detect_leaks=1:exitcode=86 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1:exitcode=87 \
+  TSAN_OPTIONS=halt_on_error=1:exitcode=66
+
 .PHONY: check-tool
-check-tool: $(tool_UNIT) $(tool_UNIT_ASAN) $(tool_E2E) $(tool_BIN)
+check-tool: $(tool_UNIT) $(tool_UNIT_ASAN) $(tool_E2E) $(tool_BIN) $(tool_ASAN_BIN) $(tool_TSAN_BIN)
 	@for t in $(tool_UNIT); do $(RUN) "tool/$$(basename $$t)" $$t || exit 1; done
-	@for t in $(tool_UNIT_ASAN); do ASAN_OPTIONS=detect_leaks=1 \
+	@for t in $(tool_UNIT_ASAN); do $(tool_SAN_ENV) \
 	  $(RUN) "tool-asan/$$(basename $$t)" $$t || exit 1; done
-	@CDSP_TOOL=$(tool_BIN) CDSP_TOOL_TMP=$(BUILD)/tests/tool/tmp \
-	  $(RUN) "tool/test_tool_cli" $(tool_E2E)
+	@CDSP_TOOL=$(tool_BIN) $(RUN) "tool/test_tool_cli" $(tool_E2E)
+	@CDSP_TOOL=$(tool_ASAN_BIN) $(tool_SAN_ENV) $(RUN) "tool-asan/test_tool_cli" $(tool_E2E)
+	@CDSP_TOOL=$(tool_TSAN_BIN) $(tool_SAN_ENV) $(RUN) "tool-tsan/test_tool_cli" $(tool_E2E)
 
 CHECK_STEPS += check-tool
 

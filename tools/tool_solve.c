@@ -47,7 +47,6 @@ typedef struct {
     char overlay_path[4200];
     int output_failed;
     char *text; /* the record, newline-terminated, malloc'd */
-    int done;
 } slot;
 
 /* ---- one frame ------------------------------------------------------------- */
@@ -266,6 +265,7 @@ static void format_record(const job *J, slot *s)
 typedef struct {
     const job *J;
     slot *slots;
+    int *done; /* per slot, under mu: the worker finished it */
     size_t window, next, emitted;
     pthread_mutex_t mu;
     pthread_cond_t ready, space;
@@ -303,7 +303,7 @@ static void *worker(void *arg)
             format_record(J, s);
         }
         pthread_mutex_lock(&S->mu);
-        s->done = 1;
+        S->done[i % S->window] = 1;
         pthread_cond_broadcast(&S->ready);
         pthread_mutex_unlock(&S->mu);
     }
@@ -368,10 +368,12 @@ static int run(job *J)
         S.J = J;
         S.window = 2u * (size_t)J->threads;
         S.slots = calloc(S.window, sizeof *S.slots);
+        S.done = calloc(S.window, sizeof *S.done);
         S.next = S.emitted = 0;
-        if (!tid || !S.slots) {
+        if (!tid || !S.slots || !S.done) {
             free(tid);
             free(S.slots);
+            free(S.done);
             free(ws);
             return tool_usage_error(J->cmd, "out of memory");
         }
@@ -383,14 +385,22 @@ static int run(job *J)
                 started++;
             else
                 break;
-        if (started == 0) {
+        if (started == 0)
             tool_warn(J->cmd, "cannot start threads: %s; running on one", strerror(errno));
-            worker(&S);
-        }
         for (i = 0; i < J->frames.n; i++) {
             slot *s = &S.slots[i % S.window];
+            if (started == 0) { /* no workers: this thread does their part */
+                memset(s, 0, sizeof *s);
+                s->index = i;
+                load_frame(J, s);
+                if (!J->track) {
+                    solve_frame(J, s, ws, NULL);
+                    format_record(J, s);
+                }
+                S.done[i % S.window] = 1;
+            }
             pthread_mutex_lock(&S.mu);
-            while (!s->done)
+            while (!S.done[i % S.window])
                 pthread_cond_wait(&S.ready, &S.mu);
             pthread_mutex_unlock(&S.mu);
             if (J->track) {
@@ -403,7 +413,7 @@ static int run(job *J)
             failed |= emit(J, s);
             tool_progress_update(&prog, i + 1);
             pthread_mutex_lock(&S.mu);
-            s->done = 0;
+            S.done[i % S.window] = 0;
             S.emitted++;
             pthread_cond_broadcast(&S.space);
             pthread_mutex_unlock(&S.mu);
@@ -414,6 +424,7 @@ static int run(job *J)
         pthread_cond_destroy(&S.ready);
         pthread_cond_destroy(&S.space);
         free(S.slots);
+        free(S.done);
         free(tid);
     }
     tool_progress_end(&prog);
