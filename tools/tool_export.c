@@ -384,8 +384,11 @@ static int write_mesh(const char *path, int obj, const mesh *m, const parts *ps)
     if (!f)
         return tool_usage_error("export", "%s: cannot create: %s", path, strerror(errno));
     if (obj) {
-        fprintf(f, "# cdsp_tool export: %zu pipe(s), camera frame units of the radius\n",
-                ps->n);
+        size_t pipes = 0;
+        for (i = 0; i < ps->n; i++)
+            pipes += !ps->p[i].camera;
+        fprintf(f, "# cdsp_tool export: %zu pipe(s), camera frame, units of the radius\n",
+                pipes);
         for (i = 0; i < m->nv; i++)
             fprintf(f, "v %s %s %s\n", cdsp_host_fmt_real(b[0], m->v[i][0]),
                     cdsp_host_fmt_real(b[1], m->v[i][1]), cdsp_host_fmt_real(b[2], m->v[i][2]));
