@@ -8,6 +8,7 @@
 
 #include <json-c/json.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "cdsp_host.h"
@@ -256,6 +257,32 @@ static void pose_record(void **state)
     json_object_put(o);
 }
 
+/* The worst case fits CDSP_HOST_JSON_POSE_MAX: every number at its
+ * longest text, the counts at their largest. */
+static void pose_record_bound(void **state)
+{
+    cdsp_result r;
+    char buf[CDSP_HOST_JSON_POSE_MAX + 2];
+    cdsp_host_json j;
+    cdsp_real *p = (cdsp_real *)(void *)&r;
+    size_t i;
+    (void)state;
+    memset(&r, 0, sizeof r);
+    /* fill every real of the result (the struct starts with reals) */
+    for (i = 0; i < offsetof(cdsp_result, rms) / sizeof(cdsp_real); i++)
+        p[i] = -1.2345678901234567e-300;
+    r.rms[0] = r.rms[1] = -1.2345678901234567e-300;
+    r.inliers[0] = r.inliers[1] = r.n_edges = UINT32_MAX;
+    r.flags = CDSP_FLAG_TRACKED | CDSP_FLAG_TRUNCATED;
+    cdsp_host_json_init(&j, buf, sizeof buf);
+    cdsp_host_json_begin_object(&j);
+    cdsp_host_json_pose(&j, CDSP_OK, NULL, &r, (cdsp_real)-1.2345678901234567e-300);
+    cdsp_host_json_end_object(&j);
+    assert_non_null(cdsp_host_json_finish(&j));
+    assert_true(strlen(buf) - 2 <= CDSP_HOST_JSON_POSE_MAX); /* without the braces */
+    json_object_put(parse(buf));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -264,6 +291,7 @@ int main(void)
         cmocka_unit_test(nonfinite_is_null_and_structure),
         cmocka_unit_test(overflow_and_misuse),
         cmocka_unit_test(pose_record),
+        cmocka_unit_test(pose_record_bound),
     };
     return cmocka_run_group_tests_name("host_json", tests, NULL, NULL);
 }

@@ -184,6 +184,10 @@ const char *cdsp_host_fmt_real(char buf[32], double v);
 void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_token,
                          const cdsp_result *r, cdsp_real radius);
 
+/* Bytes the pose fields take at most (every number at its longest); size
+ * a record buffer as this plus the caller's own fields. */
+#define CDSP_HOST_JSON_POSE_MAX 2048
+
 #ifdef __cplusplus
 }
 #endif
