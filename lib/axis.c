@@ -4,10 +4,9 @@
  *   n_i = K^T l_i / |K^T l_i|, signs such that n1.X_in > 0 > n2.X_in;
  *   v_L = n1 x n2 / |n1 x n2|;  n_m = n1 + n2;
  *   alpha = atan2(|n1 x n2|, n1.n2)   (atan2: acos loses digits for small alpha);
- *   d = r / sin(alpha/2);  u = v_L x n_m / |.|, n1.u > 0;  P_C = d u.
+ *   d = r / sin(alpha/2) = 2 r / |n1 - n2|;  u = v_L x n_m / |.|, n1.u > 0;  P_C = d u.
  * Then n1.P = +r and n2.P = -r for every axis point P.
  */
-#include <string.h> /* memset */
 #include "internal.h"
 
 static int normal_from_line(const cdsp_camera *cam, const cdsp_real l[3], cdsp_real n[3])
@@ -23,7 +22,7 @@ static int normal_from_line(const cdsp_camera *cam, const cdsp_real l[3], cdsp_r
  * order). Shared with the uncertainty propagation in pair.c, which needs the
  * labelling to stay fixed while lines are perturbed. */
 cdsp_status cdsp__axis_core(const cdsp_camera *cam, const cdsp_real l1[3], const cdsp_real l2[3],
-                            const cdsp_real p_in[2], cdsp_real radius, cdsp_result *out)
+                            const cdsp_real p_in[2], cdsp_real radius, cdsp__axis *out)
 {
     cdsp_real n1[3], n2[3], X[3], c[3], nm[3], u[3], s1, s2, sn, cs, alpha, d, xin;
     int i;
@@ -50,7 +49,13 @@ cdsp_status cdsp__axis_core(const cdsp_camera *cam, const cdsp_real l1[3], const
     if (sn <= R(64) * R_EPS)
         return CDSP_E_DEGENERATE;
     alpha = R_ATAN2(sn, cs);
-    d = radius / R_SIN(alpha / R(2));
+    /* d = r / sin(alpha/2), with sin(alpha/2) = |n1 - n2| / 2 for unit normals:
+     * as accurate as |n1 x n2| for small alpha, and no call to sin (whose
+     * range reduction is the deepest stack in libm on MCUs). */
+    {
+        cdsp_real dx = n1[0] - n2[0], dy = n1[1] - n2[1], dz = n1[2] - n2[2];
+        d = R(2) * radius / R_SQRT(dx * dx + dy * dy + dz * dz);
+    }
     /* alpha -> pi: the optical centre on the pipe's surface or inside it. */
     if (!(d > radius * (R(1) + R(1e-6))) || !R_FINITE(d))
         return CDSP_E_DEGENERATE;
@@ -67,13 +72,29 @@ cdsp_status cdsp__axis_core(const cdsp_camera *cam, const cdsp_real l1[3], const
         out->direction[i] = c[i];
         out->normals[0][i] = n1[i];
         out->normals[1][i] = n2[i];
-        out->lines[0][i] = l1[i];
-        out->lines[1][i] = l2[i];
-        out->segment[0][i] = out->segment[1][i] = out->point[i];
     }
     out->distance = d;
     out->alpha = alpha;
     return CDSP_OK;
+}
+
+/* Copy the closed form into a result (the caller zeroed it): the lines as
+ * given, the segment collapsed onto P_C until extents are known. */
+void cdsp__axis_to_result(const cdsp__axis *a, const cdsp_real l1[3], const cdsp_real l2[3],
+                          cdsp_result *r)
+{
+    int i;
+    for (i = 0; i < 3; i++) {
+        r->point[i] = a->point[i];
+        r->direction[i] = a->direction[i];
+        r->normals[0][i] = a->normals[0][i];
+        r->normals[1][i] = a->normals[1][i];
+        r->lines[0][i] = l1[i];
+        r->lines[1][i] = l2[i];
+        r->segment[0][i] = r->segment[1][i] = a->point[i];
+    }
+    r->distance = a->distance;
+    r->alpha = a->alpha;
 }
 
 /* Swap the roles of the two contours: n1' = -n2, n2' = -n1, so that
@@ -129,6 +150,7 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3], const
                             const cdsp_real p_in[2], cdsp_real radius, cdsp_result *out)
 {
     cdsp_result r;
+    cdsp__axis a;
     cdsp_status st;
     if (!cam || !l1 || !l2 || !p_in || !out)
         return CDSP_E_ARG;
@@ -140,10 +162,11 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3], const
         return CDSP_E_NONFINITE;
     if (!(radius > R(0)))
         return CDSP_E_ARG;
-    memset(&r, 0, sizeof r); /* zero uncertainty and counts, no stale padding */
-    st = cdsp__axis_core(cam, l1, l2, p_in, radius, &r);
+    st = cdsp__axis_core(cam, l1, l2, p_in, radius, &a);
     if (st != CDSP_OK)
         return st;
+    zero_bytes(&r, sizeof r); /* zero uncertainty and counts, no stale padding */
+    cdsp__axis_to_result(&a, l1, l2, &r);
     if (cdsp__axis_wants_swap(r.direction))
         cdsp__axis_swap(&r);
     *out = r;

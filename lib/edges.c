@@ -23,7 +23,6 @@
  * difference above half the minimum contrast (a step blurred with sigma
  * 1 px keeps ~0.7 of its contrast in the central difference).
  */
-#include <stdlib.h> /* abs */
 #include "internal.h"
 
 void cdsp_edge_params_default(cdsp_edge_params *p)
@@ -69,7 +68,7 @@ static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, in
         gt += w * (at(img, horizontal, s + k, t + 1) - at(img, horizontal, s + k, t - 1));
     }
     /* ties (45 degrees) go to the row family only, so no edge is reported twice */
-    if (horizontal ? (abs(gs) < abs(gt)) : (abs(gs) <= abs(gt)))
+    if (horizontal ? (iabs(gs) < iabs(gt)) : (iabs(gs) <= iabs(gt)))
         return 0;
     for (k = -1; k <= 1; k++) {
         int sum = 0;
@@ -80,7 +79,7 @@ static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, in
         B += at(img, horizontal, s + h, t + k);
     }
     /* A, B: means of the three end pixels (kept as sums of 3 until here) */
-    if (abs(A - B) < 3 * min_step)
+    if (iabs(A - B) < 3 * min_step)
         return 0;
     diff = (cdsp_real)(A - B) / R(3);
     a = ((cdsp_real)(S[0] + S[1] + S[2]) / R(3) - (R(h) + R(0.5)) * (cdsp_real)(A + B) / R(3)) / diff;
@@ -183,9 +182,9 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
         if (mx < thr)
             continue;
         for (i = 1; i <= m; i++) {
-            int a = abs(g[i]);
+            int a = iabs(g[i]);
             /* local maximum of |central difference| (ties broken to the left) */
-            if (a >= thr && a > abs(g[i - 1]) && a >= abs(g[i + 1]) &&
+            if (a >= thr && a > iabs(g[i - 1]) && a >= iabs(g[i + 1]) &&
                 refine(img, horizontal, s0 + i - 1, line, h, min_step, &out[n])) {
                 if (++n == cap)
                     return n;
@@ -222,13 +221,13 @@ static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, 
                              : (int)((const uint16_t *)(const void *)dn)[x] -
                                    (int)((const uint16_t *)(const void *)up)[x];
             tmp[k] = d;
-            hot |= abs(d) >= thr;
+            hot |= iabs(d) >= thr;
         }
         /* candidates at row y - 1 use gprev (y - 2), gcur (y - 1), tmp (y) */
         if (prev_hot && y - 1 > from - 1) {
             for (k = 0; k < ncols; k++) {
-                int a = abs(gcur[k]);
-                if (a >= thr && a > abs(gprev[k]) && a >= abs(tmp[k]) &&
+                int a = iabs(gcur[k]);
+                if (a >= thr && a > iabs(gprev[k]) && a >= iabs(tmp[k]) &&
                     refine(img, 0, y - 1, xs + k * step, h, min_step, &out[n])) {
                     if (++n == cap)
                         return n;

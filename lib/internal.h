@@ -6,43 +6,52 @@
 #ifndef CDSP_INTERNAL_H
 #define CDSP_INTERNAL_H
 
-#include <math.h>
-#include <float.h>
+#include <float.h> /* a freestanding header: every compiler has it */
 #include "cdsp.h"
+
+/* Hosted builds take the math functions from <math.h>; freestanding ones
+ * (-ffreestanding, e.g. riscv64-unknown-elf without a C library) use the
+ * compiler's builtins, which become the same libm calls the firmware links. */
+#if defined(__STDC_HOSTED__) && __STDC_HOSTED__ == 0 && defined(__GNUC__)
+#define CDSP__MATH(f) __builtin_##f
+#define R_FINITE(x) (__builtin_isfinite(x))
+#else
+#include <math.h>
+#define CDSP__MATH(f) f
+#define R_FINITE(x) (isfinite(x)) /* C99 generic: float and double */
+#endif
 
 /* R(x): a literal in the working precision. */
 #define R(x) ((cdsp_real)(x))
 
 #ifdef CDSP_SINGLE
-#define R_SQRT sqrtf
-#define R_FABS fabsf
-#define R_ATAN2 atan2f
-#define R_SIN sinf
-#define R_COS cosf
-#define R_LOG logf
-#define R_EXP expf
-#define R_FLOOR floorf
-#define R_CEIL ceilf
+#define R_SQRT CDSP__MATH(sqrtf)
+#define R_FABS CDSP__MATH(fabsf)
+#define R_ATAN2 CDSP__MATH(atan2f)
+#define R_SIN CDSP__MATH(sinf)
+#define R_COS CDSP__MATH(cosf)
+#define R_LOG CDSP__MATH(logf)
+#define R_EXP CDSP__MATH(expf)
+#define R_FLOOR CDSP__MATH(floorf)
+#define R_CEIL CDSP__MATH(ceilf)
 #define R_EPS FLT_EPSILON
 #define R_MAX FLT_MAX
 #else
-#define R_SQRT sqrt
-#define R_FABS fabs
-#define R_ATAN2 atan2
-#define R_SIN sin
-#define R_COS cos
-#define R_LOG log
-#define R_EXP exp
-#define R_FLOOR floor
-#define R_CEIL ceil
+#define R_SQRT CDSP__MATH(sqrt)
+#define R_FABS CDSP__MATH(fabs)
+#define R_ATAN2 CDSP__MATH(atan2)
+#define R_SIN CDSP__MATH(sin)
+#define R_COS CDSP__MATH(cos)
+#define R_LOG CDSP__MATH(log)
+#define R_EXP CDSP__MATH(exp)
+#define R_FLOOR CDSP__MATH(floor)
+#define R_CEIL CDSP__MATH(ceil)
 #define R_EPS DBL_EPSILON
 #define R_MAX DBL_MAX
 #endif
 
 #define R_PI R(3.14159265358979323846)
 
-/* isfinite() works on float and double alike (C99 generic macro). */
-#define R_FINITE(x) (isfinite(x))
 
 static inline cdsp_real v3_dot(const cdsp_real a[3], const cdsp_real b[3])
 {
@@ -88,6 +97,25 @@ static inline int v3_finite(const cdsp_real a[3])
     return R_FINITE(a[0]) && R_FINITE(a[1]) && R_FINITE(a[2]);
 }
 
+static inline int iabs(int v)
+{
+    return v < 0 ? -v : v;
+}
+
+/* Zero an object byte by byte, padding included (no <string.h> needed). */
+static inline void zero_bytes(void *p, size_t n)
+{
+    unsigned char *b = (unsigned char *)p;
+    while (n--)
+        *b++ = 0;
+}
+
+/* The closed form's output before it becomes a cdsp_result (small: the
+ * uncertainty propagation keeps several alive at once on MCU stacks). */
+typedef struct {
+    cdsp_real point[3], direction[3], distance, alpha, normals[2][3];
+} cdsp__axis;
+
 /* Pixel fetch for 8- or 16-bit frames (bounds are the caller's job). */
 static inline int img_px(const cdsp_image *img, int x, int y)
 {
@@ -98,14 +126,18 @@ static inline int img_px(const cdsp_image *img, int x, int y)
 }
 
 /* Internal entry points shared between modules (see their .c files). */
+/* cos_tol = cos(p->normal_tol_deg): computed by the caller, which keeps the
+ * trigonometry (and libm's deep range reduction) off this call's stack. */
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
-                             const cdsp_pair_params *p, cdsp_rng *rng,
+                             const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
                              cdsp_line *lines, int *nlines);
 cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                              size_t n, uint8_t *label, const cdsp_params *p,
                              const cdsp_result *prior, cdsp_rng *rng, cdsp_result *out);
 cdsp_status cdsp__axis_core(const cdsp_camera *cam, const cdsp_real l1[3], const cdsp_real l2[3],
-                            const cdsp_real p_in[2], cdsp_real radius, cdsp_result *out);
+                            const cdsp_real p_in[2], cdsp_real radius, cdsp__axis *out);
+void cdsp__axis_to_result(const cdsp__axis *a, const cdsp_real l1[3], const cdsp_real l2[3],
+                          cdsp_result *r);
 void cdsp__axis_swap(cdsp_result *r);
 int cdsp__axis_wants_swap(const cdsp_real v[3]);
 cdsp_status cdsp__params_check(const cdsp_params *p);

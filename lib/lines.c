@@ -286,10 +286,10 @@ static uint32_t select_inliers(const cdsp_edge *pts, size_t n, uint8_t *label, c
 }
 
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
-                             const cdsp_pair_params *p, cdsp_rng *rng, cdsp_line *lines, int *nlines)
+                             const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
+                             cdsp_line *lines, int *nlines)
 {
-    cdsp_real ct = R_COS(p->normal_tol_deg * R_PI / R(180));
-    cdsp_real cos2 = ct * ct, thr = p->inlier_px;
+    cdsp_real cos2 = cos_tol * cos_tol, thr = p->inlier_px;
     size_t i, j, nfree = n;
     int k, max_lines = p->max_lines < CDSP_MAX_LINES ? p->max_lines : CDSP_MAX_LINES;
     size_t nsub = n < SUBSAMPLE ? n : SUBSAMPLE, sstep = golden_stride(n);

@@ -21,7 +21,6 @@
  * central-difference Jacobian of the closed form with steps of one standard
  * deviation (floored at a few ulps of the precision in use).
  */
-#include <string.h> /* memset */
 #include "internal.h"
 
 typedef struct {
@@ -50,7 +49,7 @@ static cdsp_real pair_score(const cdsp_camera *cam, cdsp_real radius, const cdsp
     cdsp_real dotn = A->l[0] * B->l[0] + A->l[1] * B->l[1];
     cdsp_real w0 = B->centroid[0] - A->centroid[0], w1 = B->centroid[1] - A->centroid[1];
     cdsp_real sa, sb, loA, hiA, loB, hiB, lo, hi, ov, shorter, X[3], tmid, q[2], dq;
-    cdsp_result tmp;
+    cdsp__axis tmp;
     const cdsp_real *o = A->centroid, *d = A->dir;
 
     /* (i), (ii): opposite polarity within the contour angle */
@@ -116,7 +115,7 @@ static void perturb(const cdsp_line *ln, cdsp_real dn, cdsp_real da, cdsp_real l
     l[2] = -(l[0] * ln->centroid[0] + l[1] * ln->centroid[1]) - dn;
 }
 
-static void pose_vec(const cdsp_result *r, cdsp_real v[7])
+static void pose_vec(const cdsp__axis *r, cdsp_real v[7])
 {
     int i;
     for (i = 0; i < 3; i++) {
@@ -146,7 +145,7 @@ static void propagate(const cdsp_camera *cam, cdsp_real radius, const cdsp_line 
         cdsp_real var = (k % 2 == 0) ? s2 / (cdsp_real)ln->count
                                      : (ln->spread > R(0) ? s2 / ln->spread : R(0));
         cdsp_real h = R_SQRT(var), lp[3], lm[3], vp[7], vm[7], J[7];
-        cdsp_result rp, rm;
+        cdsp__axis rp, rm;
         if (!(var > R(0)))
             continue;
         if (k % 2 == 0 && h < hmin_off)
@@ -230,11 +229,13 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
     int nlines = 0, i, j;
     pair_choice best;
     cdsp_result r;
+    cdsp__axis ax;
     cdsp_status st;
 
     if (n < 4)
         return CDSP_E_FEW_POINTS;
-    st = cdsp__lines_find(pts, n, label, &p->pair, rng, lines, &nlines);
+    st = cdsp__lines_find(pts, n, label, &p->pair, R_COS(p->pair.normal_tol_deg * R_PI / R(180)),
+                          rng, lines, &nlines);
     if (st != CDSP_OK)
         return st;
     if (nlines < 2)
@@ -256,10 +257,11 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         return CDSP_E_NO_PIPE;
     L[0] = &lines[best.i];
     L[1] = &lines[best.j];
-    memset(&r, 0, sizeof r); /* no stale bytes, padding included, reach the caller */
-    st = cdsp__axis_core(cam, L[0]->l, L[1]->l, best.p_in, radius, &r);
+    st = cdsp__axis_core(cam, L[0]->l, L[1]->l, best.p_in, radius, &ax);
     if (st != CDSP_OK)
         return st;
+    zero_bytes(&r, sizeof r); /* no stale bytes, padding included, reach the caller */
+    cdsp__axis_to_result(&ax, L[0]->l, L[1]->l, &r);
     r.rms[0] = L[0]->rms;
     r.rms[1] = L[1]->rms;
     r.inliers[0] = L[0]->count;

@@ -35,10 +35,10 @@ MCU_BASE := $(CSTD) $(WARN) -fno-math-errno -Iinclude -MMD -MP -Os -g \
 MCU_M7_CFLAGS := $(MCU_BASE) -mcpu=cortex-m7 -mthumb -mfloat-abi=hard -mfpu=fpv5-d16
 MCU_M3_CFLAGS := $(MCU_BASE) -mcpu=cortex-m3 -mthumb -mfloat-abi=soft \
                  -DCDSP_SINGLE -Wdouble-promotion
-# riscv64: no C library installed, only gcc's own headers; <math.h> and
-# <stdlib.h> come from tests/mcu/freestanding (compiler builtins).
+# riscv64: no C library installed, only gcc's own headers: lib/ compiles
+# freestanding (lib/internal.h uses compiler builtins for the math).
 MCU_RV64_CFLAGS := $(MCU_BASE) -march=rv64imafdc -mabi=lp64d -mcmodel=medany \
-                   -ffreestanding -Itests/mcu/freestanding
+                   -ffreestanding
 
 $(eval $(call lib_variant,mcu_m7,$(MCU_CC),MCU_M7_CFLAGS))
 $(eval $(call lib_variant,mcu_m3,$(MCU_CC),MCU_M3_CFLAGS))
@@ -156,11 +156,6 @@ MCU_LIBS := $(m4f_LIB) $(mcu_m7_LIB) $(mcu_m3_LIB) $(mcu_riscv64_LIB)
 .PHONY: mcu size stack check-mcu check-mcu-libs
 mcu: $(MCU_LIBS) $(foreach t,$(MCU_TARGETS),$(MCU_$(t)_PROBES))
 	@for a in $(MCU_LIBS); do echo "built $$a"; done
-	@echo "riscv64 without tests/mcu/freestanding (gcc's own headers only), what blocks lib/:"; \
-	 for f in $(LIB_SRC); do \
-	   $(MCU_RV_CC) $(filter-out -Itests/mcu/freestanding -MMD -MP,$(MCU_RV64_CFLAGS)) \
-	     -fsyntax-only $$f 2>&1 | sed -n 's/^\([^:]*\):[0-9]*:[0-9]*: fatal error: \([^:]*\): No such file.*/  \1 includes <\2>/p'; \
-	 done | sort | uniq
 	@echo "riscv64 (freestanding) needs from the firmware's C library:" \
 	  $$(riscv64-unknown-elf-nm -u $(mcu_riscv64_LIB) | awk 'NF == 2 && $$1 == "U" {print $$2}' | \
 	     grep -v '^cdsp_' | sort -u | tr '\n' ' ')
