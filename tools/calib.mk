@@ -37,8 +37,10 @@ $(CALIB_TEST): tests/calib/test_calib.c tests/calib/board_render.c tests/calib/b
 	  -lcmocka -lyaml -lm -o $@
 
 .PHONY: check-calib
+# Each run works in a directory of its own (kept when the check fails, to
+# look at the images), so concurrent `make check` runs do not collide.
 check-calib: $(BUILD)/cdsp_calib $(CALIB_TEST)
-	@rm -rf $(BUILD)/calib/work
-	@$(RUN) "calib/test_calib" $(CALIB_TEST) $(BUILD)/cdsp_calib $(BUILD)/calib/work
+	@work=$$(mktemp -d $(BUILD)/calib/work.XXXXXX) && \
+	 $(RUN) "calib/test_calib" $(CALIB_TEST) $(BUILD)/cdsp_calib $$work && rm -rf $$work
 
 CHECK_STEPS += check-calib

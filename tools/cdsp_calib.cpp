@@ -382,8 +382,13 @@ std::string stem_of(const std::string &path)
 bool writable_dir(const std::string &dir, const char *what)
 {
     struct stat st;
-    if (stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) {
-        std::fprintf(stderr, "%s: %s: directory %s does not exist\n", prog, what, dir.c_str());
+    if (stat(dir.c_str(), &st) != 0) {
+        std::fprintf(stderr, "%s: %s: directory %s: %s\n", prog, what, dir.c_str(),
+                     std::strerror(errno));
+        return false;
+    }
+    if (!S_ISDIR(st.st_mode)) {
+        std::fprintf(stderr, "%s: %s: %s is not a directory\n", prog, what, dir.c_str());
         return false;
     }
     if (access(dir.c_str(), W_OK | X_OK) != 0) {

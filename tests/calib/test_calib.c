@@ -1,0 +1,920 @@
+/*
+ * test_calib.c - checks of the real cdsp_calib binary on synthetic boards.
+ *
+ * Usage: test_calib PATH/TO/cdsp_calib WORKDIR
+ *
+ * Twelve views of a 9x6 board are rendered with a known camera (K, k1, k2)
+ * and known poses (board_render.c: exact inverse distortion, supersampled
+ * edges, seeded noise), some as 8-bit and some as 12-bit-in-16 PGM. The
+ * binary calibrates them; its YAML is parsed with libyaml and compared with
+ * the truth. Tolerances:
+ *   - fx, fy within 0.2 %, cx, cy within 1 px, RMS under 0.1 px (the issue);
+ *   - k1, k2 (and p1, p2, k3 with --full-model) within 5 sigma of the
+ *     Cramer-Rao bound of this very geometry: the normal matrix J^T J of
+ *     the projections of every true corner with respect to the intrinsics
+ *     and the 6 pose parameters of every view, at the truth, scaled by the
+ *     per-coordinate corner noise that the calibration's own RMS error
+ *     implies (RMS / sqrt(2): RMS is over both coordinates). That is the
+ *     spread any unbiased calibration from these corners would have; 5
+ *     sigma rather than 3 leaves room for the part of the corner error that
+ *     is not independent noise (residual pixel locking of the subpixel
+ *     refinement, ~0.01 px, correlated along an edge). The RMS is itself
+ *     bounded (0.1 px), so the tolerance cannot grow without failing that.
+ * Then bad inputs: each documented message and exit status.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+
+#include <cmocka.h>
+#include <yaml.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+
+#include "board_render.h"
+
+static const char *g_bin;    /* the cdsp_calib under test */
+static const char *g_work;   /* scratch directory */
+
+/* ------------------------------------------------------------------------
+ * The scene: one camera, one board, twelve poses.
+ * ---------------------------------------------------------------------- */
+
+/* A 1024 x 768 camera with a moderate barrel distortion (7 % at the image
+ * corners), fx != fy and the principal point off centre, so that no
+ * parameter is recovered by symmetry alone. */
+static const br_camera g_cam = {1100.0, 1095.0, 515.3, 380.7, -0.21, 0.09, 1024, 768};
+/* 9 x 6 inner corners, 30 mm squares, a one-square white border. */
+static const br_board g_board = {9, 6, 30.0, 1.0};
+/* Image noise: 1 % of full scale (2.55 DN at 8 bit), a machine-vision
+ * sensor at moderate gain. */
+#define NOISE 0.01
+
+#define N_VIEWS 12
+
+/* A view: the board's centre is pushed from the optical axis toward the
+ * normalized image direction (dx, dy) as far as the whole board (with its
+ * border) stays 8 px inside the image, at depth z (mm), rotation rvec. The
+ * set mixes a near fronto-parallel view, boards tilted 30-45 degrees in
+ * the four corners and at the four edges (the corners and edges are where
+ * k1, k2 show), and views rotated in plane. */
+typedef struct {
+    double dx, dy, z;
+    double rvec[3];
+} view_spec;
+
+static const view_spec g_views[N_VIEWS] = {
+    {0.00, 0.00, 750, {0.00, 0.00, 0.15}},
+    {-0.50, -0.40, 1100, {-0.40, 0.40, 0.12}},
+    {0.50, -0.40, 1100, {-0.40, -0.40, -0.15}},
+    {-0.50, 0.40, 1100, {0.40, 0.40, -0.10}},
+    {0.50, 0.40, 1100, {0.40, -0.40, 0.12}},
+    {0.00, -0.40, 950, {-0.70, 0.00, 0.08}},
+    {0.00, 0.40, 950, {0.70, 0.00, -0.10}},
+    {-0.50, 0.00, 950, {0.00, -0.70, 0.10}},
+    {0.50, 0.00, 950, {0.00, 0.70, -0.08}},
+    {0.05, 0.02, 650, {0.30, -0.30, 0.60}},
+    {-0.10, 0.05, 950, {0.15, 0.75, -0.35}},
+    {0.10, -0.05, 950, {-0.55, -0.50, 0.30}},
+};
+
+static br_pose g_poses[N_VIEWS];
+
+static void pose_at(const view_spec *s, double scale, br_pose *p)
+{
+    double R[9], c[2], dir[3];
+    int i;
+    c[0] = 0.5 * (g_board.cols - 1) * g_board.square;
+    c[1] = 0.5 * (g_board.rows - 1) * g_board.square;
+    dir[0] = scale * s->dx;
+    dir[1] = scale * s->dy;
+    dir[2] = 1;
+    memcpy(p->rvec, s->rvec, sizeof p->rvec);
+    br_rodrigues(p->rvec, R);
+    for (i = 0; i < 3; i++)
+        p->t[i] = s->z * dir[i] - (R[3 * i] * c[0] + R[3 * i + 1] * c[1]);
+}
+
+/* The board as far toward (dx, dy) as it stays in view (bisection when
+ * the full step leaves the image). 0 if it is not even visible on the
+ * optical axis (a broken view table). */
+static int place_view(const view_spec *s, br_pose *p)
+{
+    double lo = 0, hi = 1;
+    int it;
+    pose_at(s, 1, p);
+    if (br_visible(&g_cam, &g_board, p, 8))
+        return 1;
+    pose_at(s, 0, p);
+    if (!br_visible(&g_cam, &g_board, p, 8))
+        return 0;
+    for (it = 0; it < 40; it++) {
+        double mid = 0.5 * (lo + hi);
+        pose_at(s, mid, p);
+        if (br_visible(&g_cam, &g_board, p, 8))
+            lo = mid;
+        else
+            hi = mid;
+    }
+    pose_at(s, lo, p);
+    return 1;
+}
+
+/* ------------------------------------------------------------------------
+ * Files and processes.
+ * ---------------------------------------------------------------------- */
+
+/* g_work/fmt..., in one of 16 rotating buffers: enough for every path of
+ * one command line. */
+static char *path(const char *fmt, ...)
+{
+    static char buf[16][1024];
+    static int k;
+    char *b = buf[k++ % 16];
+    va_list ap;
+    int n = snprintf(b, sizeof buf[0], "%s/", g_work);
+    va_start(ap, fmt);
+    vsnprintf(b + n, sizeof buf[0] - (size_t)n, fmt, ap);
+    va_end(ap);
+    return b;
+}
+
+static char *slurp(const char *p)
+{
+    FILE *f = fopen(p, "rb");
+    char *s;
+    long n;
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    s = malloc((size_t)n + 1);
+    if (s && fread(s, 1, (size_t)n, f) != (size_t)n) {
+        free(s);
+        s = NULL;
+    }
+    if (s)
+        s[n] = 0;
+    fclose(f);
+    return s;
+}
+
+static int write_bytes(const char *p, const void *data, size_t n)
+{
+    FILE *f = fopen(p, "wb");
+    int ok;
+    if (!f)
+        return 0;
+    ok = fwrite(data, 1, n, f) == n;
+    return (fclose(f) == 0) && ok;
+}
+
+static int file_exists(const char *p)
+{
+    struct stat st;
+    return stat(p, &st) == 0;
+}
+
+static int is_png(const char *p)
+{
+    static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+    unsigned char b[8];
+    FILE *f = fopen(p, "rb");
+    int ok;
+    if (!f)
+        return 0;
+    ok = fread(b, 1, 8, f) == 8 && memcmp(b, sig, 8) == 0;
+    fclose(f);
+    return ok;
+}
+
+/* What one run of the binary left behind. */
+typedef struct {
+    int status;    /* exit status; -1 if killed by a signal (a crash) */
+    char *out;     /* its standard output */
+    char *err;     /* its standard error */
+} run_result;
+
+static void run_free(run_result *r)
+{
+    free(r->out);
+    free(r->err);
+    r->out = r->err = NULL;
+}
+
+/* Runs cdsp_calib with args (a shell word list; the paths used here hold
+ * no shell metacharacters, checked at setup). */
+static run_result run_calib(const char *fmt, ...)
+{
+    char args[4096], cmd[8192], o[1024], e[1024];
+    run_result r;
+    va_list ap;
+    int st;
+    va_start(ap, fmt);
+    vsnprintf(args, sizeof args, fmt, ap);
+    va_end(ap);
+    snprintf(o, sizeof o, "%s/run.out", g_work);
+    snprintf(e, sizeof e, "%s/run.err", g_work);
+    snprintf(cmd, sizeof cmd, "%s %s >%s 2>%s", g_bin, args, o, e);
+    st = system(cmd);
+    r.status = (st != -1 && WIFEXITED(st)) ? WEXITSTATUS(st) : -1;
+    r.out = slurp(o);
+    r.err = slurp(e);
+    if (!r.out)
+        r.out = calloc(1, 1);
+    if (!r.err)
+        r.err = calloc(1, 1);
+    /* cmocka's print_message truncates long text: plain stdio here. */
+    printf("$ cdsp_calib %s\n  -> exit %d\n", args, r.status);
+    if (r.status != 0 && r.err[0])
+        fputs(r.err, stdout);
+    fflush(stdout);
+    return r;
+}
+
+/* Lines of a report that mention name and also the word what. */
+static int count_lines_with(const char *text, const char *name, const char *what)
+{
+    int n = 0;
+    const char *line = text;
+    while (line && *line) {
+        const char *end = strchr(line, '\n');
+        size_t len = end ? (size_t)(end - line) : strlen(line);
+        char buf[1024];
+        if (len >= sizeof buf)
+            len = sizeof buf - 1;
+        memcpy(buf, line, len);
+        buf[len] = 0;
+        if ((!name || strstr(buf, name)) && strstr(buf, what))
+            n++;
+        line = end ? end + 1 : NULL;
+    }
+    return n;
+}
+
+/* ------------------------------------------------------------------------
+ * The camera_info YAML, read with libyaml.
+ * ---------------------------------------------------------------------- */
+
+typedef struct {
+    int width, height;
+    char name[128];
+    char model[64];
+    double K[9], D[5], R[9], P[12];
+    double rms;              /* from the first comment line */
+    int n_used, n_given;
+} camera_info;
+
+static yaml_node_t *map_get(yaml_document_t *doc, yaml_node_t *map, const char *key)
+{
+    yaml_node_pair_t *p;
+    if (!map || map->type != YAML_MAPPING_NODE)
+        return NULL;
+    for (p = map->data.mapping.pairs.start; p < map->data.mapping.pairs.top; p++) {
+        yaml_node_t *k = yaml_document_get_node(doc, p->key);
+        if (k && k->type == YAML_SCALAR_NODE && strcmp((char *)k->data.scalar.value, key) == 0)
+            return yaml_document_get_node(doc, p->value);
+    }
+    return NULL;
+}
+
+static int scalar_double(yaml_node_t *n, double *x)
+{
+    char *end;
+    if (!n || n->type != YAML_SCALAR_NODE || n->data.scalar.length == 0)
+        return 0;
+    errno = 0;
+    *x = strtod((char *)n->data.scalar.value, &end);
+    return *end == 0 && errno == 0 && isfinite(*x);
+}
+
+static int scalar_int(yaml_node_t *n, int *v)
+{
+    double x;
+    if (!scalar_double(n, &x) || x != floor(x) || fabs(x) > 1e6)
+        return 0;
+    *v = (int)x;
+    return 1;
+}
+
+static int scalar_str(yaml_node_t *n, char *out, size_t cap)
+{
+    if (!n || n->type != YAML_SCALAR_NODE || n->data.scalar.length >= cap)
+        return 0;
+    memcpy(out, n->data.scalar.value, n->data.scalar.length + 1);
+    return 1;
+}
+
+/* {rows: r, cols: c, data: [r*c numbers]} */
+static int get_matrix(yaml_document_t *doc, yaml_node_t *root, const char *key, int rows,
+                      int cols, double *out)
+{
+    yaml_node_t *m = map_get(doc, root, key), *data;
+    yaml_node_item_t *it;
+    int r, c, i = 0;
+    if (!scalar_int(map_get(doc, m, "rows"), &r) || !scalar_int(map_get(doc, m, "cols"), &c) ||
+        r != rows || c != cols) {
+        print_error("%s: rows/cols missing or not %d x %d\n", key, rows, cols);
+        return 0;
+    }
+    data = map_get(doc, m, "data");
+    if (!data || data->type != YAML_SEQUENCE_NODE) {
+        print_error("%s: no data sequence\n", key);
+        return 0;
+    }
+    for (it = data->data.sequence.items.start; it < data->data.sequence.items.top; it++) {
+        if (i >= rows * cols || !scalar_double(yaml_document_get_node(doc, *it), &out[i])) {
+            print_error("%s: data item %d is not a number or one too many\n", key, i);
+            return 0;
+        }
+        i++;
+    }
+    if (i != rows * cols) {
+        print_error("%s: %d numbers, not %d\n", key, i, rows * cols);
+        return 0;
+    }
+    return 1;
+}
+
+/* Parses the YAML text; 1 if every field is there and well formed. */
+static int parse_camera_info(const char *text, camera_info *ci)
+{
+    yaml_parser_t parser;
+    yaml_document_t doc;
+    yaml_node_t *root;
+    int ok = 0;
+
+    memset(ci, 0, sizeof *ci);
+    if (sscanf(text, "# cdsp_calib: RMS reprojection error %lf px over %d images (of %d given)",
+               &ci->rms, &ci->n_used, &ci->n_given) != 3) {
+        print_error("first line is not the RMS comment: %.80s\n", text);
+        return 0;
+    }
+    if (!yaml_parser_initialize(&parser))
+        return 0;
+    yaml_parser_set_input_string(&parser, (const unsigned char *)text, strlen(text));
+    if (!yaml_parser_load(&parser, &doc)) {
+        print_error("YAML error: %s at line %lu\n", parser.problem ? parser.problem : "?",
+                    (unsigned long)parser.problem_mark.line + 1);
+        yaml_parser_delete(&parser);
+        return 0;
+    }
+    root = yaml_document_get_root_node(&doc);
+    if (root && root->type == YAML_MAPPING_NODE &&
+        scalar_int(map_get(&doc, root, "image_width"), &ci->width) &&
+        scalar_int(map_get(&doc, root, "image_height"), &ci->height) &&
+        scalar_str(map_get(&doc, root, "camera_name"), ci->name, sizeof ci->name) &&
+        scalar_str(map_get(&doc, root, "distortion_model"), ci->model, sizeof ci->model) &&
+        get_matrix(&doc, root, "camera_matrix", 3, 3, ci->K) &&
+        get_matrix(&doc, root, "distortion_coefficients", 1, 5, ci->D) &&
+        get_matrix(&doc, root, "rectification_matrix", 3, 3, ci->R) &&
+        get_matrix(&doc, root, "projection_matrix", 3, 4, ci->P))
+        ok = 1;
+    else
+        print_error("camera_info: a field is missing or malformed\n");
+    yaml_document_delete(&doc);
+    yaml_parser_delete(&parser);
+    return ok;
+}
+
+/* ------------------------------------------------------------------------
+ * The Cramer-Rao bound of the calibration of the scene above.
+ * ---------------------------------------------------------------------- */
+
+/* Intrinsics: fx fy cx cy k1 k2 p1 p2 k3 (plumb_bob, the tool's model). */
+#define N_INTR 9
+
+static void project_full(const double in[N_INTR], const double pose[6], double X, double Y,
+                         double pix[2])
+{
+    double R[9], P[3], x, y, r2, rad, xd, yd;
+    int i;
+    br_rodrigues(pose, R);
+    for (i = 0; i < 3; i++)
+        P[i] = R[3 * i] * X + R[3 * i + 1] * Y + pose[3 + i];
+    x = P[0] / P[2];
+    y = P[1] / P[2];
+    r2 = x * x + y * y;
+    rad = 1 + in[4] * r2 + in[5] * r2 * r2 + in[8] * r2 * r2 * r2;
+    xd = x * rad + 2 * in[6] * x * y + in[7] * (r2 + 2 * x * x);
+    yd = y * rad + in[6] * (r2 + 2 * y * y) + 2 * in[7] * x * y;
+    pix[0] = in[0] * xd + in[2];
+    pix[1] = in[1] * yd + in[3];
+}
+
+/* In place Cholesky of the n x n SPD matrix A (lower triangle); 0 if not
+ * positive definite. */
+static int cholesky(double *A, int n)
+{
+    int i, j, k;
+    for (j = 0; j < n; j++) {
+        double d = A[j * n + j];
+        for (k = 0; k < j; k++)
+            d -= A[j * n + k] * A[j * n + k];
+        if (!(d > 0))
+            return 0;
+        A[j * n + j] = sqrt(d);
+        for (i = j + 1; i < n; i++) {
+            double s = A[i * n + j];
+            for (k = 0; k < j; k++)
+                s -= A[i * n + k] * A[j * n + k];
+            A[i * n + j] = s / A[j * n + j];
+        }
+    }
+    return 1;
+}
+
+/* 1-sigma of each of the first n_est intrinsics for unit corner noise
+ * (per coordinate), the other intrinsics held at zero as the tool holds
+ * them. Views: the first n_views poses of g_poses. */
+static int crb_sigma(int n_est, int n_views, double sigma[N_INTR])
+{
+    const double truth[N_INTR] = {g_cam.fx, g_cam.fy, g_cam.cx, g_cam.cy, g_cam.k1, g_cam.k2,
+                                  0, 0, 0};
+    int n = n_est + 6 * n_views, v, i, j, k, q;
+    double *N = calloc((size_t)n * (size_t)n, sizeof *N), *x = malloc(sizeof *x * (size_t)n);
+    int ok = N && x;
+
+    for (v = 0; ok && v < n_views; v++) {
+        double pose[6];
+        memcpy(pose, g_poses[v].rvec, sizeof g_poses[v].rvec);
+        memcpy(pose + 3, g_poses[v].t, sizeof g_poses[v].t);
+        for (j = 0; j < g_board.rows; j++)
+            for (i = 0; i < g_board.cols; i++) {
+                double X = i * g_board.square, Y = j * g_board.square;
+                double J[2][N_INTR + 6];   /* d(u, v) / d(intrinsics, pose) */
+                int idx[N_INTR + 6], m = 0;
+                /* Central differences; steps ~1e-6 of each parameter's
+                 * scale keep truncation (h^2) and rounding (eps / h) far
+                 * below the 1e-3 relative accuracy a tolerance needs. */
+                for (k = 0; k < n_est + 6; k++) {
+                    double in[N_INTR], ps[6], a[2], b[2], h;
+                    double *p;
+                    memcpy(in, truth, sizeof in);
+                    memcpy(ps, pose, sizeof ps);
+                    p = k < n_est ? &in[k] : &ps[k - n_est];
+                    h = 1e-6 * (fabs(*p) > 1 ? fabs(*p) : 1);
+                    *p += h;
+                    project_full(in, ps, X, Y, a);
+                    *p -= 2 * h;
+                    project_full(in, ps, X, Y, b);
+                    J[0][m] = (a[0] - b[0]) / (2 * h);
+                    J[1][m] = (a[1] - b[1]) / (2 * h);
+                    idx[m++] = k < n_est ? k : n_est + 6 * v + (k - n_est);
+                }
+                for (q = 0; q < 2; q++) {
+                    int a, b;
+                    for (a = 0; a < m; a++)
+                        for (b = 0; b < m; b++)
+                            N[idx[a] * n + idx[b]] += J[q][a] * J[q][b];
+                }
+            }
+    }
+    ok = ok && cholesky(N, n);
+    /* Cov = N^-1: its diagonal entry k is |L^-1 e_k|^2 only for k = n-1,
+     * so solve L L^T x = e_k for each wanted k. */
+    for (k = 0; ok && k < n_est; k++) {
+        for (i = 0; i < n; i++) {               /* L y = e_k */
+            double s = i == k ? 1.0 : 0.0;
+            for (j = 0; j < i; j++)
+                s -= N[i * n + j] * x[j];
+            x[i] = s / N[i * n + i];
+        }
+        for (i = n - 1; i >= 0; i--) {          /* L^T x = y */
+            double s = x[i];
+            for (j = i + 1; j < n; j++)
+                s -= N[j * n + i] * x[j];
+            x[i] = s / N[i * n + i];
+        }
+        sigma[k] = sqrt(x[k]);
+    }
+    free(N);
+    free(x);
+    return ok;
+}
+
+/* ------------------------------------------------------------------------
+ * Fixture: every input file, rendered once.
+ * ---------------------------------------------------------------------- */
+
+static int render_view(const br_camera *cam, const br_pose *p, const char *file, int maxval,
+                       uint64_t seed)
+{
+    double *img = malloc(sizeof *img * (size_t)cam->width * (size_t)cam->height);
+    br_rng rng;
+    int ok;
+    if (!img)
+        return 0;
+    br_rng_seed(&rng, seed);
+    ok = br_render(cam, &g_board, p, img) &&
+         br_write_pgm(file, img, cam->width, cam->height, NOISE, &rng, maxval);
+    free(img);
+    return ok;
+}
+
+static int make_dir(const char *p)
+{
+    return mkdir(p, 0777) == 0 || errno == EEXIST;
+}
+
+static int setup_failed(const char *what)
+{
+    fprintf(stderr, "test_calib: setup: cannot make %s in %s (%s)\n", what, g_work,
+            errno ? strerror(errno) : "view out of the image");
+    return -1;
+}
+
+static int setup(void **state)
+{
+    int v;
+    (void)state;
+    if (strpbrk(g_work, " \t'\"\\$`*?[;&|<>()") || strpbrk(g_bin, " \t'\"\\$`*?[;&|<>()")) {
+        fprintf(stderr, "test_calib: paths with shell metacharacters are not supported\n");
+        return -1;
+    }
+    if (!make_dir(g_work) || !make_dir(path("views")) || !make_dir(path("extra")) ||
+        !make_dir(path("bad")) || !make_dir(path("bad/adir")) || !make_dir(path("out")))
+        return setup_failed("the work directories");
+
+    for (v = 0; v < N_VIEWS; v++) {
+        if (!place_view(&g_views[v], &g_poses[v])) {
+            fprintf(stderr, "test_calib: view %d of the table is not visible\n", v);
+            return -1;
+        }
+        /* Every third view as 12-bit data in 16-bit words, like Mono12
+         * frames recorded by cdspd. */
+        if (!render_view(&g_cam, &g_poses[v], path("views/v%02d.pgm", v),
+                         v % 3 == 2 ? 4095 : 255, 1000 + (uint64_t)v))
+            return setup_failed("a view");
+    }
+
+    {
+        /* An outlier: view 0's pose seen by another camera (focal 4 %
+         * longer, half the distortion): its corners fit no calibration of
+         * the others. */
+        br_camera other = g_cam;
+        other.fx *= 1.04;
+        other.fy *= 1.04;
+        other.k1 *= 0.5;
+        if (!br_visible(&other, &g_board, &g_poses[0], 8) ||
+            !render_view(&other, &g_poses[0], path("extra/outlier.pgm"), 255, 77))
+            return setup_failed("the outlier view");
+    }
+    {
+        /* A board at another image size. */
+        br_camera small = g_cam;
+        br_pose p;
+        small.width = 800;
+        small.height = 600;
+        small.cx = 399.5;
+        small.cy = 299.5;
+        small.fx = small.fy = 900;
+        pose_at(&g_views[0], 0, &p);
+        if (!br_visible(&small, &g_board, &p, 8) ||
+            !render_view(&small, &p, path("extra/small.pgm"), 255, 78))
+            return setup_failed("the 800x600 view");
+    }
+    {
+        /* Boards out of view: background and noise only. */
+        br_pose away = {{0, 0, 0}, {0, 0, -1000}};
+        for (v = 0; v < 3; v++)
+            if (!render_view(&g_cam, &away, path("extra/blank%d.pgm", v), 255, 90 + (uint64_t)v))
+                return setup_failed("a blank view");
+    }
+    {
+        /* Unreadable files. */
+        unsigned char junk[4096];
+        char *pgm = slurp(path("views/v00.pgm"));
+        size_t i;
+        uint64_t s = 5;
+        for (i = 0; i < sizeof junk; i++) {
+            s = s * 6364136223846793005ull + 1442695040888963407ull;
+            junk[i] = (unsigned char)(s >> 56);
+        }
+        if (!pgm || !write_bytes(path("bad/garbage.png"), junk, sizeof junk) ||
+            !write_bytes(path("bad/truncated.pgm"), pgm, 1024 * 300) ||
+            !write_bytes(path("bad/empty.pgm"), "", 0)) {
+            free(pgm);
+            return setup_failed("the unreadable files");
+        }
+        free(pgm);
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------------
+ * Recovery.
+ * ---------------------------------------------------------------------- */
+
+/* The checks every successful calibration of the 12 views must pass. */
+static void check_recovery(const camera_info *ci, int full_model)
+{
+    double rel_fx = fabs(ci->K[0] / g_cam.fx - 1), rel_fy = fabs(ci->K[4] / g_cam.fy - 1);
+    double sig[N_INTR], sc = ci->rms / sqrt(2.0);
+    const double truth_d[5] = {g_cam.k1, g_cam.k2, 0, 0, 0};
+    const int didx[5] = {4, 5, 6, 7, 8};
+    const char *dname[5] = {"k1", "k2", "p1", "p2", "k3"};
+    int n_est = full_model ? 9 : 6, i;
+
+    assert_int_equal(ci->width, g_cam.width);
+    assert_int_equal(ci->height, g_cam.height);
+    assert_string_equal(ci->model, "plumb_bob");
+    assert_true(ci->rms > 0);
+    assert_true(ci->rms < 0.1);
+
+    /* K: [fx 0 cx; 0 fy cy; 0 0 1], zero skew. */
+    assert_true(ci->K[1] == 0 && ci->K[3] == 0 && ci->K[6] == 0 && ci->K[7] == 0 &&
+                ci->K[8] == 1);
+    print_message("fx %.4f (true %.4f, %.4f %%), fy %.4f (true %.4f, %.4f %%)\n", ci->K[0],
+                  g_cam.fx, 100 * rel_fx, ci->K[4], g_cam.fy, 100 * rel_fy);
+    print_message("cx %.4f (true %.4f), cy %.4f (true %.4f)\n", ci->K[2], g_cam.cx, ci->K[5],
+                  g_cam.cy);
+    assert_true(rel_fx < 0.002);
+    assert_true(rel_fy < 0.002);
+    assert_true(fabs(ci->K[2] - g_cam.cx) < 1.0);
+    assert_true(fabs(ci->K[5] - g_cam.cy) < 1.0);
+
+    assert_true(crb_sigma(n_est, N_VIEWS, sig));
+    print_message("Cramer-Rao 1-sigma at corner noise %.4f px: fx %.3g fy %.3g cx %.3g cy %.3g\n",
+                  sc, sc * sig[0], sc * sig[1], sc * sig[2], sc * sig[3]);
+    for (i = 0; i < 5; i++) {
+        if (i >= 2 && !full_model) {
+            /* The paper's model: p1, p2, k3 fixed at exactly zero. */
+            assert_true(ci->D[i] == 0.0);
+            continue;
+        }
+        print_message("%s %.6f (true %.6f): error %.3g, tolerance 5 sigma = %.3g\n", dname[i],
+                      ci->D[i], truth_d[i], fabs(ci->D[i] - truth_d[i]), 5 * sc * sig[didx[i]]);
+        assert_true(fabs(ci->D[i] - truth_d[i]) < 5 * sc * sig[didx[i]]);
+    }
+
+    /* rectification: identity; projection: a camera matrix and a zero
+     * fourth column, the rectified focal within a few % of K's. */
+    for (i = 0; i < 9; i++)
+        assert_true(ci->R[i] == (i % 4 == 0 ? 1.0 : 0.0));
+    assert_true(ci->P[3] == 0 && ci->P[7] == 0 && ci->P[11] == 0);
+    assert_true(ci->P[8] == 0 && ci->P[9] == 0 && ci->P[10] == 1);
+    assert_true(ci->P[1] == 0 && ci->P[4] == 0);
+    assert_true(fabs(ci->P[0] / ci->K[0] - 1) < 0.2 && fabs(ci->P[5] / ci->K[4] - 1) < 0.2);
+}
+
+static void test_recovers_paper_model(void **state)
+{
+    run_result r;
+    camera_info ci;
+    char *yaml;
+    int v;
+    (void)state;
+    remove(path("out/k1k2.yaml"));
+    r = run_calib("--board 9x6 --square 30 --camera-name bench_cam -o %s --overlay %s "
+                  "--coverage %s '%s'",
+                  path("out/k1k2.yaml"), path("out/overlay"), path("out/coverage.png"),
+                  path("views/*.pgm"));
+    fputs(r.out, stdout);
+    assert_int_equal(r.status, 0);
+    /* A clean run says nothing on stderr: no warning, no OpenCV chatter. */
+    assert_string_equal(r.err, "");
+    assert_int_equal(count_lines_with(r.out, ".pgm", " used"), N_VIEWS);
+    assert_non_null(strstr(r.out, "RMS reprojection error"));
+
+    yaml = slurp(path("out/k1k2.yaml"));
+    assert_non_null(yaml);
+    assert_true(parse_camera_info(yaml, &ci));
+    free(yaml);
+    assert_string_equal(ci.name, "bench_cam");
+    assert_int_equal(ci.n_used, N_VIEWS);
+    assert_int_equal(ci.n_given, N_VIEWS);
+    check_recovery(&ci, 0);
+
+    for (v = 0; v < N_VIEWS; v++)
+        assert_true(is_png(path("out/overlay/v%02d.png", v)));
+    assert_true(is_png(path("out/coverage.png")));
+    run_free(&r);
+}
+
+static void test_recovers_full_model_to_stdout(void **state)
+{
+    run_result r;
+    camera_info ci;
+    (void)state;
+    /* No -o: the YAML on stdout, the report on stderr. */
+    r = run_calib("--full-model -b 9x6 -s 30 %s", path("views/v*.pgm"));
+    assert_int_equal(r.status, 0);
+    assert_true(parse_camera_info(r.out, &ci));
+    assert_string_equal(ci.name, "camera");
+    assert_int_equal(ci.n_used, N_VIEWS);
+    assert_int_equal(count_lines_with(r.err, ".pgm", " used"), N_VIEWS);
+    check_recovery(&ci, 1);
+    run_free(&r);
+}
+
+static void test_rejects_outlier_and_skips(void **state)
+{
+    run_result r;
+    camera_info ci;
+    char *yaml;
+    (void)state;
+    r = run_calib("-b 9x6 -s 30 -o %s %s %s %s '%s'", path("out/outlier.yaml"),
+                  path("extra/outlier.pgm"), path("extra/small.pgm"), path("extra/blank0.pgm"),
+                  path("views/*.pgm"));
+    fputs(r.out, stdout);
+    assert_int_equal(r.status, 0);
+    assert_int_equal(count_lines_with(r.out, "outlier.pgm", "REJECTED"), 1);
+    assert_int_equal(count_lines_with(r.out, "small.pgm", "wrong size"), 1);
+    assert_int_equal(count_lines_with(r.out, "blank0.pgm", "no board"), 1);
+    assert_int_equal(count_lines_with(r.out, ".pgm", " used"), N_VIEWS);
+    assert_int_equal(count_lines_with(r.out, NULL, "1 rejected"), 1);
+    assert_int_equal(count_lines_with(r.err, "small.pgm", "800x600, unlike the other images (1024x768)"), 1);
+
+    yaml = slurp(path("out/outlier.yaml"));
+    assert_non_null(yaml);
+    assert_true(parse_camera_info(yaml, &ci));
+    free(yaml);
+    assert_int_equal(ci.n_used, N_VIEWS);
+    assert_int_equal(ci.n_given, N_VIEWS + 3);
+    check_recovery(&ci, 0);
+    run_free(&r);
+}
+
+/* ------------------------------------------------------------------------
+ * Calibration impossible: exit 1, nothing written.
+ * ---------------------------------------------------------------------- */
+
+static void test_wrong_board_size(void **state)
+{
+    /* One inner corner fewer, and one more, than the board has. */
+    const char *sizes[] = {"8x6", "10x6", "9x5"};
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
+        run_result r;
+        remove(path("out/never.yaml"));
+        r = run_calib("-b %s -s 30 -o %s '%s'", sizes[i], path("out/never.yaml"),
+                      path("views/*.pgm"));
+        assert_int_equal(r.status, 1);
+        assert_non_null(strstr(r.err, "board was found in none of the 12 images"));
+        assert_non_null(strstr(r.err, "check --board"));
+        assert_int_equal(count_lines_with(r.out, ".pgm", "no board"), N_VIEWS);
+        assert_false(file_exists(path("out/never.yaml")));
+        run_free(&r);
+    }
+}
+
+static void test_no_board_anywhere(void **state)
+{
+    run_result r;
+    (void)state;
+    r = run_calib("-b 9x6 -s 30 -o %s '%s'", path("out/never.yaml"), path("extra/blank*.pgm"));
+    assert_int_equal(r.status, 1);
+    assert_non_null(strstr(r.err, "the 9x6 board was found in none of the 3 images"));
+    assert_false(file_exists(path("out/never.yaml")));
+    run_free(&r);
+}
+
+static void test_too_few_views(void **state)
+{
+    run_result r;
+    (void)state;
+    r = run_calib("-b 9x6 -s 30 -o %s %s %s %s", path("out/never.yaml"),
+                  path("views/v00.pgm"), path("views/v01.pgm"), path("extra/blank0.pgm"));
+    assert_int_equal(r.status, 1);
+    assert_non_null(strstr(r.err, "found in only 2 of the 3 images; at least 3 usable views"));
+    assert_false(file_exists(path("out/never.yaml")));
+    run_free(&r);
+}
+
+/* ------------------------------------------------------------------------
+ * Usage and unreadable inputs: exit 2.
+ * ---------------------------------------------------------------------- */
+
+static void test_unreadable_inputs(void **state)
+{
+    run_result r;
+    (void)state;
+    r = run_calib("-b 9x6 -s 30 -o %s %s %s %s %s %s %s", path("out/never.yaml"),
+                  path("views/v00.pgm"), path("bad/missing.pgm"), path("bad/garbage.png"),
+                  path("bad/truncated.pgm"), path("bad/empty.pgm"), path("bad/adir"));
+    assert_int_equal(r.status, 2);
+    assert_int_equal(count_lines_with(r.err, "missing.pgm", "No such file or directory"), 1);
+    assert_int_equal(count_lines_with(r.err, "garbage.png", "not an image OpenCV can decode"), 1);
+    assert_int_equal(count_lines_with(r.err, "truncated.pgm", "not an image OpenCV can decode"), 1);
+    assert_int_equal(count_lines_with(r.err, "empty.pgm", "empty file"), 1);
+    assert_int_equal(count_lines_with(r.err, "adir", "is a directory"), 1);
+    assert_non_null(strstr(r.err, "5 of 6 images could not be read; nothing written"));
+    assert_false(file_exists(path("out/never.yaml")));
+    run_free(&r);
+}
+
+static void test_no_images(void **state)
+{
+    run_result r;
+    (void)state;
+    r = run_calib("-b 9x6 -s 30");
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "no images given"));
+    run_free(&r);
+
+    r = run_calib("-b 9x6 -s 30 '%s'", path("views/*.png"));
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "no file matches"));
+    assert_non_null(strstr(r.err, "views/*.png"));
+    run_free(&r);
+}
+
+static void test_usage_errors(void **state)
+{
+    static const struct {
+        const char *args;
+        const char *says;
+    } cases[] = {
+        {"-s 30 x.pgm", "--board COLSxROWS is required"},
+        {"-b 9x6 x.pgm", "--square SIZE is required"},
+        {"-b 9 -s 30 x.pgm", "--board wants COLSxROWS"},
+        {"-b 9x6x -s 30 x.pgm", "--board wants COLSxROWS"},
+        {"-b 9x-6 -s 30 x.pgm", "--board wants COLSxROWS"},
+        {"-b 2x6 -s 30 x.pgm", "each count must be 3..1000"},
+        {"-b 9x6 -s 0 x.pgm", "--square wants a positive number"},
+        {"-b 9x6 -s -3 x.pgm", "--square wants a positive number"},
+        {"-b 9x6 -s 3mm x.pgm", "--square wants a positive number"},
+        {"-b 9x6 -s nan x.pgm", "--square wants a positive number"},
+        {"-b 9x6 -s 30 --camera-name 9cam x.pgm", "--camera-name '9cam'"},
+        {"-b 9x6 -s 30 --camera-name 'a b' x.pgm", "--camera-name 'a b'"},
+        {"-b 9x6 -s 30 --coverage cov.txt x.pgm", "--coverage cov.txt"},
+        {"-b 9x6 -s 30 --bogus x.pgm", "unknown option '--bogus'"},
+        {"-b 9x6 -s 30 -o", "wants a value"},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        run_result r = run_calib("%s", cases[i].args);
+        assert_int_equal(r.status, 2);
+        if (!strstr(r.err, cases[i].says))
+            fail_msg("'%s': stderr lacks \"%s\": %s", cases[i].args, cases[i].says, r.err);
+        assert_non_null(strstr(r.err, "Try 'cdsp_calib --help'"));
+        run_free(&r);
+    }
+}
+
+static void test_unwritable_outputs(void **state)
+{
+    run_result r;
+    (void)state;
+    r = run_calib("-b 9x6 -s 30 -o %s %s", path("nowhere/c.yaml"), path("views/v00.pgm"));
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "nowhere: No such file or directory"));
+    run_free(&r);
+
+    /* --overlay on an existing file, not a directory. */
+    r = run_calib("-b 9x6 -s 30 --overlay %s %s", path("views/v00.pgm"), path("views/v01.pgm"));
+    assert_int_equal(r.status, 2);
+    assert_non_null(strstr(r.err, "--overlay"));
+    assert_non_null(strstr(r.err, "v00.pgm is not a directory"));
+    run_free(&r);
+}
+
+static void test_help(void **state)
+{
+    run_result r;
+    (void)state;
+    r = run_calib("--help");
+    assert_int_equal(r.status, 0);
+    assert_string_equal(r.err, "");
+    assert_non_null(strstr(r.out, "SYNOPSIS"));
+    assert_non_null(strstr(r.out, "EXIT STATUS"));
+    assert_non_null(strstr(r.out, "--full-model"));
+    run_free(&r);
+}
+
+int main(int argc, char **argv)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_help),
+        cmocka_unit_test(test_recovers_paper_model),
+        cmocka_unit_test(test_recovers_full_model_to_stdout),
+        cmocka_unit_test(test_rejects_outlier_and_skips),
+        cmocka_unit_test(test_wrong_board_size),
+        cmocka_unit_test(test_no_board_anywhere),
+        cmocka_unit_test(test_too_few_views),
+        cmocka_unit_test(test_unreadable_inputs),
+        cmocka_unit_test(test_no_images),
+        cmocka_unit_test(test_usage_errors),
+        cmocka_unit_test(test_unwritable_outputs),
+    };
+    if (argc != 3) {
+        fprintf(stderr, "usage: test_calib PATH/TO/cdsp_calib WORKDIR\n");
+        return 2;
+    }
+    g_bin = argv[1];
+    g_work = argv[2];
+    return cmocka_run_group_tests_name("calib", tests, setup, NULL);
+}
