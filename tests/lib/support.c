@@ -155,7 +155,8 @@ double sup_axis_angle(const double u[3], const double v[3])
 
 size_t sup_contour_points(const cdsp_camera *cam, const double point[3], const double dir[3],
                           double radius, double s0, double s1, size_t per_line, double sigma,
-                          double contrast, cdsp_rng *rng, cdsp_edge *out, size_t cap)
+                          double contrast, cdsp_rng *rng, cdsp_edge *out, size_t cap,
+                          double visible_px[2])
 {
     /* Exact contour lines in double, independent of the library: tangent
      * planes n = (r/d) e1 +- sqrt(1 - r^2/d^2) e2 (see render.c). */
@@ -181,18 +182,35 @@ size_t sup_contour_points(const cdsp_camera *cam, const double point[3], const d
         n[1][j] = c * e1[j] - s * e2[j];
     }
     for (k = 0; k < 2; k++) {
-        /* tangent point direction on plane k: the generator passes through
-         * foot - r n_k, along v */
-        double g0[3];
+        /* the generator of plane k passes through foot - r n_k, along v;
+         * first find the part of [s0, s1] whose image lies inside the frame
+         * (a camera sees nothing else), then spread the points over it */
+        double g0[3], t_lo = 0, t_hi = 0;
+        int found = 0, steps = 4000, q;
         for (j = 0; j < 3; j++)
-            g0[j] = foot[j] - radius * n[k][j];
-        for (i = 0; i < per_line && cnt < cap; i++) {
-            double t = s0 + (s1 - s0) * (per_line > 1 ? (double)i / (per_line - 1) : 0.5), X[3];
-            double u, w, a, b, len, nz;
+            g0[j] = point[j] - radius * n[k][j]; /* any axis point - r n_k is on it */
+        for (q = 0; q <= steps; q++) {
+            double t = s0 + (s1 - s0) * q / steps, X[3], u, w;
             for (j = 0; j < 3; j++)
                 X[j] = g0[j] + t * v[j];
             if (X[2] <= 0)
                 continue;
+            u = (double)cam->fx * X[0] / X[2] + (double)cam->cx;
+            w = (double)cam->fy * X[1] / X[2] + (double)cam->cy;
+            if (u < 0 || w < 0 || u > cam->width - 1 || w > cam->height - 1)
+                continue;
+            if (!found)
+                t_lo = t;
+            t_hi = t;
+            found = 1;
+        }
+        if (!found)
+            continue;
+        for (i = 0; i < per_line && cnt < cap; i++) {
+            double t = t_lo + (t_hi - t_lo) * (per_line > 1 ? (double)i / (per_line - 1) : 0.5), X[3];
+            double u, w, a, b, len, nz;
+            for (j = 0; j < 3; j++)
+                X[j] = g0[j] + t * v[j];
             u = (double)cam->fx * X[0] / X[2] + (double)cam->cx;
             w = (double)cam->fy * X[1] / X[2] + (double)cam->cy;
             /* image line normal of plane k: K^-T n, toward the pipe side */
@@ -207,6 +225,18 @@ size_t sup_contour_points(const cdsp_camera *cam, const double point[3], const d
             out[cnt].gx = (cdsp_real)(contrast * a);
             out[cnt].gy = (cdsp_real)(contrast * b);
             cnt++;
+        }
+        if (visible_px) {
+            double A[3], B[3], ua, wa, ub, wb;
+            for (j = 0; j < 3; j++) {
+                A[j] = g0[j] + t_lo * v[j];
+                B[j] = g0[j] + t_hi * v[j];
+            }
+            ua = (double)cam->fx * A[0] / A[2];
+            wa = (double)cam->fy * A[1] / A[2];
+            ub = (double)cam->fx * B[0] / B[2];
+            wb = (double)cam->fy * B[1] / B[2];
+            visible_px[k] = sqrt((ua - ub) * (ua - ub) + (wa - wb) * (wa - wb));
         }
     }
     return cnt;

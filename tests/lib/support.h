@@ -55,13 +55,17 @@ double sup_axis_rmse(const double a[3], const double b[3], const double P[3], co
 /* Angle between two axis directions, radians, sign-insensitive. */
 double sup_axis_angle(const double u[3], const double v[3]);
 
-/* Sample n undistorted edge points on the two contours of the pipe (point,
- * dir, radius) between axial parameters s0 and s1, with Gaussian noise of
- * sigma px perpendicular to the lines, gradients of length `contrast` in the
- * pipe-brighter convention. Returns the number written (<= cap) or 0. */
+/* Sample per_line undistorted edge points on each contour of the pipe
+ * (point, dir, radius): evenly over the part of the axial range [s0, s1]
+ * (measured from `point` along dir) whose image lies inside the frame, with
+ * Gaussian noise of sigma px perpendicular to the lines and gradients of
+ * length `contrast` in the pipe-brighter convention. visible_px (may be
+ * NULL) receives each contour's visible length in px. Returns the number
+ * written (<= cap). */
 size_t sup_contour_points(const cdsp_camera *cam, const double point[3], const double dir[3],
                           double radius, double s0, double s1, size_t per_line, double sigma,
-                          double contrast, cdsp_rng *rng, cdsp_edge *out, size_t cap);
+                          double contrast, cdsp_rng *rng, cdsp_edge *out, size_t cap,
+                          double visible_px[2]);
 
 /* Convert a result's point/direction/segment to double arrays. */
 void sup_result_pose(const cdsp_result *r, double point[3], double dir[3], double seg[2][3]);
