@@ -292,7 +292,10 @@ typedef struct {
     cdsp_real segment[2][3]; /* visible axis segment, ordered along direction;
                                 equal to point twice when extents are unknown */
     /* First-order uncertainty propagated from the line fits' residuals:
-     * cov is the covariance of (point[0..2], direction[0..2]). */
+     * cov is the covariance of (point[0..2], direction[0..2]). It covers the
+     * random error of the edge points only; systematic errors (calibration,
+     * a wrong radius, the edge bias of a shaded pipe's limb, see README
+     * "Accuracy") are not in it. */
     cdsp_real cov[6][6];
     cdsp_real sigma_point[3];
     cdsp_real sigma_direction[3];
