@@ -1,0 +1,418 @@
+/*
+ * cdspd.c - the capture daemon's main: command line, configuration,
+ * signals, the pipeline's life, periodic statistics and systemd
+ * notification. docs/cdspd.md is the manual.
+ *
+ * Signals are blocked in every thread and taken by one signal thread
+ * (sigwait), which only sets flags; the main thread polls them every
+ * 50 ms. So nothing runs in a signal handler, and a signal during start-up
+ * (a long sim render, a camera search) is seen at once.
+ */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <getopt.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "cdsp.h"
+#include "config.h"
+#include "log.h"
+#include "notify.h"
+#include "pipeline.h"
+#include "source.h"
+#include "stats.h"
+
+#define CDSPD_VERSION "0.1.0"
+
+enum {
+    EXIT_OK = 0,        /* stopped by SIGTERM/SIGINT, --duration, or the end of a file source */
+    EXIT_RUNTIME = 1,   /* out of memory, no socket, a thread that would not start */
+    EXIT_CONFIG = 2,    /* usage or configuration error (also --check-config) */
+    EXIT_SOURCE = 3     /* the source could not be opened within open_timeout */
+};
+
+static volatile int sig_stop, sig_reload, sig_stats, sig_last;
+
+static void *signal_thread(void *arg)
+{
+    sigset_t *set = arg;
+    for (;;) {
+        int sig;
+        if (sigwait(set, &sig))
+            continue;
+        sig_last = sig;
+        if (sig == SIGTERM || sig == SIGINT)
+            sig_stop = 1;
+        else if (sig == SIGHUP)
+            sig_reload = 1;
+        else if (sig == SIGUSR1)
+            sig_stats = 1;
+    }
+    return NULL;
+}
+
+/* ------------------------------------------------------------------------
+ * Command line.
+ * ---------------------------------------------------------------------- */
+enum { OPT_CALIB = 256, OPT_DURATION, OPT_RECORD, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION };
+
+static const struct {
+    struct option opt;
+    const char *arg, *help;
+} option_table[] = {
+    {{"config", required_argument, NULL, 'c'}, "FILE", "read keys from this YAML file first"},
+    {{"source", required_argument, NULL, 's'}, "SRC",
+     "sim | file:GLOB | aravis:[ID] | v4l2:/dev/videoN | libcamera:[ID] (key source)"},
+    {{"calib", required_argument, NULL, OPT_CALIB}, "CAM.yaml", "camera calibration (key calib)"},
+    {{"radius", required_argument, NULL, 'r'}, "R", "pipe radius, mm (key radius)"},
+    {{"dest", required_argument, NULL, 'd'}, "HOST:PORT",
+     "send datagrams there; repeatable (key dest; the first --dest replaces the file's list)"},
+    {{"format", required_argument, NULL, 'f'}, "binary|json", "datagram format (key format)"},
+    {{"duration", required_argument, NULL, OPT_DURATION}, "SECONDS",
+     "stop after this long, counted from the source's opening (key duration)"},
+    {{"record", required_argument, NULL, OPT_RECORD}, "DIR",
+     "save every record_every-th frame and its result there (key record)"},
+    {{"set", required_argument, NULL, 'o'}, "KEY=VALUE", "set any key (repeatable)"},
+    {{"verbose", no_argument, NULL, 'v'}, NULL, "log.level debug"},
+    {{"quiet", no_argument, NULL, 'q'}, NULL, "log.level warn (twice: error)"},
+    {{"check-config", no_argument, NULL, OPT_CHECK}, NULL,
+     "check the configuration, print it as YAML, exit (0 valid, 2 not)"},
+    {{"help-keys", no_argument, NULL, OPT_HELP_KEYS}, NULL, "list every configuration key"},
+    {{"version", no_argument, NULL, OPT_VERSION}, NULL, "print the version"},
+    {{"help", no_argument, NULL, 'h'}, NULL, "this help"},
+};
+#define N_OPTIONS (sizeof option_table / sizeof option_table[0])
+static const char short_opts[] = "+c:s:r:d:f:o:vqh";
+
+static void usage(FILE *f)
+{
+    size_t i;
+    fprintf(f,
+            "usage: cdspd [--config FILE] --source SRC --calib CAM.yaml --radius R\n"
+            "             --dest HOST:PORT [--dest HOST:PORT ...] [--format binary|json]\n"
+            "             [--duration SECONDS] [--record DIR] [--set KEY=VALUE] [-v|-q]\n"
+            "Capture frames, solve the pipe's axis in each (libcdsp %d.%d.%d), stream the poses "
+            "over UDP.\n\n",
+            CDSP_VERSION_MAJOR, CDSP_VERSION_MINOR, CDSP_VERSION_PATCH);
+    for (i = 0; i < N_OPTIONS; i++) {
+        const struct option *o = &option_table[i].opt;
+        char left[64];
+        if (o->val < 256)
+            snprintf(left, sizeof left, "-%c, --%s%s%s", o->val, o->name, option_table[i].arg ? " " : "",
+                     option_table[i].arg ? option_table[i].arg : "");
+        else
+            snprintf(left, sizeof left, "    --%s%s%s", o->name, option_table[i].arg ? " " : "",
+                     option_table[i].arg ? option_table[i].arg : "");
+        fprintf(f, "  %-30s %s\n", left, option_table[i].help);
+    }
+    fprintf(f, "\nSignals: SIGTERM/SIGINT stop, SIGHUP reloads (a broken file keeps the running\n"
+               "configuration), SIGUSR1 logs statistics. Exit status: 0 stopped, 1 runtime error,\n"
+               "2 usage or configuration error, 3 the source could not be opened.\n"
+               "Manual: docs/cdspd.md; datagrams: docs/protocol.md.\n");
+}
+
+typedef struct {
+    int argc;
+    char **argv;
+    const char *config_path;
+    int check, help, help_keys, version;
+} cli;
+
+/* Pass 1: what decides the run (help, --config) and usage errors. */
+static int cli_scan(cli *o, int argc, char **argv)
+{
+    struct option longopts[N_OPTIONS + 1];
+    size_t i;
+    int c;
+    memset(o, 0, sizeof *o);
+    o->argc = argc;
+    o->argv = argv;
+    for (i = 0; i < N_OPTIONS; i++)
+        longopts[i] = option_table[i].opt;
+    memset(&longopts[N_OPTIONS], 0, sizeof longopts[N_OPTIONS]);
+    optind = 0;
+    opterr = 1;
+    while ((c = getopt_long(argc, argv, short_opts, longopts, NULL)) != -1) {
+        switch (c) {
+        case 'c': o->config_path = optarg; break;
+        case OPT_CHECK: o->check = 1; break;
+        case 'h': o->help = 1; break;
+        case OPT_HELP_KEYS: o->help_keys = 1; break;
+        case OPT_VERSION: o->version = 1; break;
+        case '?': return -1;
+        default: break;
+        }
+    }
+    if (optind < argc) {
+        fprintf(stderr, "cdspd: unexpected argument '%s'\n", argv[optind]);
+        return -1;
+    }
+    return 0;
+}
+
+/* Defaults, the file, the command line in order, then the checks. */
+static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
+{
+    struct option longopts[N_OPTIONS + 1];
+    size_t i;
+    int ch, ndest_cli = 0, quiet = 0;
+    char where[64];
+
+    cdspd_config_defaults(c);
+    if (o->config_path && cdspd_config_load_file(c, o->config_path, err, errlen))
+        return -1;
+    for (i = 0; i < N_OPTIONS; i++)
+        longopts[i] = option_table[i].opt;
+    memset(&longopts[N_OPTIONS], 0, sizeof longopts[N_OPTIONS]);
+    optind = 0;
+    opterr = 0;
+    while ((ch = getopt_long(o->argc, o->argv, short_opts, longopts, NULL)) != -1) {
+        const char *key = NULL;
+        int r = 0;
+        switch (ch) {
+        case 's': key = "source"; break;
+        case OPT_CALIB: key = "calib"; break;
+        case 'r': key = "radius"; break;
+        case 'f': key = "format"; break;
+        case OPT_DURATION: key = "duration"; break;
+        case OPT_RECORD: key = "record"; break;
+        case 'v': r = cdspd_config_set(c, "log.level", "debug", "-v", err, errlen); break;
+        case 'q':
+            quiet++;
+            r = cdspd_config_set(c, "log.level", quiet > 1 ? "error" : "warn", "-q", err, errlen);
+            break;
+        case 'd':
+            if (ndest_cli == 0)
+                c->n_dest = 0;
+            if (c->n_dest >= CDSPD_MAX_DEST) {
+                snprintf(err, errlen, "--dest: at most %d destinations", CDSPD_MAX_DEST);
+                return -1;
+            }
+            if (strlen(optarg) >= CDSPD_STR || !*optarg || strchr(optarg, ',')) {
+                snprintf(err, errlen, "--dest '%s': expected HOST:PORT", optarg);
+                return -1;
+            }
+            memset(&c->dest[c->n_dest], 0, sizeof c->dest[0]);
+            strcpy(c->dest[c->n_dest++].text, optarg);
+            ndest_cli++;
+            break;
+        case 'o': {
+            char kv[CDSPD_STR + 256], *eq;
+            snprintf(kv, sizeof kv, "%s", optarg);
+            eq = strchr(kv, '=');
+            if (!eq || eq == kv) {
+                snprintf(err, errlen, "--set '%s': expected KEY=VALUE", optarg);
+                return -1;
+            }
+            *eq = 0;
+            r = cdspd_config_set(c, kv, eq + 1, "--set", err, errlen);
+            break;
+        }
+        default: break;
+        }
+        if (key) {
+            snprintf(where, sizeof where, "--%s", key);
+            r = cdspd_config_set(c, key, optarg, where, err, errlen);
+        }
+        if (r)
+            return -1;
+    }
+    if (cdspd_config_finish(c, err, errlen))
+        return -1;
+    {
+        const char *arg, *why;
+        if (!cdspd_source_available(cdspd_source_kind_parse(c->source, &arg), &why)) {
+            snprintf(err, errlen, "key 'source': '%s': %s", c->source, why);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static void apply_log_levels(const cdspd_config *c)
+{
+    int i;
+    for (i = 0; i < CDSPD_LOGC_COUNT; i++)
+        cdspd_log_set_level((cdspd_log_cat)i, (cdspd_log_level)cdspd_config_log_level(c, i));
+}
+
+static void sleep_ms(int ms)
+{
+    struct timespec ts = {ms / 1000, (long)(ms % 1000) * 1000000L};
+    while (nanosleep(&ts, &ts) && errno == EINTR) {
+    }
+}
+
+int main(int argc, char **argv)
+{
+    cli o;
+    cdspd_config *cfg = malloc(sizeof *cfg), *next = malloc(sizeof *next);
+    cdspd_stats *stats = malloc(sizeof *stats);
+    cdspd_pipeline *pipe = NULL;
+    char err[2048], status[CDSPD_STR + 64];
+    sigset_t set;
+    pthread_t sig_th;
+    uint32_t seq = 0;
+    uint64_t t_running = 0, t_stats, wd_us, t_wd = 0, hb_wd = (uint64_t)-1;
+    int rc = EXIT_OK, ready = 0;
+    cdspd_stats_window w;
+
+    if (!cfg || !next || !stats) {
+        fprintf(stderr, "cdspd: out of memory\n");
+        return EXIT_RUNTIME;
+    }
+    if (cli_scan(&o, argc, argv)) {
+        usage(stderr);
+        return EXIT_CONFIG;
+    }
+    if (o.help) {
+        usage(stdout);
+        return EXIT_OK;
+    }
+    if (o.version) {
+        printf("cdspd %s (libcdsp %d.%d.%d)\n", CDSPD_VERSION, CDSP_VERSION_MAJOR, CDSP_VERSION_MINOR,
+               CDSP_VERSION_PATCH);
+        return EXIT_OK;
+    }
+    if (o.help_keys) {
+        printf("Configuration keys (YAML: nested mappings give the dotted names; "
+               "--set KEY=VALUE):\n");
+        cdspd_config_help(stdout);
+        return EXIT_OK;
+    }
+    if (load_config(&o, cfg, err, sizeof err)) {
+        fprintf(stderr, "cdspd: %s\n", err);
+        return EXIT_CONFIG;
+    }
+    if (o.check) {
+        printf("# cdspd: configuration OK: source %s, calibration %s (%dx%d), %d destination%s\n",
+               cfg->source, cfg->calib, cfg->cam.width, cfg->cam.height, cfg->n_dest,
+               cfg->n_dest > 1 ? "s" : "");
+        cdspd_config_dump(cfg, stdout);
+        return EXIT_OK;
+    }
+    apply_log_levels(cfg);
+
+    /* every thread inherits this mask; only the signal thread takes them */
+    sigemptyset(&set);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGTERM);
+    sigaddset(&set, SIGHUP);
+    sigaddset(&set, SIGUSR1);
+    pthread_sigmask(SIG_BLOCK, &set, NULL);
+    signal(SIGPIPE, SIG_IGN);
+    signal(SIGXFSZ, SIG_IGN); /* a file size limit is a write error for --record, not death */
+    if (pthread_create(&sig_th, NULL, signal_thread, &set)) {
+        fprintf(stderr, "cdspd: cannot start the signal thread\n");
+        return EXIT_RUNTIME;
+    }
+    pthread_detach(sig_th);
+
+    cdspd_stats_init(stats);
+    LOG_I(MAIN, "cdspd %s starting: source %s, calibration %s (%dx%d), radius %g, %d destination%s%s%s",
+          CDSPD_VERSION, cfg->source, cfg->calib, cfg->cam.width, cfg->cam.height, cfg->radius,
+          cfg->n_dest, cfg->n_dest > 1 ? "s" : "", *cfg->config_file ? ", config " : "",
+          cfg->config_file);
+    cdspd_stats_set_down(stats, 1);
+    rc = cdspd_pipeline_start(&pipe, cfg, stats, &seq, 1, err, sizeof err);
+    if (rc) {
+        LOG_E(MAIN, "%s", err);
+        return rc;
+    }
+    t_stats = cdspd_now_us();
+    wd_us = cdspd_notify_watchdog_us();
+    for (;;) {
+        cdspd_pipe_state st;
+        uint64_t now;
+        sleep_ms(50);
+        now = cdspd_now_us();
+        if (sig_stop) {
+            LOG_I(MAIN, "%s: stopping", sig_last == SIGINT ? "SIGINT" : "SIGTERM");
+            break;
+        }
+        st = cdspd_pipeline_state(pipe);
+        if (st == CDSPD_PIPE_FAILED) {
+            rc = cdspd_pipeline_error(pipe, err, sizeof err);
+            LOG_E(MAIN, "cannot open the source: %s", err);
+            break;
+        }
+        if (st == CDSPD_PIPE_ENDED) {
+            LOG_I(MAIN, "the source has ended: stopping");
+            break;
+        }
+        if (st == CDSPD_PIPE_RUNNING && !ready) {
+            ready = 1;
+            if (!t_running)
+                t_running = now; /* a reload does not restart --duration */
+            snprintf(status, sizeof status, "READY=1\nSTATUS=streaming poses from %s", cfg->source);
+            cdspd_notify(status);
+        }
+        if (ready && cfg->duration > 0 && (double)(now - t_running) * 1e-6 >= cfg->duration) {
+            LOG_I(MAIN, "--duration %g s reached: stopping", cfg->duration);
+            break;
+        }
+        if (sig_reload) {
+            sig_reload = 0;
+            LOG_I(MAIN, "SIGHUP: reloading the configuration");
+            if (load_config(&o, next, err, sizeof err)) {
+                LOG_E(CONFIG, "reload: %s; keeping the running configuration", err);
+            } else {
+                cdspd_config *t;
+                int r;
+                cdspd_notify("RELOADING=1");
+                cdspd_pipeline_stop(pipe);
+                pipe = NULL;
+                apply_log_levels(next);
+                r = cdspd_pipeline_start(&pipe, next, stats, &seq, 0, err, sizeof err);
+                if (r) {
+                    LOG_E(MAIN, "reload: %s: stopping", err);
+                    rc = r;
+                    break;
+                }
+                t = cfg;
+                cfg = next;
+                next = t;
+                ready = 0;
+                LOG_I(MAIN, "reloaded: source %s, %d destination%s", cfg->source, cfg->n_dest,
+                      cfg->n_dest > 1 ? "s" : "");
+            }
+        }
+        if (sig_stats) {
+            sig_stats = 0;
+            cdspd_stats_window_take(stats, &w);
+            cdspd_stats_log(&w, "SIGUSR1: ");
+            t_stats = now;
+        }
+        if (cfg->stats_interval > 0 && (double)(now - t_stats) * 1e-6 >= cfg->stats_interval) {
+            cdspd_stats_window_take(stats, &w);
+            cdspd_stats_log(&w, "");
+            t_stats = now;
+        }
+        /* The watchdog is fed only while the processing thread goes round
+         * its loop (it does so at least every status_interval). */
+        if (wd_us && now - t_wd >= wd_us / 2) {
+            uint64_t hb = cdspd_pipeline_heartbeat(pipe);
+            if (hb != hb_wd)
+                cdspd_notify("WATCHDOG=1");
+            else
+                LOG_W(MAIN, "the processing thread made no progress for %.1f s: not feeding the "
+                      "watchdog", (double)(now - t_wd) * 1e-6);
+            hb_wd = hb;
+            t_wd = now;
+        }
+    }
+    cdspd_notify("STOPPING=1");
+    cdspd_pipeline_stop(pipe);
+    cdspd_stats_window_take(stats, &w);
+    cdspd_stats_log(&w, "final: ");
+    LOG_I(MAIN, "stopped (exit status %d)", rc);
+    cdspd_stats_destroy(stats);
+    free(stats);
+    free(cfg);
+    free(next);
+    return rc;
+}

@@ -1,0 +1,940 @@
+/*
+ * config.c - see config.h. The key table below is the whole configuration:
+ * name, type, where the value lives, range, default and help. Defaults are
+ * applied by parsing each key's default text, so there is one place for them.
+ * The file is read with libyaml (the calibration's YAML stack).
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "config.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <netdb.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <yaml.h>
+
+#include "cdsp_host.h"
+
+typedef enum {
+    K_STR,    /* char[CDSPD_STR] */
+    K_REAL,   /* double in [min, max] */
+    K_INT,    /* int in [min, max] */
+    K_U64,    /* uint64_t */
+    K_BOOL,   /* int 0/1: true/false, yes/no, on/off, 1/0 */
+    K_CHOICE, /* int: index into choices "a|b|c" */
+    K_VEC3,   /* double[3] */
+    K_INT4,   /* int[4], each in [min, max] */
+    K_DEST,   /* the destination list */
+    K_LEVEL   /* int log level; "default" = -1 (log.level) where allowed */
+} key_type;
+
+typedef struct {
+    const char *name;
+    key_type type;
+    size_t off;
+    double min, max;
+    const char *choices;
+    const char *def;
+    const char *help;
+} key_def;
+
+#define O(f) offsetof(cdspd_config, f)
+
+static const key_def keys[] = {
+    /* ---- the command line's keys -------------------------------------- */
+    {"source", K_STR, O(source), 0, 0, NULL, "sim",
+     "frame source: sim | file:GLOB | aravis:[ID] | v4l2:DEVICE | libcamera:[ID] (--source)"},
+    {"calib", K_STR, O(calib), 0, 0, NULL, "",
+     "camera calibration, ROS camera_info YAML; required (--calib)"},
+    {"radius", K_REAL, O(radius), 0, 1e9, NULL, "0",
+     "pipe radius, in the unit the poses are reported in (mm); required (--radius)"},
+    {"dest", K_DEST, 0, 0, 0, NULL, "",
+     "UDP destinations HOST:PORT (unicast, broadcast or multicast), a list; at least one (--dest)"},
+    {"format", K_CHOICE, O(format), 0, 0, "binary|json", "binary",
+     "datagram format: binary (docs/protocol.md) or json (one JSON object) (--format)"},
+    {"duration", K_REAL, O(duration), 0, 1e9, NULL, "0",
+     "stop after this many seconds, 0 = run until stopped (--duration)"},
+    {"record", K_STR, O(record), 0, 0, NULL, "",
+     "directory to save every record_every-th frame and its result in, empty = off (--record)"},
+    {"record_every", K_INT, O(record_every), 1, 1e9, NULL, "25",
+     "record every N-th processed frame"},
+    /* ---- log ------------------------------------------------------------ */
+    {"log.level", K_LEVEL, O(log_level), 0, 0, NULL, "info",
+     "log level of every category: error | warn | info | debug (-v: debug, -q: warn)"},
+    {"log.main", K_LEVEL, O(log_cat[CDSPD_LOGC_MAIN]), 0, 0, NULL, "default",
+     "start, stop, signals, reload; default = log.level"},
+    {"log.config", K_LEVEL, O(log_cat[CDSPD_LOGC_CONFIG]), 0, 0, NULL, "default",
+     "configuration messages"},
+    {"log.source", K_LEVEL, O(log_cat[CDSPD_LOGC_SOURCE]), 0, 0, NULL, "default",
+     "camera / source messages (open, lost, reconnect, bad frames)"},
+    {"log.proc", K_LEVEL, O(log_cat[CDSPD_LOGC_PROC]), 0, 0, NULL, "default",
+     "processing thread (debug: one line per frame)"},
+    {"log.net", K_LEVEL, O(log_cat[CDSPD_LOGC_NET]), 0, 0, NULL, "default",
+     "UDP sender (send errors are rate-limited)"},
+    {"log.stats", K_LEVEL, O(log_cat[CDSPD_LOGC_STATS]), 0, 0, NULL, "default",
+     "periodic statistics (logged at info)"},
+    {"log.record", K_LEVEL, O(log_cat[CDSPD_LOGC_RECORD]), 0, 0, NULL, "default",
+     "--record messages"},
+    /* ---- operation ------------------------------------------------------ */
+    {"stats_interval", K_REAL, O(stats_interval), 0, 1e6, NULL, "10",
+     "seconds between statistics lines, 0 = only on SIGUSR1"},
+    {"status_interval", K_REAL, O(status_interval), 0.01, 3600, NULL, "0.5",
+     "seconds without a frame before a status datagram is sent (and then every as long)"},
+    {"open_timeout", K_REAL, O(open_timeout), 0, 3600, NULL, "10",
+     "seconds to keep trying to open the source at start before giving up (exit status 3)"},
+    {"retry_min", K_REAL, O(retry_min), 0.01, 3600, NULL, "0.5",
+     "first delay before reopening a lost source, seconds; doubles up to retry_max"},
+    {"retry_max", K_REAL, O(retry_max), 0.01, 3600, NULL, "10",
+     "longest delay between reopening attempts, seconds"},
+    {"proc_cpu", K_INT, O(proc_cpu), -1, 1023, NULL, "-1",
+     "CPU the processing thread is pinned to, -1 = any"},
+    {"capture_cpu", K_INT, O(capture_cpu), -1, 1023, NULL, "-1",
+     "CPU the capture thread is pinned to, -1 = any"},
+    /* ---- solver ----------------------------------------------------------- */
+    {"solver.step", K_INT, O(step), 1, 64, NULL, "4", "edge scanline spacing, px (cdsp_edge_params.step)"},
+    {"solver.half_window", K_INT, O(half_window), 2, 8, NULL, "4",
+     "partial-area window half-length, px"},
+    {"solver.min_contrast", K_REAL, O(min_contrast), 0, 1, NULL, "0.06",
+     "minimum edge step, fraction of full scale"},
+    {"solver.polarity", K_INT, O(polarity), -1, 1, NULL, "0",
+     "0 either, +1 pipe brighter than the background, -1 darker"},
+    {"solver.roi", K_INT4, O(roi), 0, 65535, NULL, "[0, 0, 0, 0]",
+     "region searched [x, y, w, h], px; w or h 0 = whole frame"},
+    {"solver.track_band_px", K_REAL, O(track_band_px), 1, 1000, NULL, "12",
+     "tracking: half-width of the band searched around the previous contours, px"},
+    {"solver.track_min_inliers", K_INT, O(track_min_inliers), 2, 100000, NULL, "30",
+     "tracking: fewer inliers per contour fall back to a full search"},
+    {"solver.min_distance", K_REAL, O(min_distance), 0, 1e12, NULL, "0",
+     "plausible |P_C| lower bound, radius units, 0 = none"},
+    {"solver.max_distance", K_REAL, O(max_distance), 0, 1e12, NULL, "0",
+     "plausible |P_C| upper bound, radius units, 0 = none"},
+    {"solver.seed", K_U64, O(seed), 0, 0, NULL, "1", "seed of the solver's RANSAC generator"},
+    /* ---- net -------------------------------------------------------------- */
+    {"net.ttl", K_INT, O(ttl), 0, 255, NULL, "1", "multicast TTL (hops)"},
+    {"net.multicast_loop", K_BOOL, O(multicast_loop), 0, 1, NULL, "true",
+     "deliver multicast datagrams to receivers on this host too"},
+    {"net.multicast_interface", K_STR, O(multicast_if), 0, 0, NULL, "",
+     "IPv4 address of the interface multicast leaves by, empty = the routing table's"},
+    /* ---- sim source ------------------------------------------------------- */
+    {"sim.rate", K_REAL, O(sim.rate), 0, 100000, NULL, "25", "frames per second, 0 = as fast as possible"},
+    {"sim.frames", K_INT, O(sim.frames), 1, 100000, NULL, "64",
+     "frames rendered at start, evenly spread over one period of the path, then shown in turn"},
+    {"sim.bits", K_INT, O(sim.bits), 8, 16, NULL, "8", "pixel depth: 8, or 10, 12, 14, 16 (two bytes per pixel)"},
+    {"sim.threads", K_INT, O(sim.threads), 0, 256, NULL, "0",
+     "threads rendering the frames at start, 0 = one per CPU"},
+    {"sim.center", K_VEC3, O(sim.center), -1e9, 1e9, NULL, "[0, 0, 450]",
+     "axis point at the middle of the path, camera frame (X right, Y down, Z forward)"},
+    {"sim.direction", K_VEC3, O(sim.direction), -1e9, 1e9, NULL, "[0.15, 1, 0.1]",
+     "axis direction at the middle of the path (need not be unit)"},
+    {"sim.sway", K_VEC3, O(sim.sway), -1e9, 1e9, NULL, "[30, 0, 60]",
+     "amplitudes of the point's motion: X sin a, Y sin 2a, Z cos a over the path phase a"},
+    {"sim.tilt_deg", K_REAL, O(sim.tilt_deg), -90, 90, NULL, "15",
+     "amplitude of the axis's rotation about the optical axis, degrees (times sin a)"},
+    {"sim.nod_deg", K_REAL, O(sim.nod_deg), -90, 90, NULL, "5",
+     "amplitude of its rotation about the camera's X axis, degrees (times cos a)"},
+    {"sim.away", K_REAL, O(sim.away), 0, 1, NULL, "0.1",
+     "fraction of the path (its end) where the pipe is out of view (status datagrams)"},
+    {"sim.ambient", K_REAL, O(sim.ambient), 0, 1, NULL, "0.85",
+     "ambient share of the shading, 1 = flat (libcdsp's default look)"},
+    {"sim.noise", K_REAL, O(sim.noise), 0, 1, NULL, "0.004", "sensor noise sigma, fraction of full scale"},
+    {"sim.blur", K_REAL, O(sim.blur), 0, 10, NULL, "0.7", "optical blur sigma, px"},
+    {"sim.texture", K_REAL, O(sim.texture), 0, 1, NULL, "0.03", "background texture amplitude"},
+    {"sim.seed", K_U64, O(sim.seed), 0, 0, NULL, "7", "seed of the rendered noise"},
+    /* ---- file source ------------------------------------------------------ */
+    {"file.rate", K_REAL, O(file.rate), 0, 100000, NULL, "25", "frames per second, 0 = as fast as possible"},
+    {"file.loop", K_BOOL, O(file.loop), 0, 1, NULL, "false",
+     "start again after the last frame (else cdspd stops, exit status 0)"},
+    {"file.cache_mb", K_REAL, O(file.cache_mb), 0, 1e6, NULL, "512",
+     "decode all frames at start when they fit in this many MiB, else read each in turn"},
+    /* ---- aravis source ---------------------------------------------------- */
+    {"aravis.pixel_format", K_STR, O(aravis.pixel_format), 0, 0, NULL, "auto",
+     "Mono8 | Mono10 | Mono12 | Mono16 | auto (the deepest of these the camera offers)"},
+    {"aravis.exposure_us", K_REAL, O(aravis.exposure_us), 0, 1e9, NULL, "0",
+     "exposure time, us, 0 = leave the camera's"},
+    {"aravis.gain", K_REAL, O(aravis.gain), -1, 1e6, NULL, "-1", "gain (camera units), -1 = leave"},
+    {"aravis.frame_rate", K_REAL, O(aravis.frame_rate), 0, 100000, NULL, "0",
+     "frames per second, 0 = leave the camera's"},
+    {"aravis.region", K_INT4, O(aravis.region), 0, 65535, NULL, "[0, 0, 0, 0]",
+     "sensor region [x, y, w, h]; w, h 0 = the calibration's size at x, y"},
+    {"aravis.packet_size", K_INT, O(aravis.packet_size), 0, 65535, NULL, "0",
+     "GigE Vision packet size, bytes, 0 = negotiated by Aravis"},
+    {"aravis.buffers", K_INT, O(aravis.buffers), 2, 256, NULL, "8", "stream buffers queued to Aravis"},
+    {"aravis.packet_socket", K_CHOICE, O(aravis.packet_socket), 0, 0, "off|on|auto", "auto",
+     "Aravis's packet socket (root only): auto = off for loopback cameras (it sees nothing there)"},
+    {"aravis.frame_timeout", K_REAL, O(aravis.frame_timeout), 0.1, 3600, NULL, "5",
+     "seconds without any frame (complete or not) before the camera counts as lost"},
+    /* ---- v4l2 source -------------------------------------------------------- */
+    {"v4l2.format", K_STR, O(v4l2.format), 0, 0, NULL, "auto",
+     "GREY | Y16 | YUYV | any fourcc libv4l2 converts to YU12 | auto (the first of these)"},
+    {"v4l2.buffers", K_INT, O(v4l2.buffers), 2, 32, NULL, "4", "mmap buffers"},
+    {"v4l2.frame_rate", K_REAL, O(v4l2.frame_rate), 0, 100000, NULL, "0",
+     "frames per second asked of the driver, 0 = leave"},
+    /* ---- libcamera source ----------------------------------------------------- */
+    {"libcamera.format", K_STR, O(libcamera.format), 0, 0, NULL, "auto",
+     "R8 | R16 | YUYV | NV12 | YUV420 | auto (the first the camera offers)"},
+    {"libcamera.buffers", K_INT, O(libcamera.buffers), 2, 32, NULL, "4", "frame buffers"},
+};
+
+#define N_KEYS (sizeof keys / sizeof keys[0])
+
+static void errf(char *err, size_t n, const char *fmt, ...) CDSPD_PRINTF(3, 4);
+static void errf(char *err, size_t n, const char *fmt, ...)
+{
+    va_list ap;
+    if (!err || !n)
+        return;
+    va_start(ap, fmt);
+    vsnprintf(err, n, fmt, ap);
+    va_end(ap);
+}
+
+static const key_def *find_key(const char *name)
+{
+    size_t i;
+    for (i = 0; i < N_KEYS; i++)
+        if (!strcmp(keys[i].name, name))
+            return &keys[i];
+    return NULL;
+}
+
+/* Is name a section ("sim", "log") of some key? */
+static int is_section(const char *name)
+{
+    size_t i, n = strlen(name);
+    for (i = 0; i < N_KEYS; i++)
+        if (!strncmp(keys[i].name, name, n) && keys[i].name[n] == '.')
+            return 1;
+    return 0;
+}
+
+static const char *type_text(const key_def *k)
+{
+    switch (k->type) {
+    case K_STR: return "text";
+    case K_REAL: return "number";
+    case K_INT: return "integer";
+    case K_U64: return "integer";
+    case K_BOOL: return "boolean";
+    case K_CHOICE: return k->choices;
+    case K_VEC3: return "[x, y, z]";
+    case K_INT4: return "[x, y, w, h]";
+    case K_DEST: return "list of HOST:PORT";
+    case K_LEVEL: return "level";
+    }
+    return "?";
+}
+
+static const char *trim(char *s)
+{
+    char *e;
+    while (isspace((unsigned char)*s))
+        s++;
+    e = s + strlen(s);
+    while (e > s && isspace((unsigned char)e[-1]))
+        *--e = 0;
+    return s;
+}
+
+static int parse_real(const char *s, double *v)
+{
+    char *end;
+    errno = 0;
+    *v = strtod(s, &end);
+    return end != s && !*end && !errno && isfinite(*v);
+}
+
+static int parse_long(const char *s, long long *v)
+{
+    char *end;
+    errno = 0;
+    *v = strtoll(s, &end, 0);
+    return end != s && !*end && !errno;
+}
+
+/* Split a list "[a, b, c]" or "a,b,c" into at most max trimmed items in buf. */
+static int split_list(const char *value, char *buf, size_t buflen, const char **items, int max)
+{
+    char *p, *q;
+    int n = 0;
+    if (strlen(value) >= buflen)
+        return -1;
+    strcpy(buf, value);
+    p = (char *)trim(buf);
+    if (*p == '[') {
+        size_t l = strlen(p);
+        if (l < 2 || p[l - 1] != ']')
+            return -1;
+        p[l - 1] = 0;
+        p++;
+    }
+    if (!*trim(p))
+        return 0;
+    for (;;) {
+        q = strchr(p, ',');
+        if (q)
+            *q = 0;
+        if (n == max)
+            return max + 1;
+        items[n++] = trim(p);
+        if (!q)
+            break;
+        p = q + 1;
+    }
+    return n;
+}
+
+int cdspd_config_set(cdspd_config *c, const char *key, const char *value, const char *where,
+                     char *err, size_t errlen)
+{
+    const key_def *k = find_key(key);
+    void *field;
+    char buf[CDSPD_MAX_DEST * (CDSPD_STR + 2)];
+    const char *items[CDSPD_MAX_DEST + 1];
+    double v = 0;
+    long long iv = 0;
+    int n, i;
+
+    if (!k) {
+        errf(err, errlen, "%s: unknown key '%s' (cdspd --help-keys lists them)", where, key);
+        return -1;
+    }
+    field = (char *)c + k->off;
+    switch (k->type) {
+    case K_STR:
+        if (strlen(value) >= CDSPD_STR) {
+            errf(err, errlen, "%s: key '%s': longer than %d characters", where, key, CDSPD_STR - 1);
+            return -1;
+        }
+        strcpy(field, value);
+        return 0;
+    case K_REAL:
+        if (!parse_real(value, &v) || v < k->min || v > k->max) {
+            errf(err, errlen, "%s: key '%s': expected a number in [%g, %g], got '%s'", where, key,
+                 k->min, k->max, value);
+            return -1;
+        }
+        *(double *)field = v;
+        return 0;
+    case K_INT:
+        if (!parse_long(value, &iv) || (double)iv < k->min || (double)iv > k->max) {
+            errf(err, errlen, "%s: key '%s': expected an integer in [%g, %g], got '%s'", where, key,
+                 k->min, k->max, value);
+            return -1;
+        }
+        *(int *)field = (int)iv;
+        return 0;
+    case K_U64: {
+        char *end;
+        unsigned long long u;
+        errno = 0;
+        u = strtoull(value, &end, 0);
+        if (end == value || *end || errno || value[0] == '-') {
+            errf(err, errlen, "%s: key '%s': expected a non-negative integer, got '%s'", where, key,
+                 value);
+            return -1;
+        }
+        *(uint64_t *)field = (uint64_t)u;
+        return 0;
+    }
+    case K_BOOL: {
+        static const char *const yes[] = {"true", "yes", "on", "1"}, *const no[] = {"false", "no", "off", "0"};
+        for (i = 0; i < 4; i++) {
+            if (!strcmp(value, yes[i])) {
+                *(int *)field = 1;
+                return 0;
+            }
+            if (!strcmp(value, no[i])) {
+                *(int *)field = 0;
+                return 0;
+            }
+        }
+        errf(err, errlen, "%s: key '%s': expected true or false, got '%s'", where, key, value);
+        return -1;
+    }
+    case K_CHOICE: {
+        const char *p = k->choices;
+        int idx = 0;
+        size_t l = strlen(value);
+        while (p) {
+            const char *bar = strchr(p, '|');
+            size_t pl = bar ? (size_t)(bar - p) : strlen(p);
+            if (pl == l && !strncmp(p, value, l)) {
+                *(int *)field = idx;
+                return 0;
+            }
+            idx++;
+            p = bar ? bar + 1 : NULL;
+        }
+        errf(err, errlen, "%s: key '%s': expected one of %s, got '%s'", where, key, k->choices, value);
+        return -1;
+    }
+    case K_LEVEL: {
+        int lv = cdspd_log_level_parse(value);
+        if (lv < 0 && !strcmp(value, "default") && strcmp(key, "log.level"))
+            lv = -1;
+        else if (lv < 0) {
+            errf(err, errlen, "%s: key '%s': expected error, warn, info or debug%s, got '%s'", where,
+                 key, strcmp(key, "log.level") ? " (or default)" : "", value);
+            return -1;
+        }
+        *(int *)field = lv;
+        return 0;
+    }
+    case K_VEC3:
+    case K_INT4: {
+        int want = k->type == K_VEC3 ? 3 : 4;
+        n = split_list(value, buf, sizeof buf, items, want);
+        if (n != want) {
+            errf(err, errlen, "%s: key '%s': expected %d numbers %s, got '%s'", where, key, want,
+                 type_text(k), value);
+            return -1;
+        }
+        for (i = 0; i < want; i++) {
+            int ok = k->type == K_VEC3 ? parse_real(items[i], &v)
+                                       : (parse_long(items[i], &iv) && (v = (double)iv, 1));
+            if (!ok || v < k->min || v > k->max) {
+                errf(err, errlen, "%s: key '%s': item %d: expected %s in [%g, %g], got '%s'", where,
+                     key, i + 1, k->type == K_VEC3 ? "a number" : "an integer", k->min, k->max,
+                     items[i]);
+                return -1;
+            }
+            if (k->type == K_VEC3)
+                ((double *)field)[i] = v;
+            else
+                ((int *)field)[i] = (int)iv;
+        }
+        return 0;
+    }
+    case K_DEST:
+        n = split_list(value, buf, sizeof buf, items, CDSPD_MAX_DEST);
+        if (n < 0 || n > CDSPD_MAX_DEST) {
+            errf(err, errlen, "%s: key 'dest': at most %d destinations, each shorter than %d "
+                 "characters", where, CDSPD_MAX_DEST, CDSPD_STR);
+            return -1;
+        }
+        for (i = 0; i < n; i++) {
+            if (!*items[i] || strlen(items[i]) >= CDSPD_STR) {
+                errf(err, errlen, "%s: key 'dest': item %d: expected HOST:PORT, got '%s'", where,
+                     i + 1, items[i]);
+                return -1;
+            }
+        }
+        c->n_dest = n;
+        for (i = 0; i < n; i++) {
+            memset(&c->dest[i], 0, sizeof c->dest[i]);
+            strcpy(c->dest[i].text, items[i]);
+        }
+        return 0;
+    }
+    return -1;
+}
+
+void cdspd_config_defaults(cdspd_config *c)
+{
+    size_t i;
+    char err[256];
+    memset(c, 0, sizeof *c);
+    for (i = 0; i < N_KEYS; i++)
+        if (cdspd_config_set(c, keys[i].name, keys[i].def, "default", err, sizeof err))
+            abort(); /* a broken table: caught by the first test run */
+}
+
+/* ------------------------------------------------------------------------
+ * YAML file.
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    yaml_document_t *doc;
+    const char *path;
+    cdspd_config *c;
+    char *err;
+    size_t errlen;
+} yaml_walk;
+
+static void where_of(const yaml_walk *w, const yaml_node_t *n, char *buf, size_t len)
+{
+    snprintf(buf, len, "%s:%lu:%lu", w->path, (unsigned long)n->start_mark.line + 1,
+             (unsigned long)n->start_mark.column + 1);
+}
+
+static int walk_mapping(yaml_walk *w, yaml_node_t *map, const char *prefix)
+{
+    yaml_node_pair_t *pair;
+    char where[CDSPD_STR + 32];
+    for (pair = map->data.mapping.pairs.start; pair < map->data.mapping.pairs.top; pair++) {
+        yaml_node_t *kn = yaml_document_get_node(w->doc, pair->key);
+        yaml_node_t *vn = yaml_document_get_node(w->doc, pair->value);
+        char name[256];
+        if (!kn || !vn)
+            continue;
+        where_of(w, kn, where, sizeof where);
+        if (kn->type != YAML_SCALAR_NODE) {
+            errf(w->err, w->errlen, "%s: a key must be a plain name", where);
+            return -1;
+        }
+        if ((size_t)snprintf(name, sizeof name, "%s%s%s", prefix, *prefix ? "." : "",
+                             (const char *)kn->data.scalar.value) >= sizeof name) {
+            errf(w->err, w->errlen, "%s: key too long", where);
+            return -1;
+        }
+        if (vn->type == YAML_MAPPING_NODE) {
+            if (!is_section(name)) {
+                errf(w->err, w->errlen, "%s: key '%s' %s", where, name,
+                     find_key(name) ? "takes a value, not a mapping"
+                                    : "is not a section (cdspd --help-keys lists the keys)");
+                return -1;
+            }
+            if (walk_mapping(w, vn, name))
+                return -1;
+        } else if (vn->type == YAML_SEQUENCE_NODE) {
+            const key_def *k = find_key(name);
+            char list[CDSPD_MAX_DEST * (CDSPD_STR + 2)];
+            size_t used = 0;
+            yaml_node_item_t *it;
+            if (!k) {
+                errf(w->err, w->errlen, "%s: unknown key '%s' (cdspd --help-keys lists them)", where,
+                     name);
+                return -1;
+            }
+            if (k->type != K_VEC3 && k->type != K_INT4 && k->type != K_DEST) {
+                errf(w->err, w->errlen, "%s: key '%s': expected %s, got a list", where, name,
+                     type_text(k));
+                return -1;
+            }
+            list[0] = 0;
+            for (it = vn->data.sequence.items.start; it < vn->data.sequence.items.top; it++) {
+                yaml_node_t *in = yaml_document_get_node(w->doc, *it);
+                size_t l;
+                if (!in || in->type != YAML_SCALAR_NODE) {
+                    where_of(w, in ? in : vn, where, sizeof where);
+                    errf(w->err, w->errlen, "%s: key '%s': list items must be plain values", where,
+                         name);
+                    return -1;
+                }
+                l = strlen((const char *)in->data.scalar.value);
+                if (strchr((const char *)in->data.scalar.value, ',') || used + l + 2 > sizeof list) {
+                    errf(w->err, w->errlen, "%s: key '%s': bad list item '%s'", where, name,
+                         (const char *)in->data.scalar.value);
+                    return -1;
+                }
+                if (used)
+                    list[used++] = ',';
+                memcpy(list + used, in->data.scalar.value, l + 1);
+                used += l;
+            }
+            if (cdspd_config_set(w->c, name, list, where, w->err, w->errlen))
+                return -1;
+        } else {
+            where_of(w, vn, where, sizeof where);
+            if (!find_key(name) && is_section(name)) {
+                errf(w->err, w->errlen, "%s: key '%s' is a section: expected a mapping", where, name);
+                return -1;
+            }
+            if (cdspd_config_set(w->c, name, (const char *)vn->data.scalar.value, where, w->err,
+                                 w->errlen))
+                return -1;
+        }
+    }
+    return 0;
+}
+
+int cdspd_config_load_file(cdspd_config *c, const char *path, char *err, size_t errlen)
+{
+    yaml_parser_t parser;
+    yaml_document_t doc;
+    yaml_node_t *root;
+    yaml_walk w;
+    void *text = NULL;
+    size_t len = 0;
+    cdsp_host_err herr;
+    int rc = -1;
+
+    if (strlen(path) >= CDSPD_STR) {
+        errf(err, errlen, "%s: path too long", path);
+        return -1;
+    }
+    if (cdsp_host_read_file(path, CDSP_HOST_YAML_MAX_BYTES, &text, &len, &herr)) {
+        errf(err, errlen, "%s", herr.msg);
+        return -1;
+    }
+    if (!yaml_parser_initialize(&parser)) {
+        free(text);
+        errf(err, errlen, "%s: cannot start the YAML parser", path);
+        return -1;
+    }
+    yaml_parser_set_input_string(&parser, text, len);
+    if (!yaml_parser_load(&parser, &doc)) {
+        errf(err, errlen, "%s:%lu:%lu: YAML syntax error: %s", path,
+             (unsigned long)parser.problem_mark.line + 1, (unsigned long)parser.problem_mark.column + 1,
+             parser.problem ? parser.problem : "unknown");
+        yaml_parser_delete(&parser);
+        free(text);
+        return -1;
+    }
+    root = yaml_document_get_root_node(&doc);
+    w.doc = &doc;
+    w.path = path;
+    w.c = c;
+    w.err = err;
+    w.errlen = errlen;
+    if (!root) {
+        rc = 0; /* an empty file: all defaults */
+    } else if (root->type != YAML_MAPPING_NODE) {
+        errf(err, errlen, "%s:%lu:%lu: expected a mapping of keys (key: value)", path,
+             (unsigned long)root->start_mark.line + 1, (unsigned long)root->start_mark.column + 1);
+    } else {
+        rc = walk_mapping(&w, root, "");
+    }
+    if (rc == 0)
+        strcpy(c->config_file, path);
+    yaml_document_delete(&doc);
+    yaml_parser_delete(&parser);
+    free(text);
+    return rc;
+}
+
+/* ------------------------------------------------------------------------
+ * Destinations.
+ * ---------------------------------------------------------------------- */
+int cdspd_resolve_dest(const char *text, int passive, struct sockaddr_storage *ss, socklen_t *len,
+                       char *err, size_t errlen)
+{
+    char host[CDSPD_STR], port[16];
+    const char *colon;
+    struct addrinfo hints, *res = NULL;
+    long long p = CDSPD_DEFAULT_PORT;
+    int r;
+
+    if (text[0] == '[') {
+        const char *close = strchr(text, ']');
+        if (!close || (close[1] && close[1] != ':') || close - text - 1 <= 0) {
+            errf(err, errlen, "'%s': expected [IPV6]:PORT", text);
+            return -1;
+        }
+        memcpy(host, text + 1, (size_t)(close - text - 1));
+        host[close - text - 1] = 0;
+        colon = close[1] ? close + 1 : NULL;
+    } else {
+        colon = strrchr(text, ':');
+        if (colon && strchr(text, ':') != colon) {
+            errf(err, errlen, "'%s': write IPv6 addresses as [ADDR]:PORT", text);
+            return -1;
+        }
+        if (strlen(text) >= sizeof host) {
+            errf(err, errlen, "'%s': too long", text);
+            return -1;
+        }
+        strcpy(host, text);
+        if (colon)
+            host[colon - text] = 0;
+    }
+    if (colon && (!parse_long(colon + 1, &p) || p < (passive ? 0 : 1) || p > 65535)) {
+        errf(err, errlen, "'%s': port '%s': expected 1..65535", text, colon + 1);
+        return -1;
+    }
+    if (!*host && !passive) {
+        errf(err, errlen, "'%s': no host", text);
+        return -1;
+    }
+    snprintf(port, sizeof port, "%lld", p);
+    memset(&hints, 0, sizeof hints);
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_DGRAM;
+    hints.ai_flags = passive ? AI_PASSIVE : 0;
+    r = getaddrinfo(*host ? host : NULL, port, &hints, &res);
+    if (r || !res) {
+        errf(err, errlen, "'%s': cannot resolve '%s': %s", text, host, r ? gai_strerror(r) : "no address");
+        if (res)
+            freeaddrinfo(res);
+        return -1;
+    }
+    memcpy(ss, res->ai_addr, res->ai_addrlen);
+    *len = res->ai_addrlen;
+    freeaddrinfo(res);
+    return 0;
+}
+
+int cdspd_source_kind_parse(const char *spec, const char **arg)
+{
+    static const struct {
+        const char *name;
+        int kind;
+    } kinds[] = {{"sim", CDSPD_SRC_SIM},
+                 {"file", CDSPD_SRC_FILE},
+                 {"aravis", CDSPD_SRC_ARAVIS},
+                 {"v4l2", CDSPD_SRC_V4L2},
+                 {"libcamera", CDSPD_SRC_LIBCAMERA}};
+    size_t i;
+    for (i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
+        size_t l = strlen(kinds[i].name);
+        if (!strncmp(spec, kinds[i].name, l) && (spec[l] == ':' || !spec[l])) {
+            *arg = spec[l] ? spec + l + 1 : spec + l;
+            return kinds[i].kind;
+        }
+    }
+    *arg = NULL;
+    return -1;
+}
+
+static int mkdir_p(const char *path)
+{
+    char buf[CDSPD_STR];
+    char *p;
+    struct stat st;
+    if (strlen(path) >= sizeof buf)
+        return -1;
+    strcpy(buf, path);
+    for (p = buf + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = 0;
+        if (mkdir(buf, 0755) && errno != EEXIST)
+            return -1;
+        *p = '/';
+    }
+    if (mkdir(buf, 0755) && errno != EEXIST)
+        return -1;
+    if (stat(buf, &st) || !S_ISDIR(st.st_mode)) {
+        errno = ENOTDIR;
+        return -1;
+    }
+    return 0;
+}
+
+int cdspd_config_finish(cdspd_config *c, char *err, size_t errlen)
+{
+    cdsp_host_err herr;
+    const char *arg;
+    int kind, i;
+    double n2;
+
+    kind = cdspd_source_kind_parse(c->source, &arg);
+    if (kind < 0) {
+        errf(err, errlen, "key 'source': unknown source '%s' (expected sim, file:GLOB, "
+             "aravis:[ID], v4l2:DEVICE or libcamera:[ID])", c->source);
+        return -1;
+    }
+    if ((kind == CDSPD_SRC_FILE || kind == CDSPD_SRC_V4L2) && !*arg) {
+        errf(err, errlen, "key 'source': '%s' needs %s after the colon", c->source,
+             kind == CDSPD_SRC_FILE ? "a file name or pattern" : "a device (/dev/videoN)");
+        return -1;
+    }
+    if (kind == CDSPD_SRC_SIM && *arg) {
+        errf(err, errlen, "key 'source': 'sim' takes no argument (got '%s'; the sim.* keys set it up)",
+             c->source);
+        return -1;
+    }
+    if (!*c->calib) {
+        errf(err, errlen, "key 'calib': required: the camera calibration (--calib CAM.yaml)");
+        return -1;
+    }
+    if (!(c->radius > 0)) {
+        errf(err, errlen, "key 'radius': required: the pipe radius, a positive number (--radius R)");
+        return -1;
+    }
+    if (c->n_dest < 1) {
+        errf(err, errlen, "key 'dest': required: at least one HOST:PORT to send poses to (--dest)");
+        return -1;
+    }
+    if (c->retry_min > c->retry_max) {
+        errf(err, errlen, "key 'retry_min': %g is more than retry_max (%g)", c->retry_min, c->retry_max);
+        return -1;
+    }
+    if (c->min_distance > 0 && c->max_distance > 0 && c->min_distance >= c->max_distance) {
+        errf(err, errlen, "key 'solver.min_distance': %g is not below solver.max_distance (%g)",
+             c->min_distance, c->max_distance);
+        return -1;
+    }
+    n2 = c->sim.direction[0] * c->sim.direction[0] + c->sim.direction[1] * c->sim.direction[1] +
+         c->sim.direction[2] * c->sim.direction[2];
+    if (!(n2 > 1e-18)) {
+        errf(err, errlen, "key 'sim.direction': must not be zero");
+        return -1;
+    }
+    if (c->sim.bits % 2) {
+        errf(err, errlen, "key 'sim.bits': expected 8, 10, 12, 14 or 16, got %d", c->sim.bits);
+        return -1;
+    }
+    if (*c->multicast_if) {
+        struct in_addr a;
+        if (inet_pton(AF_INET, c->multicast_if, &a) != 1) {
+            errf(err, errlen, "key 'net.multicast_interface': expected an IPv4 address, got '%s'",
+                 c->multicast_if);
+            return -1;
+        }
+    }
+    if (cdsp_host_calib_read(c->calib, &c->cam, &herr)) {
+        errf(err, errlen, "key 'calib': %s", herr.msg);
+        return -1;
+    }
+    if (c->roi[2] || c->roi[3]) {
+        if (c->roi[0] + c->roi[2] > c->cam.width || c->roi[1] + c->roi[3] > c->cam.height ||
+            !c->roi[2] || !c->roi[3]) {
+            errf(err, errlen, "key 'solver.roi': [%d, %d, %d, %d] is not inside the %dx%d frame of %s",
+                 c->roi[0], c->roi[1], c->roi[2], c->roi[3], c->cam.width, c->cam.height, c->calib);
+            return -1;
+        }
+    }
+    for (i = 0; i < c->n_dest; i++) {
+        cdspd_dest *d = &c->dest[i];
+        char e[CDSPD_STR + 128];
+        if (cdspd_resolve_dest(d->text, 0, &d->addr, &d->addr_len, e, sizeof e)) {
+            errf(err, errlen, "key 'dest': %s", e);
+            return -1;
+        }
+        if (d->addr.ss_family == AF_INET) {
+            uint32_t a = ntohl(((struct sockaddr_in *)&d->addr)->sin_addr.s_addr);
+            d->multicast = (a >> 28) == 14;
+            /* the limited broadcast, or a host part of all ones is a guess:
+             * SO_BROADCAST is set anyway, this only labels the log */
+            d->broadcast = a == 0xFFFFFFFFu || (a & 0xFF) == 0xFF;
+        } else {
+            const struct sockaddr_in6 *s6 = (const struct sockaddr_in6 *)&d->addr;
+            d->multicast = s6->sin6_addr.s6_addr[0] == 0xFF;
+        }
+    }
+    if (*c->record && mkdir_p(c->record)) {
+        errf(err, errlen, "key 'record': cannot create the directory '%s': %s", c->record,
+             strerror(errno));
+        return -1;
+    }
+    if (*c->record && access(c->record, W_OK | X_OK)) {
+        errf(err, errlen, "key 'record': cannot write into '%s': %s", c->record, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+void cdspd_config_params(const cdspd_config *c, cdsp_params *p)
+{
+    cdsp_params_default(p);
+    p->edge.step = c->step;
+    p->edge.half_window = c->half_window;
+    p->edge.min_contrast = (cdsp_real)c->min_contrast;
+    p->edge.roi.x = c->roi[0];
+    p->edge.roi.y = c->roi[1];
+    p->edge.roi.w = c->roi[2];
+    p->edge.roi.h = c->roi[3];
+    p->pair.polarity = c->polarity;
+    p->pair.min_distance = (cdsp_real)c->min_distance;
+    p->pair.max_distance = (cdsp_real)c->max_distance;
+    p->track_band_px = (cdsp_real)c->track_band_px;
+    p->track_min_inliers = c->track_min_inliers;
+}
+
+int cdspd_config_log_level(const cdspd_config *c, int cat)
+{
+    return c->log_cat[cat] >= 0 ? c->log_cat[cat] : c->log_level;
+}
+
+/* ------------------------------------------------------------------------
+ * Dump and help.
+ * ---------------------------------------------------------------------- */
+static void fmt_real(char *buf, size_t n, double v)
+{
+    char tmp[32];
+    cdsp_host_fmt_real(tmp, v);
+    snprintf(buf, n, "%s", tmp);
+}
+
+static void yaml_quote(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"' || *s == '\\')
+            fputc('\\', f);
+        fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+static void dump_value(const cdspd_config *c, const key_def *k, FILE *f)
+{
+    const void *field = (const char *)c + k->off;
+    char b[32];
+    int i;
+    switch (k->type) {
+    case K_STR: yaml_quote(f, field); break;
+    case K_REAL: fmt_real(b, sizeof b, *(const double *)field); fputs(b, f); break;
+    case K_INT: fprintf(f, "%d", *(const int *)field); break;
+    case K_U64: fprintf(f, "%llu", (unsigned long long)*(const uint64_t *)field); break;
+    case K_BOOL: fputs(*(const int *)field ? "true" : "false", f); break;
+    case K_CHOICE: {
+        const char *p = k->choices;
+        int idx = *(const int *)field;
+        for (i = 0; i < idx && p; i++) {
+            p = strchr(p, '|');
+            if (p)
+                p++;
+        }
+        if (p)
+            fprintf(f, "%.*s", (int)(strchr(p, '|') ? (size_t)(strchr(p, '|') - p) : strlen(p)), p);
+        break;
+    }
+    case K_LEVEL: {
+        int lv = *(const int *)field;
+        fputs(lv < 0 ? "default" : cdspd_log_level_name(lv), f);
+        break;
+    }
+    case K_VEC3:
+        fputc('[', f);
+        for (i = 0; i < 3; i++) {
+            fmt_real(b, sizeof b, ((const double *)field)[i]);
+            fprintf(f, "%s%s", i ? ", " : "", b);
+        }
+        fputc(']', f);
+        break;
+    case K_INT4:
+        fprintf(f, "[%d, %d, %d, %d]", ((const int *)field)[0], ((const int *)field)[1],
+                ((const int *)field)[2], ((const int *)field)[3]);
+        break;
+    case K_DEST:
+        fputc('[', f);
+        for (i = 0; i < c->n_dest; i++) {
+            if (i)
+                fputs(", ", f);
+            yaml_quote(f, c->dest[i].text);
+        }
+        fputc(']', f);
+        break;
+    }
+}
+
+void cdspd_config_dump(const cdspd_config *c, FILE *f)
+{
+    size_t i;
+    char section[64] = "";
+    for (i = 0; i < N_KEYS; i++) {
+        const char *dot = strchr(keys[i].name, '.');
+        const char *leaf = keys[i].name;
+        if (dot) {
+            size_t l = (size_t)(dot - keys[i].name);
+            if (strlen(section) != l || strncmp(section, keys[i].name, l)) {
+                snprintf(section, sizeof section, "%.*s", (int)l, keys[i].name);
+                fprintf(f, "%s:\n", section);
+            }
+            leaf = dot + 1;
+        } else {
+            section[0] = 0;
+        }
+        fprintf(f, "%s%s: ", dot ? "  " : "", leaf);
+        dump_value(c, &keys[i], f);
+        fputc('\n', f);
+    }
+}
+
+void cdspd_config_help(FILE *f)
+{
+    size_t i;
+    for (i = 0; i < N_KEYS; i++)
+        fprintf(f, "  %-26s %-16s default %-16s\n      %s\n", keys[i].name, type_text(&keys[i]),
+                *keys[i].def ? keys[i].def : "(none)", keys[i].help);
+}

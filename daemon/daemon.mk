@@ -1,0 +1,122 @@
+# daemon/daemon.mk: cdspd, the capture daemon (docs/cdspd.md), its UDP
+# protocol (docs/protocol.md), the listener (tools/listen.c, built here as
+# build/cdsp_listen until cdsp_tool wires `cdsp_tool listen`), their tests
+# (tests/daemon/) and `make demo`. Names start with daemon_.
+#
+# Optional sources are built when their development package is there
+# (pkg-config): aravis-0.8 (libaravis-dev), libv4l2 (libv4l-dev), libcamera
+# (libcamera-dev); sd_notify with libsystemd (libsystemd-dev).
+
+daemon_DIR := $(BUILD)/daemon
+daemon_BIN := $(BUILD)/cdspd
+daemon_LISTEN_BIN := $(BUILD)/cdsp_listen
+CXX ?= g++
+
+daemon_has = $(shell pkg-config --exists $(1) 2>/dev/null && echo yes)
+# System headers (GLib's are not -pedantic clean): -isystem.
+daemon_sys = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(1) 2>/dev/null))
+
+daemon_PKGS := yaml-0.1 spng json-c
+daemon_DEFS :=
+daemon_SRC := config.c log.c proto.c sim_path.c source.c src_sim.c src_file.c pool.c stats.c \
+              sender.c record.c notify.c pipeline.c
+daemon_CXX_SRC :=
+daemon_LINK := $(CC)
+
+ifeq ($(call daemon_has,aravis-0.8)$(wildcard daemon/src_aravis.c),yesdaemon/src_aravis.c)
+daemon_PKGS += aravis-0.8
+daemon_DEFS += -DCDSPD_HAVE_ARAVIS
+daemon_SRC  += src_aravis.c
+endif
+ifeq ($(call daemon_has,libv4l2)$(wildcard daemon/src_v4l2.c),yesdaemon/src_v4l2.c)
+daemon_PKGS += libv4l2
+daemon_DEFS += -DCDSPD_HAVE_V4L2
+daemon_SRC  += src_v4l2.c
+endif
+ifeq ($(call daemon_has,libcamera)$(wildcard daemon/src_libcamera.cpp),yesdaemon/src_libcamera.cpp)
+daemon_PKGS += libcamera
+daemon_DEFS += -DCDSPD_HAVE_LIBCAMERA
+daemon_CXX_SRC += src_libcamera.cpp
+daemon_LINK := $(CXX)
+endif
+ifeq ($(call daemon_has,libsystemd),yes)
+daemon_PKGS += libsystemd
+daemon_DEFS += -DCDSPD_HAVE_SYSTEMD
+endif
+
+daemon_CFLAGS := $(HOST_CFLAGS) -Itools/common -Idaemon $(daemon_DEFS) $(call daemon_sys,$(daemon_PKGS))
+daemon_CXXFLAGS := -std=c++17 -Wall -Wextra -pedantic -Werror -Wshadow -O2 -g -MMD -MP \
+                   -Iinclude -Idaemon $(daemon_DEFS) $(call daemon_sys,$(daemon_PKGS))
+daemon_LIBS = $(shell pkg-config --libs $(daemon_PKGS) 2>/dev/null || echo -lyaml -lspng -ljson-c) \
+              -lpthread -lm
+
+daemon_OBJ := $(patsubst %.c,$(daemon_DIR)/%.o,$(daemon_SRC)) \
+              $(patsubst %.cpp,$(daemon_DIR)/%.o,$(daemon_CXX_SRC))
+daemon_MAIN_OBJ := $(daemon_DIR)/cdspd.o
+daemon_HOST_LIB := $(BUILD)/libcdsp_host.a
+
+$(daemon_DIR)/%.o: daemon/%.c
+	@mkdir -p $(@D)
+	$(CC) $(daemon_CFLAGS) -c $< -o $@
+
+$(daemon_DIR)/%.o: daemon/%.cpp
+	@mkdir -p $(@D)
+	$(CXX) $(daemon_CXXFLAGS) -c $< -o $@
+
+$(daemon_BIN): $(daemon_MAIN_OBJ) $(daemon_OBJ) $(daemon_HOST_LIB) $(host_LIB)
+	$(daemon_LINK) $(daemon_MAIN_OBJ) $(daemon_OBJ) $(daemon_HOST_LIB) $(host_LIB) $(daemon_LIBS) -o $@
+
+# The listener: tools/listen.c + the protocol decoder. cdsp_tool links
+# $(daemon_LISTEN_OBJS) (and json-c) to offer `cdsp_tool listen`.
+daemon_LISTEN_OBJS := $(daemon_DIR)/listen.o $(daemon_DIR)/proto.o
+$(daemon_DIR)/listen.o: tools/listen.c tools/listen.h daemon/proto.h
+	@mkdir -p $(@D)
+	$(CC) $(daemon_CFLAGS) -Itools -c $< -o $@
+$(daemon_DIR)/listen_main.o: tests/daemon/listen_main.c tools/listen.h
+	@mkdir -p $(@D)
+	$(CC) $(daemon_CFLAGS) -Itools -c $< -o $@
+$(daemon_LISTEN_BIN): $(daemon_DIR)/listen_main.o $(daemon_LISTEN_OBJS) $(daemon_HOST_LIB) $(host_LIB)
+	$(CC) $^ $(daemon_LIBS) -o $@
+
+ALL_TARGETS += $(daemon_BIN) $(daemon_LISTEN_BIN)
+
+-include $(daemon_OBJ:.o=.d) $(daemon_MAIN_OBJ:.o=.d) $(daemon_DIR)/listen.d $(daemon_DIR)/listen_main.d
+
+# --- tests ---------------------------------------------------------------------
+daemon_TDIR := $(BUILD)/tests/daemon
+daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool
+daemon_RX := $(daemon_TDIR)/cdspd_rx
+# The daemon's modules as an archive: a test links the ones it uses.
+daemon_ARCHIVE := $(daemon_DIR)/libcdspd.a
+$(daemon_ARCHIVE): $(daemon_OBJ)
+	rm -f $@ && $(AR) rcs $@ $^
+
+$(daemon_TDIR)/%: tests/daemon/%.c $(daemon_ARCHIVE) $(daemon_HOST_LIB) $(host_LIB)
+	@mkdir -p $(@D)
+	$(daemon_LINK) $(filter-out -MMD -MP,$(daemon_CFLAGS)) -Itests/daemon -Itests/fakecam $< \
+	    $(daemon_ARCHIVE) $(daemon_HOST_LIB) $(host_LIB) $(daemon_LIBS) -lcmocka -o $@
+
+.PHONY: check-daemon check-daemon-unit check-daemon-sim check-daemon-errors
+check-daemon-unit: $(daemon_UNIT)
+	@for t in $(daemon_UNIT); do $(RUN) "daemon/$$(basename $$t)" $$t || exit 1; done
+
+daemon_ENV = CDSPD=$(daemon_BIN) CDSPD_RX=$(daemon_RX) CDSP_LISTEN=$(daemon_LISTEN_BIN) \
+             CDSPD_TMP=$(daemon_TDIR)/tmp
+
+check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_LISTEN_BIN)
+	@$(daemon_ENV) $(RUN) "daemon/sim-e2e" tests/daemon/sim_e2e.sh
+
+check-daemon-errors: $(daemon_BIN) $(daemon_RX)
+	@$(daemon_ENV) $(RUN) "daemon/errors" tests/daemon/errors.sh
+
+check-daemon: check-daemon-unit check-daemon-sim check-daemon-errors
+CHECK_STEPS += check-daemon
+
+# --- demo ------------------------------------------------------------------------
+# cdspd on its simulated camera and the listener beside it, printing poses
+# until Ctrl-C, or for DEMO_SECONDS seconds.
+DEMO_TARGET := daemon-demo
+DEMO_SECONDS ?= 0
+.PHONY: daemon-demo
+daemon-demo: $(daemon_BIN) $(daemon_LISTEN_BIN)
+	@daemon/demo.sh $(daemon_BIN) $(daemon_LISTEN_BIN) $(DEMO_SECONDS)

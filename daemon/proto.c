@@ -1,0 +1,481 @@
+/*
+ * proto.c - see proto.h; the byte layout is the table in docs/protocol.md.
+ * Bytes are written one by one (shifts), so the encoding is little-endian
+ * whatever the host's order; doubles are IEEE 754 binary64 moved through a
+ * uint64_t.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "proto.h"
+
+#include <math.h>
+#include <string.h>
+
+#include <json-c/json.h>
+
+#include "cdsp_host.h"
+
+/* Offsets of the version-1 layout (docs/protocol.md). */
+enum {
+    OFF_MAGIC = 0, OFF_VERSION = 4, OFF_KIND = 5, OFF_LENGTH = 6, OFF_SEQ = 8, OFF_STATUS = 12,
+    OFF_FLAGS = 16, OFF_EDGES = 20, OFF_FRAME = 24, OFF_TCAM = 32, OFF_THOST = 40, OFF_RADIUS = 48,
+    OFF_POINT = 56, OFF_DIR = 80, OFF_DIST = 104, OFF_ALPHA = 112, OFF_LINES = 120,
+    OFF_SEGMENT = 168, OFF_SIG_P = 216, OFF_SIG_D = 240, OFF_SIG_DIST = 264, OFF_RMS = 272,
+    OFF_INLIERS = 288, OFF_PROC = 296, OFF_LAT = 300, OFF_IN = 304, OFF_DROP = 308, OFF_BAD = 312,
+    OFF_RECON = 316, OFF_END = 320
+};
+
+typedef char proto_size_check[OFF_END == CDSPD_PROTO_SIZE ? 1 : -1];
+
+const char *cdspd_status_token(int status)
+{
+    switch (status) {
+    case CDSPD_ST_NO_FRAME: return "no-frame";
+    case CDSPD_ST_SOURCE_DOWN: return "source-down";
+    case CDSPD_ST_BAD_FRAME: return "bad-frame";
+    default:
+        if (status <= 0 && status >= CDSP_E_FORMAT)
+            return cdsp_status_token((cdsp_status)status);
+        return "unknown";
+    }
+}
+
+int cdspd_status_from_token(const char *token, int *status)
+{
+    int s;
+    for (s = 0; s >= CDSP_E_FORMAT; s--)
+        if (!strcmp(token, cdsp_status_token((cdsp_status)s))) {
+            *status = s;
+            return 1;
+        }
+    for (s = CDSPD_ST_NO_FRAME; s >= CDSPD_ST_BAD_FRAME; s--)
+        if (!strcmp(token, cdspd_status_token(s))) {
+            *status = s;
+            return 1;
+        }
+    return 0;
+}
+
+void cdspd_record_set_result(cdspd_record *r, const cdsp_result *res)
+{
+    int i, k;
+    for (i = 0; i < 3; i++) {
+        r->point[i] = (double)res->point[i];
+        r->direction[i] = (double)res->direction[i];
+        r->sigma_point[i] = (double)res->sigma_point[i];
+        r->sigma_direction[i] = (double)res->sigma_direction[i];
+        for (k = 0; k < 2; k++) {
+            r->lines[k][i] = (double)res->lines[k][i];
+            r->segment[k][i] = (double)res->segment[k][i];
+        }
+    }
+    r->distance = (double)res->distance;
+    r->alpha = (double)res->alpha;
+    r->sigma_distance = (double)res->sigma_distance;
+    r->rms[0] = (double)res->rms[0];
+    r->rms[1] = (double)res->rms[1];
+    r->inliers[0] = res->inliers[0];
+    r->inliers[1] = res->inliers[1];
+    r->n_edges = res->n_edges;
+    r->flags &= ~(CDSPD_FLAG_TRACKED | CDSPD_FLAG_FULL_SEARCH | CDSPD_FLAG_TRUNCATED);
+    if (res->flags & CDSP_FLAG_TRACKED)
+        r->flags |= CDSPD_FLAG_TRACKED;
+    if (res->flags & CDSP_FLAG_FULL_SEARCH)
+        r->flags |= CDSPD_FLAG_FULL_SEARCH;
+    if (res->flags & CDSP_FLAG_TRUNCATED)
+        r->flags |= CDSPD_FLAG_TRUNCATED;
+}
+
+void cdspd_record_to_result(const cdspd_record *r, cdsp_result *res)
+{
+    int i, k;
+    memset(res, 0, sizeof *res);
+    for (i = 0; i < 3; i++) {
+        res->point[i] = (cdsp_real)r->point[i];
+        res->direction[i] = (cdsp_real)r->direction[i];
+        res->sigma_point[i] = (cdsp_real)r->sigma_point[i];
+        res->sigma_direction[i] = (cdsp_real)r->sigma_direction[i];
+        for (k = 0; k < 2; k++) {
+            res->lines[k][i] = (cdsp_real)r->lines[k][i];
+            res->segment[k][i] = (cdsp_real)r->segment[k][i];
+        }
+    }
+    res->distance = (cdsp_real)r->distance;
+    res->alpha = (cdsp_real)r->alpha;
+    res->sigma_distance = (cdsp_real)r->sigma_distance;
+    res->rms[0] = (cdsp_real)r->rms[0];
+    res->rms[1] = (cdsp_real)r->rms[1];
+    res->inliers[0] = r->inliers[0];
+    res->inliers[1] = r->inliers[1];
+    res->n_edges = r->n_edges;
+    if (r->flags & CDSPD_FLAG_TRACKED)
+        res->flags |= CDSP_FLAG_TRACKED;
+    if (r->flags & CDSPD_FLAG_FULL_SEARCH)
+        res->flags |= CDSP_FLAG_FULL_SEARCH;
+    if (r->flags & CDSPD_FLAG_TRUNCATED)
+        res->flags |= CDSP_FLAG_TRUNCATED;
+}
+
+/* ------------------------------------------------------------------------
+ * Binary.
+ * ---------------------------------------------------------------------- */
+static void put_u16(uint8_t *p, uint16_t v)
+{
+    p[0] = (uint8_t)v;
+    p[1] = (uint8_t)(v >> 8);
+}
+
+static void put_u32(uint8_t *p, uint32_t v)
+{
+    int i;
+    for (i = 0; i < 4; i++)
+        p[i] = (uint8_t)(v >> (8 * i));
+}
+
+static void put_u64(uint8_t *p, uint64_t v)
+{
+    int i;
+    for (i = 0; i < 8; i++)
+        p[i] = (uint8_t)(v >> (8 * i));
+}
+
+static void put_f64(uint8_t *p, double v)
+{
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    put_u64(p, u);
+}
+
+static void put_f64s(uint8_t *p, const double *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        put_f64(p + 8 * i, v[i]);
+}
+
+static uint16_t get_u16(const uint8_t *p)
+{
+    return (uint16_t)(p[0] | (p[1] << 8));
+}
+
+static uint32_t get_u32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+static uint64_t get_u64(const uint8_t *p)
+{
+    return (uint64_t)get_u32(p) | (uint64_t)get_u32(p + 4) << 32;
+}
+
+static double get_f64(const uint8_t *p)
+{
+    uint64_t u = get_u64(p);
+    double v;
+    memcpy(&v, &u, sizeof v);
+    return v;
+}
+
+static void get_f64s(const uint8_t *p, double *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        v[i] = get_f64(p + 8 * i);
+}
+
+size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
+{
+    if (cap < CDSPD_PROTO_SIZE)
+        return 0;
+    memcpy(b + OFF_MAGIC, CDSPD_PROTO_MAGIC, 4);
+    b[OFF_VERSION] = CDSPD_PROTO_VERSION;
+    b[OFF_KIND] = r->kind;
+    put_u16(b + OFF_LENGTH, CDSPD_PROTO_SIZE);
+    put_u32(b + OFF_SEQ, r->seq);
+    put_u32(b + OFF_STATUS, (uint32_t)r->status);
+    put_u32(b + OFF_FLAGS, r->flags);
+    put_u32(b + OFF_EDGES, r->n_edges);
+    put_u64(b + OFF_FRAME, r->frame_id);
+    put_u64(b + OFF_TCAM, r->t_camera_us);
+    put_u64(b + OFF_THOST, r->t_host_us);
+    put_f64(b + OFF_RADIUS, r->radius);
+    put_f64s(b + OFF_POINT, r->point, 3);
+    put_f64s(b + OFF_DIR, r->direction, 3);
+    put_f64(b + OFF_DIST, r->distance);
+    put_f64(b + OFF_ALPHA, r->alpha);
+    put_f64s(b + OFF_LINES, &r->lines[0][0], 6);
+    put_f64s(b + OFF_SEGMENT, &r->segment[0][0], 6);
+    put_f64s(b + OFF_SIG_P, r->sigma_point, 3);
+    put_f64s(b + OFF_SIG_D, r->sigma_direction, 3);
+    put_f64(b + OFF_SIG_DIST, r->sigma_distance);
+    put_f64s(b + OFF_RMS, r->rms, 2);
+    put_u32(b + OFF_INLIERS, r->inliers[0]);
+    put_u32(b + OFF_INLIERS + 4, r->inliers[1]);
+    put_u32(b + OFF_PROC, r->proc_us);
+    put_u32(b + OFF_LAT, r->latency_us);
+    put_u32(b + OFF_IN, r->frames_in);
+    put_u32(b + OFF_DROP, r->frames_dropped);
+    put_u32(b + OFF_BAD, r->frames_bad);
+    put_u32(b + OFF_RECON, r->reconnects);
+    return CDSPD_PROTO_SIZE;
+}
+
+int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char **why)
+{
+    const char *dummy;
+    uint16_t length;
+    if (!why)
+        why = &dummy;
+    if (len < 8 || memcmp(b, CDSPD_PROTO_MAGIC, 4)) {
+        *why = "not a cdspd datagram (no CDSP magic)";
+        return -1;
+    }
+    if (b[OFF_VERSION] != CDSPD_PROTO_VERSION) {
+        *why = "unsupported protocol version";
+        return -1;
+    }
+    length = get_u16(b + OFF_LENGTH);
+    if (length < CDSPD_PROTO_SIZE || len < length) {
+        *why = "truncated datagram";
+        return -1;
+    }
+    if (b[OFF_KIND] != CDSPD_KIND_FRAME && b[OFF_KIND] != CDSPD_KIND_STATUS) {
+        *why = "unknown record kind";
+        return -1;
+    }
+    memset(r, 0, sizeof *r);
+    r->version = b[OFF_VERSION];
+    r->kind = b[OFF_KIND];
+    r->seq = get_u32(b + OFF_SEQ);
+    r->status = (int32_t)get_u32(b + OFF_STATUS);
+    r->flags = get_u32(b + OFF_FLAGS);
+    r->n_edges = get_u32(b + OFF_EDGES);
+    r->frame_id = get_u64(b + OFF_FRAME);
+    r->t_camera_us = get_u64(b + OFF_TCAM);
+    r->t_host_us = get_u64(b + OFF_THOST);
+    r->radius = get_f64(b + OFF_RADIUS);
+    get_f64s(b + OFF_POINT, r->point, 3);
+    get_f64s(b + OFF_DIR, r->direction, 3);
+    r->distance = get_f64(b + OFF_DIST);
+    r->alpha = get_f64(b + OFF_ALPHA);
+    get_f64s(b + OFF_LINES, &r->lines[0][0], 6);
+    get_f64s(b + OFF_SEGMENT, &r->segment[0][0], 6);
+    get_f64s(b + OFF_SIG_P, r->sigma_point, 3);
+    get_f64s(b + OFF_SIG_D, r->sigma_direction, 3);
+    r->sigma_distance = get_f64(b + OFF_SIG_DIST);
+    get_f64s(b + OFF_RMS, r->rms, 2);
+    r->inliers[0] = get_u32(b + OFF_INLIERS);
+    r->inliers[1] = get_u32(b + OFF_INLIERS + 4);
+    r->proc_us = get_u32(b + OFF_PROC);
+    r->latency_us = get_u32(b + OFF_LAT);
+    r->frames_in = get_u32(b + OFF_IN);
+    r->frames_dropped = get_u32(b + OFF_DROP);
+    r->frames_bad = get_u32(b + OFF_BAD);
+    r->reconnects = get_u32(b + OFF_RECON);
+    return 0;
+}
+
+/* ------------------------------------------------------------------------
+ * JSON.
+ * ---------------------------------------------------------------------- */
+size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
+{
+    cdsp_host_json j;
+    cdsp_result res;
+    const char *text;
+    int ok = r->status == 0 && r->kind == CDSPD_KIND_FRAME;
+
+    cdsp_host_json_init(&j, buf, cap);
+    cdsp_host_json_begin_object(&j);
+    cdsp_host_json_key(&j, "seq");
+    cdsp_host_json_int(&j, r->seq);
+    cdsp_host_json_key(&j, "kind");
+    cdsp_host_json_string(&j, r->kind == CDSPD_KIND_FRAME ? "frame" : "status");
+    cdsp_host_json_key(&j, "frame");
+    cdsp_host_json_int(&j, (long long)r->frame_id);
+    cdsp_host_json_key(&j, "t_camera_us");
+    cdsp_host_json_int(&j, (long long)r->t_camera_us);
+    cdsp_host_json_key(&j, "t_host_us");
+    cdsp_host_json_int(&j, (long long)r->t_host_us);
+    if (ok) {
+        cdspd_record_to_result(r, &res);
+        cdsp_host_json_pose(&j, CDSP_OK, NULL, &res, (cdsp_real)r->radius);
+    } else {
+        /* the token names the status; st only has to be an error */
+        cdsp_host_json_pose(&j, CDSP_E_ARG, cdspd_status_token(r->status), NULL,
+                            (cdsp_real)r->radius);
+        cdsp_host_json_key(&j, "radius");
+        cdsp_host_json_number(&j, r->radius);
+    }
+    cdsp_host_json_key(&j, "source_down");
+    cdsp_host_json_bool(&j, (r->flags & CDSPD_FLAG_SOURCE_DOWN) != 0);
+    cdsp_host_json_key(&j, "recorded");
+    cdsp_host_json_bool(&j, (r->flags & CDSPD_FLAG_RECORDED) != 0);
+    cdsp_host_json_key(&j, "proc_us");
+    cdsp_host_json_int(&j, r->proc_us);
+    cdsp_host_json_key(&j, "latency_us");
+    cdsp_host_json_int(&j, r->latency_us);
+    cdsp_host_json_key(&j, "frames_in");
+    cdsp_host_json_int(&j, r->frames_in);
+    cdsp_host_json_key(&j, "frames_dropped");
+    cdsp_host_json_int(&j, r->frames_dropped);
+    cdsp_host_json_key(&j, "frames_bad");
+    cdsp_host_json_int(&j, r->frames_bad);
+    cdsp_host_json_key(&j, "reconnects");
+    cdsp_host_json_int(&j, r->reconnects);
+    cdsp_host_json_end_object(&j);
+    text = cdsp_host_json_finish(&j);
+    return text ? strlen(text) : 0;
+}
+
+static int jnum(json_object *o, const char *key, double *v)
+{
+    json_object *x;
+    if (!json_object_object_get_ex(o, key, &x))
+        return 0;
+    if (!json_object_is_type(x, json_type_double) && !json_object_is_type(x, json_type_int))
+        return 0;
+    *v = json_object_get_double(x);
+    return 1;
+}
+
+static int jvec(json_object *o, double *v, int n)
+{
+    int i;
+    if (!o || !json_object_is_type(o, json_type_array) || (int)json_object_array_length(o) != n)
+        return 0;
+    for (i = 0; i < n; i++) {
+        json_object *x = json_object_array_get_idx(o, (size_t)i);
+        if (!json_object_is_type(x, json_type_double) && !json_object_is_type(x, json_type_int))
+            return 0;
+        v[i] = json_object_get_double(x);
+    }
+    return 1;
+}
+
+static int jkvec(json_object *o, const char *key, double *v, int n)
+{
+    json_object *x;
+    return json_object_object_get_ex(o, key, &x) && jvec(x, v, n);
+}
+
+static int jmat(json_object *o, const char *key, double m[2][3])
+{
+    json_object *x;
+    if (!json_object_object_get_ex(o, key, &x) || !json_object_is_type(x, json_type_array) ||
+        json_object_array_length(x) != 2)
+        return 0;
+    return jvec(json_object_array_get_idx(x, 0), m[0], 3) && jvec(json_object_array_get_idx(x, 1), m[1], 3);
+}
+
+static int jbool(json_object *o, const char *key)
+{
+    json_object *x;
+    return json_object_object_get_ex(o, key, &x) && json_object_get_boolean(x);
+}
+
+static uint64_t ju64(json_object *o, const char *key, int *ok)
+{
+    json_object *x;
+    if (!json_object_object_get_ex(o, key, &x) || !json_object_is_type(x, json_type_int)) {
+        *ok = 0;
+        return 0;
+    }
+    return (uint64_t)json_object_get_int64(x);
+}
+
+int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const char **why)
+{
+    json_tokener *tok;
+    json_object *o, *x;
+    const char *dummy;
+    double v, in[2];
+    int ok = 1;
+
+    if (!why)
+        why = &dummy;
+    tok = json_tokener_new();
+    if (!tok) {
+        *why = "out of memory";
+        return -1;
+    }
+    o = json_tokener_parse_ex(tok, text, (int)len);
+    json_tokener_free(tok);
+    if (!o || !json_object_is_type(o, json_type_object)) {
+        if (o)
+            json_object_put(o);
+        *why = "not a JSON object";
+        return -1;
+    }
+    memset(r, 0, sizeof *r);
+    r->version = CDSPD_PROTO_VERSION;
+    r->seq = (uint32_t)ju64(o, "seq", &ok);
+    r->frame_id = ju64(o, "frame", &ok);
+    r->t_camera_us = ju64(o, "t_camera_us", &ok);
+    r->t_host_us = ju64(o, "t_host_us", &ok);
+    r->kind = CDSPD_KIND_FRAME;
+    if (json_object_object_get_ex(o, "kind", &x) && !strcmp(json_object_get_string(x), "status"))
+        r->kind = CDSPD_KIND_STATUS;
+    if (!json_object_object_get_ex(o, "status", &x)) {
+        ok = 0;
+    } else if (!strcmp(json_object_get_string(x), "ok")) {
+        r->status = 0;
+        ok = ok && jkvec(o, "point", r->point, 3) && jkvec(o, "direction", r->direction, 3) &&
+             jnum(o, "distance", &r->distance) && jnum(o, "alpha", &r->alpha) &&
+             jmat(o, "lines", r->lines) && jmat(o, "segment", r->segment) &&
+             jkvec(o, "rms", r->rms, 2) && jkvec(o, "inliers", in, 2) && jnum(o, "edges", &v);
+        if (ok) {
+            r->inliers[0] = (uint32_t)in[0];
+            r->inliers[1] = (uint32_t)in[1];
+            r->n_edges = (uint32_t)v;
+        }
+        if (ok && json_object_object_get_ex(o, "sigma", &x)) {
+            ok = jkvec(x, "point", r->sigma_point, 3) && jkvec(x, "direction", r->sigma_direction, 3) &&
+                 jnum(x, "distance", &r->sigma_distance);
+        } else {
+            ok = 0;
+        }
+        if (jbool(o, "tracked"))
+            r->flags |= CDSPD_FLAG_TRACKED;
+        else
+            r->flags |= CDSPD_FLAG_FULL_SEARCH;
+        if (jbool(o, "truncated"))
+            r->flags |= CDSPD_FLAG_TRUNCATED;
+    } else {
+        int st = 0;
+        if (!json_object_object_get_ex(o, "error", &x) ||
+            !cdspd_status_from_token(json_object_get_string(x), &st))
+            ok = 0;
+        r->status = st;
+    }
+    if (jnum(o, "radius", &v))
+        r->radius = v;
+    if (jbool(o, "source_down"))
+        r->flags |= CDSPD_FLAG_SOURCE_DOWN;
+    if (jbool(o, "recorded"))
+        r->flags |= CDSPD_FLAG_RECORDED;
+    r->proc_us = (uint32_t)ju64(o, "proc_us", &ok);
+    r->latency_us = (uint32_t)ju64(o, "latency_us", &ok);
+    r->frames_in = (uint32_t)ju64(o, "frames_in", &ok);
+    r->frames_dropped = (uint32_t)ju64(o, "frames_dropped", &ok);
+    r->frames_bad = (uint32_t)ju64(o, "frames_bad", &ok);
+    r->reconnects = (uint32_t)ju64(o, "reconnects", &ok);
+    json_object_put(o);
+    if (!ok) {
+        *why = "JSON record lacks a field or has one of the wrong type";
+        return -1;
+    }
+    return 0;
+}
+
+int cdspd_proto_decode_any(const uint8_t *buf, size_t len, cdspd_record *r, int *is_json,
+                           const char **why)
+{
+    if (len > 0 && buf[0] == '{') {
+        if (is_json)
+            *is_json = 1;
+        return cdspd_proto_decode_json((const char *)buf, len, r, why);
+    }
+    if (is_json)
+        *is_json = 0;
+    return cdspd_proto_decode(buf, len, r, why);
+}

@@ -1,0 +1,102 @@
+/*
+ * proto.h - the datagrams cdspd sends (docs/protocol.md is the reference):
+ * one record per processed frame, or a status record when no frame came.
+ * Binary: a fixed little-endian layout of CDSPD_PROTO_SIZE bytes starting
+ * with the magic "CDSP" and a version byte. JSON: one object with the field
+ * names of `cdsp_tool solve` plus the daemon's (seq, t_camera_us, ...).
+ *
+ * Encoding never allocates (the daemon encodes every frame); the decoders
+ * are for receivers (cdsp_tool listen, the tests). The JSON decoder uses
+ * json-c.
+ */
+#ifndef CDSPD_PROTO_H
+#define CDSPD_PROTO_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "cdsp.h"
+
+#define CDSPD_PROTO_MAGIC "CDSP"
+#define CDSPD_PROTO_VERSION 1
+#define CDSPD_PROTO_SIZE 320     /* bytes of a version-1 record */
+
+/* kind */
+#define CDSPD_KIND_FRAME 1       /* the result of one frame */
+#define CDSPD_KIND_STATUS 2      /* no frame: the source is quiet or lost */
+
+/* Statuses beyond cdsp_status (which are 0 .. -8). */
+#define CDSPD_ST_NO_FRAME (-100)    /* no frame for status_interval, source open */
+#define CDSPD_ST_SOURCE_DOWN (-101) /* the source is lost; cdspd is reopening it */
+#define CDSPD_ST_BAD_FRAME (-102)   /* a frame cdspd cannot use (size, format) */
+
+/* flags */
+#define CDSPD_FLAG_TRACKED 0x0001u     /* found in the bands around the previous result */
+#define CDSPD_FLAG_FULL_SEARCH 0x0002u /* searched the whole frame / ROI */
+#define CDSPD_FLAG_TRUNCATED 0x0004u   /* more edges than the library keeps */
+#define CDSPD_FLAG_SOURCE_DOWN 0x0008u /* the source is being reopened */
+#define CDSPD_FLAG_RECORDED 0x0010u    /* this frame was saved by --record */
+
+typedef struct {
+    uint8_t version;
+    uint8_t kind;
+    uint32_t seq;              /* datagrams sent by this daemon run, from 0, +1 each */
+    int32_t status;            /* 0 ok, cdsp_status < 0, or CDSPD_ST_* */
+    uint32_t flags;
+    uint64_t frame_id;         /* the source's frame number (GVSP block id, V4L2 sequence, ...) */
+    uint64_t t_camera_us;      /* the source's timestamp, us (its own clock; 0 = none) */
+    uint64_t t_host_us;        /* host CLOCK_MONOTONIC, us, when the frame was ready */
+    double radius;
+    /* meaningful when status == 0, zero otherwise */
+    double point[3];           /* P_C, camera frame */
+    double direction[3];       /* v_L, unit */
+    double distance;           /* |P_C| */
+    double alpha;              /* angle between the tangent planes, rad */
+    double lines[2][3];        /* the contours, undistorted px */
+    double segment[2][3];      /* visible axis segment */
+    double sigma_point[3], sigma_direction[3], sigma_distance;
+    double rms[2];
+    uint32_t inliers[2];
+    uint32_t n_edges;
+    /* always */
+    uint32_t proc_us;          /* solve time */
+    uint32_t latency_us;       /* frame ready -> this datagram encoded */
+    uint32_t frames_in;        /* frames captured (complete) since start */
+    uint32_t frames_dropped;   /* frames replaced in the pool before processing */
+    uint32_t frames_bad;       /* incomplete or unusable frames skipped */
+    uint32_t reconnects;       /* times the source was reopened */
+} cdspd_record;
+
+/* Short stable token of a status: the library's (cdsp_status_token) or
+ * "no-frame", "source-down", "bad-frame"; "unknown" otherwise. */
+const char *cdspd_status_token(int status);
+/* Inverse; returns 1 and sets *status when known. */
+int cdspd_status_from_token(const char *token, int *status);
+
+/* Fill a record's pose fields from a library result (status OK). */
+void cdspd_record_set_result(cdspd_record *r, const cdsp_result *res);
+/* The inverse, for cdsp_host_json_pose: a cdsp_result with the fields the
+ * record carries (covariance and labels zero). */
+void cdspd_record_to_result(const cdspd_record *r, cdsp_result *res);
+
+/* Binary: writes CDSPD_PROTO_SIZE bytes; returns that, or 0 if cap is
+ * smaller. */
+size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *buf, size_t cap);
+
+/* Binary: 0 and *r filled, or -1 with *why set ("bad magic", ...).
+ * Accepts version 1 records of CDSPD_PROTO_SIZE bytes or longer (later
+ * additions append fields). */
+int cdspd_proto_decode(const uint8_t *buf, size_t len, cdspd_record *r, const char **why);
+
+/* JSON (no trailing newline, NUL-terminated): returns the length, or 0 if
+ * cap is too small. */
+size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap);
+
+/* JSON decoder (json-c): 0 or -1 with *why. */
+int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const char **why);
+
+/* Either: binary if it starts with the magic, JSON if with '{'. */
+int cdspd_proto_decode_any(const uint8_t *buf, size_t len, cdspd_record *r, int *is_json,
+                           const char **why);
+
+#endif

@@ -1,0 +1,89 @@
+/*
+ * source.h - what every frame source (src_*.c) provides to the capture
+ * thread: open, grab a frame into a caller buffer, close. One source per
+ * file; cdspd_source_new() picks one by the source key's prefix.
+ *
+ * Threads: all calls of one source come from the capture thread, except
+ * that cdspd_source_new/free run on the main thread while no capture thread
+ * exists. Sources may run threads of their own (Aravis's heartbeat,
+ * libcamera's event loop) and must hand their results over safely.
+ */
+#ifndef CDSPD_SOURCE_H
+#define CDSPD_SOURCE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "config.h"
+
+/* A frame buffer of the pool. The source writes pixels (8-bit: one byte per
+ * pixel; 9..16 bits: two bytes, native order, values < 2^bits) and the
+ * fields; the pipeline sets t_ready_us. */
+typedef struct {
+    uint8_t *data;
+    size_t cap;            /* bytes of data */
+    int width, height, bits;
+    size_t stride;
+    uint64_t frame_id;     /* the source's frame number */
+    uint64_t t_camera_us;  /* the source's timestamp, us; 0 = none */
+    uint64_t t_ready_us;   /* host CLOCK_MONOTONIC when it was ready */
+} cdspd_frame;
+
+/* grab() results */
+enum {
+    CDSPD_GRAB_FRAME = 1,    /* *f holds a frame */
+    CDSPD_GRAB_TIMEOUT = 0,  /* nothing yet (not an error) */
+    CDSPD_GRAB_LOST = -1,    /* the device is gone: close, then reopen with back-off */
+    CDSPD_GRAB_END = -2,     /* no more frames ever (file source at its end) */
+    CDSPD_GRAB_BAD = -3      /* a frame arrived but cannot be used (incomplete...): counted */
+};
+
+/* open() results */
+enum {
+    CDSPD_OPEN_OK = 0,
+    CDSPD_OPEN_RETRY = -1,   /* not there (yet): camera not found, device busy */
+    CDSPD_OPEN_FATAL = -2    /* will not work whatever the wait: wrong format, bad argument */
+};
+
+typedef struct cdspd_source cdspd_source;
+
+typedef struct {
+    const char *kind;
+    /* err gets one line naming the source and the problem. */
+    int (*open)(cdspd_source *s, char *err, size_t errlen);
+    /* Waits up to timeout_ms for a frame; fills f (f->cap bytes at f->data). */
+    int (*grab)(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *err, size_t errlen);
+    void (*close)(cdspd_source *s);
+    void (*destroy)(cdspd_source *s);   /* frees priv; after close */
+} cdspd_source_ops;
+
+struct cdspd_source {
+    const cdspd_source_ops *ops;
+    const cdspd_config *cfg;
+    const char *arg;       /* after "kind:" in cfg->source */
+    void *priv;
+    volatile int *stop;    /* set by the pipeline to abort long waits */
+};
+
+/* A source for cfg->source (not opened), or NULL with err: kind not built
+ * in (exit status 2) or out of memory. */
+cdspd_source *cdspd_source_new(const cdspd_config *cfg, char *err, size_t errlen);
+void cdspd_source_free(cdspd_source *s);
+
+/* Whether a kind was built in; the error text when not. */
+int cdspd_source_available(int kind, const char **why);
+
+/* Each source's constructor: fills s->ops and s->priv. 0 or -1 with err. */
+int cdspd_src_sim_init(cdspd_source *s, char *err, size_t errlen);
+int cdspd_src_file_init(cdspd_source *s, char *err, size_t errlen);
+int cdspd_src_aravis_init(cdspd_source *s, char *err, size_t errlen);
+int cdspd_src_v4l2_init(cdspd_source *s, char *err, size_t errlen);
+int cdspd_src_libcamera_init(cdspd_source *s, char *err, size_t errlen);
+
+/* Helpers for sources. */
+uint64_t cdspd_now_us(void);                 /* CLOCK_MONOTONIC, us */
+/* Sleep until CLOCK_MONOTONIC reaches t_us, at most max_ms, waking early if
+ * *stop is set. Returns 1 when t_us was reached. */
+int cdspd_sleep_until(uint64_t t_us, int max_ms, volatile int *stop);
+
+#endif

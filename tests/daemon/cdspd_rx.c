@@ -1,0 +1,475 @@
+/*
+ * cdspd_rx - the test receiver of cdspd's end-to-end tests: receives the
+ * datagrams on loopback (or any address given), decodes them with
+ * daemon/proto.c and checks them:
+ *   - sequence numbers continuous (no datagram lost or repeated);
+ *   - every pose against the ground truth of its frame: the sim source's
+ *     (sim_path.h, from the same configuration the daemon read) or the fake
+ *     GigE camera's (tests/fakecam/fakecam_path.h);
+ *   - in-view frames give a pose, out-of-view frames give no pipe;
+ *   - counts of statuses by token, bounds given on the command line.
+ *
+ * Tolerance of a pose (as tests/lib/test_frame.c): |P_C - truth foot| <=
+ * 6 sigma (the solver's own, from the datagram) + d delta (1/f + 2/w), with
+ * delta = 0.12 px the edge detector's shading bias measured for libcdsp's
+ * default light (README "Accuracy"; 0 for flat light, ambient = 1): a
+ * contour shifted by delta px moves the axis by d delta / f sideways and
+ * d 2 delta / w in depth, w the pipe's width in px. Direction: 6 sigma +
+ * 4 delta / w rad.
+ *
+ * Usage: cdspd_rx [options] (--help). Prints a summary; exit 0 when every
+ * check passed, 1 when one failed, 2 usage.
+ */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
+#include "cdsp.h"
+#include "cdsp_host.h"
+#include "config.h"
+#include "fakecam_path.h"
+#include "proto.h"
+#include "sim_path.h"
+
+#define MAX_SETS 32
+
+typedef struct {
+    const char *bind_text, *port_file, *config, *calib;
+    const char *sets[MAX_SETS];
+    int n_sets;
+    enum { TRUTH_NONE, TRUTH_SIM, TRUTH_FAKECAM } truth;
+    unsigned cycle;
+    double duration, idle;
+    long count, min_poses, min_status, max_status;
+    const char *expect_status;  /* at least one status datagram with this token */
+    long min_expect;
+    double min_ok_ratio;        /* of frames whose pipe is in view */
+    double delta_px;
+    int allow_seq_gaps, verbose, json_expected;
+    long min_reconnects, min_bad, max_dropped;
+    double resume_within;       /* after a source-down status: a pose within this many s */
+} rx_options;
+
+static volatile sig_atomic_t rx_stop;
+static void on_signal(int s)
+{
+    (void)s;
+    rx_stop = 1;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void usage(FILE *f, int st)
+{
+    fprintf(f,
+            "usage: cdspd_rx [options]\n"
+            "  --bind ADDR:PORT       where to listen (default 127.0.0.1:0)\n"
+            "  --port-file FILE       write the bound port there once listening\n"
+            "  --truth sim|fakecam|none  ground truth of the frames (default none)\n"
+            "  --config FILE --set K=V --calib FILE  the daemon's configuration (truth sim)\n"
+            "  --cycle N              the fake camera's --cycle\n"
+            "  --duration S           stop after S seconds (default 10)\n"
+            "  --idle S               stop after S seconds without a datagram once some came\n"
+            "  --count N              stop after N datagrams\n"
+            "  --min-poses N          at least N poses checked (default 1)\n"
+            "  --min-ok-ratio R       of in-view frames at least R gave a pose (default 1)\n"
+            "  --expect-status TOKEN  at least --min-expect (default 1) status datagrams with TOKEN\n"
+            "  --min-status N / --max-status N  bounds on all non-pose datagrams\n"
+            "  --min-reconnects N --min-bad N --max-dropped N  bounds on the daemon's counters\n"
+            "  --resume-within S      after a source-down, poses must resume within S seconds\n"
+            "  --delta PX             shading allowance (default 0.12)\n"
+            "  --allow-seq-gaps       do not fail on missing sequence numbers\n"
+            "  --json                 datagrams must be JSON\n"
+            "  -v                     one line per datagram\n");
+    exit(st);
+}
+
+static double num(const char *opt, const char *s)
+{
+    char *end;
+    double v;
+    errno = 0;
+    v = strtod(s, &end);
+    if (end == s || *end || errno || !isfinite(v)) {
+        fprintf(stderr, "cdspd_rx: %s '%s': expected a number\n", opt, s);
+        exit(2);
+    }
+    return v;
+}
+
+static void parse(int argc, char **argv, rx_options *o)
+{
+    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS };
+    static const struct option lo[] = {
+        {"bind", 1, NULL, B}, {"port-file", 1, NULL, PF}, {"truth", 1, NULL, TR},
+        {"config", 1, NULL, CF}, {"set", 1, NULL, ST}, {"calib", 1, NULL, CA},
+        {"cycle", 1, NULL, CY}, {"duration", 1, NULL, DU}, {"idle", 1, NULL, ID},
+        {"count", 1, NULL, CO}, {"min-poses", 1, NULL, MP}, {"min-ok-ratio", 1, NULL, MR},
+        {"expect-status", 1, NULL, ES}, {"min-expect", 1, NULL, ME}, {"min-status", 1, NULL, MS},
+        {"max-status", 1, NULL, XS}, {"min-reconnects", 1, NULL, MRC}, {"min-bad", 1, NULL, MB},
+        {"max-dropped", 1, NULL, MD}, {"resume-within", 1, NULL, RW}, {"delta", 1, NULL, DL},
+        {"allow-seq-gaps", 0, NULL, SG}, {"json", 0, NULL, JS}, {"help", 0, NULL, 'h'},
+        {NULL, 0, NULL, 0}};
+    int c;
+    memset(o, 0, sizeof *o);
+    o->bind_text = "127.0.0.1:0";
+    o->duration = 10;
+    o->min_poses = 1;
+    o->min_ok_ratio = 1;
+    o->max_status = -1;
+    o->max_dropped = -1;
+    o->min_expect = 1;
+    o->delta_px = 0.12;
+    while ((c = getopt_long(argc, argv, "vh", lo, NULL)) != -1) {
+        switch (c) {
+        case B: o->bind_text = optarg; break;
+        case PF: o->port_file = optarg; break;
+        case TR:
+            if (!strcmp(optarg, "sim"))
+                o->truth = TRUTH_SIM;
+            else if (!strcmp(optarg, "fakecam"))
+                o->truth = TRUTH_FAKECAM;
+            else if (!strcmp(optarg, "none"))
+                o->truth = TRUTH_NONE;
+            else
+                usage(stderr, 2);
+            break;
+        case CF: o->config = optarg; break;
+        case ST:
+            if (o->n_sets == MAX_SETS)
+                usage(stderr, 2);
+            o->sets[o->n_sets++] = optarg;
+            break;
+        case CA: o->calib = optarg; break;
+        case CY: o->cycle = (unsigned)num("--cycle", optarg); break;
+        case DU: o->duration = num("--duration", optarg); break;
+        case ID: o->idle = num("--idle", optarg); break;
+        case CO: o->count = (long)num("--count", optarg); break;
+        case MP: o->min_poses = (long)num("--min-poses", optarg); break;
+        case MR: o->min_ok_ratio = num("--min-ok-ratio", optarg); break;
+        case ES: o->expect_status = optarg; break;
+        case ME: o->min_expect = (long)num("--min-expect", optarg); break;
+        case MS: o->min_status = (long)num("--min-status", optarg); break;
+        case XS: o->max_status = (long)num("--max-status", optarg); break;
+        case MRC: o->min_reconnects = (long)num("--min-reconnects", optarg); break;
+        case MB: o->min_bad = (long)num("--min-bad", optarg); break;
+        case MD: o->max_dropped = (long)num("--max-dropped", optarg); break;
+        case RW: o->resume_within = num("--resume-within", optarg); break;
+        case DL: o->delta_px = num("--delta", optarg); break;
+        case SG: o->allow_seq_gaps = 1; break;
+        case JS: o->json_expected = 1; break;
+        case 'v': o->verbose = 1; break;
+        case 'h': usage(stdout, 0); break;
+        default: usage(stderr, 2);
+        }
+    }
+    if (optind < argc)
+        usage(stderr, 2);
+}
+
+/* Ground truth of a frame: 1 and the foot of the perpendicular + unit
+ * direction when the pipe is in view, 0 when not. */
+static int truth_of(const rx_options *o, const cdspd_config *c, uint64_t frame, double foot[3],
+                    double dir[3])
+{
+    double p[3], t;
+    int i, in_view = 1;
+    if (o->truth == TRUTH_SIM)
+        in_view = cdspd_sim_pose(c, cdspd_sim_slot(c, frame), p, dir);
+    else
+        fakecam_pose(frame, o->cycle, p, dir);
+    t = p[0] * dir[0] + p[1] * dir[1] + p[2] * dir[2];
+    for (i = 0; i < 3; i++)
+        foot[i] = p[i] - t * dir[i];
+    return in_view;
+}
+
+static double norm3(const double a[3])
+{
+    return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
+
+int main(int argc, char **argv)
+{
+    rx_options o;
+    static cdspd_config cfg;
+    cdsp_camera cam;
+    char err[2048];
+    int fd, i, fails = 0;
+    struct sockaddr_storage ss;
+    socklen_t sl;
+    struct sigaction sa;
+    static uint8_t buf[65536];
+    double t0, t_last = 0, worst_ratio = 0, worst_dir_ratio = 0, t_down = -1, worst_resume = 0;
+    long received = 0, poses = 0, statuses = 0, expect_hits = 0, in_view = 0, in_view_ok = 0;
+    long gaps = 0, seq_errors = 0, away_poses = 0, bad_decode = 0, tracked = 0;
+    long status_by[8] = {0};
+    const char *status_names[8] = {"no-pipe", "few-points", "no-frame", "source-down", "bad-frame",
+                                   "degenerate", "other", "json-mismatch"};
+    uint32_t last_seq = 0, max_reconnects = 0, max_bad = 0, max_dropped = 0;
+    uint64_t first_frame = 0, last_frame = 0;
+    int have_seq = 0, have_frame = 0;
+    double f_px;
+
+    parse(argc, argv, &o);
+    cdspd_config_defaults(&cfg);
+    if (o.config && cdspd_config_load_file(&cfg, o.config, err, sizeof err)) {
+        fprintf(stderr, "cdspd_rx: %s\n", err);
+        return 2;
+    }
+    for (i = 0; i < o.n_sets; i++) {
+        char kv[1200], *eq;
+        snprintf(kv, sizeof kv, "%s", o.sets[i]);
+        eq = strchr(kv, '=');
+        if (!eq || (*eq = 0, cdspd_config_set(&cfg, kv, eq + 1, "--set", err, sizeof err))) {
+            fprintf(stderr, "cdspd_rx: --set %s: %s\n", o.sets[i], eq ? err : "expected K=V");
+            return 2;
+        }
+    }
+    if (o.calib)
+        snprintf(cfg.calib, sizeof cfg.calib, "%s", o.calib);
+    memset(&cam, 0, sizeof cam);
+    if (o.truth == TRUTH_FAKECAM) {
+        cam.fx = 0; /* read from the datagrams' frames: the test passes --calib */
+    }
+    if (*cfg.calib) {
+        cdsp_host_err herr;
+        if (cdsp_host_calib_read(cfg.calib, &cam, &herr)) {
+            fprintf(stderr, "cdspd_rx: %s\n", herr.msg);
+            return 2;
+        }
+    } else if (o.truth != TRUTH_NONE) {
+        fprintf(stderr, "cdspd_rx: a truth needs the calibration (--calib or the config's calib)\n");
+        return 2;
+    }
+    f_px = (double)cam.fx;
+
+    if (cdspd_resolve_dest(o.bind_text, 1, &ss, &sl, err, sizeof err)) {
+        fprintf(stderr, "cdspd_rx: --bind %s\n", err);
+        return 2;
+    }
+    fd = socket(ss.ss_family, SOCK_DGRAM, 0);
+    {
+        int one = 1, rcv = 8 << 20;
+        setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+        setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcv, sizeof rcv);
+    }
+    if (fd < 0 || bind(fd, (struct sockaddr *)&ss, sl)) {
+        fprintf(stderr, "cdspd_rx: cannot bind %s: %s\n", o.bind_text, strerror(errno));
+        return 2;
+    }
+    if (ss.ss_family == AF_INET && (ntohl(((struct sockaddr_in *)&ss)->sin_addr.s_addr) >> 28) == 14) {
+        struct ip_mreq m;
+        m.imr_multiaddr = ((struct sockaddr_in *)&ss)->sin_addr;
+        m.imr_interface.s_addr = htonl(INADDR_LOOPBACK);
+        if (setsockopt(fd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &m, sizeof m)) {
+            fprintf(stderr, "cdspd_rx: cannot join %s: %s\n", o.bind_text, strerror(errno));
+            return 2;
+        }
+    }
+    if (o.port_file) {
+        struct sockaddr_storage got;
+        socklen_t gl = sizeof got;
+        FILE *pf;
+        getsockname(fd, (struct sockaddr *)&got, &gl);
+        pf = fopen(o.port_file, "w");
+        if (!pf) {
+            fprintf(stderr, "cdspd_rx: --port-file %s: %s\n", o.port_file, strerror(errno));
+            return 2;
+        }
+        fprintf(pf, "%u\n", (unsigned)ntohs(((struct sockaddr_in *)&got)->sin_port));
+        fclose(pf);
+    }
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+
+    t0 = now_s();
+    while (!rx_stop && now_s() - t0 < o.duration && (o.count == 0 || received < o.count)) {
+        struct pollfd pfd = {fd, POLLIN, 0};
+        cdspd_record r;
+        const char *why;
+        int is_json;
+        ssize_t n;
+        double t;
+        if (o.idle > 0 && received && now_s() - t_last > o.idle)
+            break;
+        if (poll(&pfd, 1, 100) <= 0)
+            continue;
+        n = recv(fd, buf, sizeof buf - 1, 0);
+        if (n <= 0)
+            continue;
+        buf[n] = 0;
+        t = now_s();
+        t_last = t;
+        received++;
+        if (cdspd_proto_decode_any(buf, (size_t)n, &r, &is_json, &why)) {
+            fprintf(stderr, "cdspd_rx: FAIL: datagram %ld (%zd bytes): %s\n", received, n, why);
+            bad_decode++;
+            continue;
+        }
+        if (is_json != o.json_expected) {
+            fprintf(stderr, "cdspd_rx: FAIL: datagram seq %lu is %s\n", (unsigned long)r.seq,
+                    is_json ? "JSON" : "binary");
+            status_by[7]++;
+        }
+        if (have_seq && r.seq != last_seq + 1u) {
+            if (r.seq > last_seq + 1u)
+                gaps += r.seq - last_seq - 1u;
+            else
+                seq_errors++;
+            if (!o.allow_seq_gaps)
+                fprintf(stderr, "cdspd_rx: FAIL: seq %lu after %lu\n", (unsigned long)r.seq,
+                        (unsigned long)last_seq);
+        }
+        last_seq = r.seq;
+        have_seq = 1;
+        if (r.reconnects > max_reconnects)
+            max_reconnects = r.reconnects;
+        if (r.frames_bad > max_bad)
+            max_bad = r.frames_bad;
+        if (r.frames_dropped > max_dropped)
+            max_dropped = r.frames_dropped;
+        if (r.kind == CDSPD_KIND_STATUS || r.status != 0) {
+            const char *tok = cdspd_status_token(r.status);
+            int k;
+            statuses++;
+            for (k = 0; k < 6; k++)
+                if (!strcmp(tok, status_names[k]))
+                    break;
+            status_by[k]++;
+            if (o.expect_status && !strcmp(tok, o.expect_status))
+                expect_hits++;
+            if (r.status == CDSPD_ST_SOURCE_DOWN && t_down < 0)
+                t_down = t;
+        }
+        if (r.kind == CDSPD_KIND_FRAME) {
+            if (!have_frame)
+                first_frame = r.frame_id;
+            have_frame = 1;
+            last_frame = r.frame_id;
+        }
+        if (r.kind == CDSPD_KIND_FRAME && r.status == 0 && t_down >= 0) {
+            if (t - t_down > worst_resume)
+                worst_resume = t - t_down;
+            t_down = -1;
+        }
+        if (o.verbose)
+            printf("seq %lu kind %d frame %llu status %s flags %x P_C %.3f %.3f %.3f\n",
+                   (unsigned long)r.seq, r.kind, (unsigned long long)r.frame_id,
+                   cdspd_status_token(r.status), (unsigned)r.flags, r.point[0], r.point[1], r.point[2]);
+        if (r.kind != CDSPD_KIND_FRAME || o.truth == TRUTH_NONE || r.status == CDSPD_ST_BAD_FRAME)
+            continue;
+        {
+            double foot[3], dir[3], got[3], gdir[3], e[3], err_p, sig = 0, sigd = 0, d, w, allow,
+                   c[3], ang, allow_d;
+            int view = truth_of(&o, &cfg, r.frame_id, foot, dir), k;
+            if (!view) {
+                if (r.status == 0) {
+                    away_poses++;
+                    fprintf(stderr, "cdspd_rx: FAIL: frame %llu: a pose, but the pipe is out of view\n",
+                            (unsigned long long)r.frame_id);
+                }
+                continue;
+            }
+            in_view++;
+            if (r.status != 0)
+                continue;
+            in_view_ok++;
+            poses++;
+            if (r.flags & CDSPD_FLAG_TRACKED)
+                tracked++;
+            for (k = 0; k < 3; k++) {
+                got[k] = r.point[k];
+                gdir[k] = r.direction[k];
+                e[k] = got[k] - foot[k];
+                sig += r.sigma_point[k] * r.sigma_point[k];
+                sigd += r.sigma_direction[k] * r.sigma_direction[k];
+            }
+            err_p = norm3(e);
+            d = norm3(foot);
+            w = 2 * f_px * r.radius / d;
+            allow = 6 * sqrt(sig) + d * o.delta_px * (1 / f_px + 2 / w) + 1e-9 * d;
+            c[0] = gdir[1] * dir[2] - gdir[2] * dir[1];
+            c[1] = gdir[2] * dir[0] - gdir[0] * dir[2];
+            c[2] = gdir[0] * dir[1] - gdir[1] * dir[0];
+            ang = atan2(norm3(c), fabs(gdir[0] * dir[0] + gdir[1] * dir[1] + gdir[2] * dir[2]));
+            allow_d = 6 * sqrt(sigd) + 4 * o.delta_px / w + 1e-7;
+            if (err_p / allow > worst_ratio)
+                worst_ratio = err_p / allow;
+            if (ang / allow_d > worst_dir_ratio)
+                worst_dir_ratio = ang / allow_d;
+            if (err_p > allow || ang > allow_d)
+                fprintf(stderr, "cdspd_rx: FAIL: frame %llu: P_C off by %.4f (allowed %.4f: sigma "
+                        "%.4f, d %.1f), direction off by %.5f rad (allowed %.5f)\n",
+                        (unsigned long long)r.frame_id, err_p, allow, sqrt(sig), d, ang, allow_d);
+        }
+    }
+
+    printf("cdspd_rx: %ld datagrams (%ld undecodable), seq gaps %ld, seq out of order %ld; frames "
+           "%llu..%llu; poses %ld (%ld tracked), statuses %ld:", received, bad_decode, gaps, seq_errors,
+           (unsigned long long)first_frame, (unsigned long long)last_frame, poses, tracked, statuses);
+    for (i = 0; i < 8; i++)
+        if (status_by[i])
+            printf(" %s %ld", status_names[i], status_by[i]);
+    printf("; daemon counters: reconnects %lu, bad %lu, dropped %lu\n", (unsigned long)max_reconnects,
+           (unsigned long)max_bad, (unsigned long)max_dropped);
+    if (o.truth != TRUTH_NONE)
+        printf("cdspd_rx: in-view frames %ld, with a pose %ld; worst error / tolerance: point %.3f, "
+               "direction %.3f\n", in_view, in_view_ok, worst_ratio, worst_dir_ratio);
+
+#define CHECK(cond, ...)                                                                          \
+    do {                                                                                          \
+        if (!(cond)) {                                                                            \
+            fprintf(stderr, "cdspd_rx: FAIL: " __VA_ARGS__);                                      \
+            fputc('\n', stderr);                                                                  \
+            fails++;                                                                              \
+        }                                                                                         \
+    } while (0)
+    CHECK(received > 0, "no datagram received");
+    CHECK(bad_decode == 0, "%ld datagrams could not be decoded", bad_decode);
+    CHECK(status_by[7] == 0, "datagrams in the wrong format");
+    CHECK(o.allow_seq_gaps || (gaps == 0 && seq_errors == 0), "sequence numbers not continuous "
+          "(%ld missing, %ld out of order)", gaps, seq_errors);
+    CHECK(worst_ratio <= 1 && worst_dir_ratio <= 1, "poses outside their tolerance");
+    CHECK(away_poses == 0, "%ld poses for frames without a pipe in view", away_poses);
+    CHECK(o.truth == TRUTH_NONE || poses >= o.min_poses, "%ld poses checked, fewer than %ld", poses,
+          o.min_poses);
+    CHECK(o.truth == TRUTH_NONE || in_view == 0 || (double)in_view_ok >= o.min_ok_ratio * (double)in_view,
+          "%ld of %ld in-view frames gave a pose (ratio below %g)", in_view_ok, in_view, o.min_ok_ratio);
+    CHECK(!o.expect_status || expect_hits >= o.min_expect, "%ld '%s' statuses, expected at least %ld",
+          expect_hits, o.expect_status ? o.expect_status : "", o.min_expect);
+    CHECK(statuses >= o.min_status, "%ld statuses, expected at least %ld", statuses, o.min_status);
+    CHECK(o.max_status < 0 || statuses <= o.max_status, "%ld statuses, expected at most %ld", statuses,
+          o.max_status);
+    CHECK((long)max_reconnects >= o.min_reconnects, "the daemon reports %lu reconnects, expected >= %ld",
+          (unsigned long)max_reconnects, o.min_reconnects);
+    CHECK((long)max_bad >= o.min_bad, "the daemon reports %lu bad frames, expected >= %ld",
+          (unsigned long)max_bad, o.min_bad);
+    CHECK(o.max_dropped < 0 || (long)max_dropped <= o.max_dropped,
+          "the daemon reports %lu dropped frames, expected <= %ld", (unsigned long)max_dropped,
+          o.max_dropped);
+    CHECK(o.resume_within <= 0 || (t_down < 0 && worst_resume <= o.resume_within),
+          "poses did not resume within %g s after the source went down (%s)", o.resume_within,
+          t_down >= 0 ? "still down at the end" : "took longer");
+    printf("cdspd_rx: %s\n", fails ? "FAIL" : "PASS");
+    return fails ? 1 : 0;
+}

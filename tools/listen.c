@@ -1,0 +1,297 @@
+/*
+ * listen.c - `cdsp_tool listen`: see listen.h. Binds a UDP socket (joining
+ * the group for a multicast address), decodes every datagram with
+ * daemon/proto.c and prints it: a readable line, or with --json the
+ * record as a JSON line (binary datagrams converted). At the end it says
+ * on stderr how many came, how many could not be decoded and how many
+ * sequence numbers were missing.
+ */
+#define _GNU_SOURCE
+#include "listen.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <arpa/inet.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
+#include "proto.h"
+
+#define LISTEN_DEFAULT_PORT 23770
+
+static volatile sig_atomic_t listen_stop;
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    listen_stop = 1;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f,
+            "usage: cdsp_tool listen [ADDR:PORT] [--json] [--count N] [--duration SECONDS] [--quiet]\n"
+            "Receive cdspd's pose datagrams (binary or JSON, docs/protocol.md) and print them.\n"
+            "  ADDR:PORT        address to listen on (default 0.0.0.0:%d); a multicast ADDR\n"
+            "                   joins that group; [V6ADDR]:PORT for IPv6; :PORT for any address\n"
+            "  --json           print each record as one JSON line (binary ones converted)\n"
+            "  --count N        stop after N datagrams\n"
+            "  --duration S     stop after S seconds\n"
+            "  --quiet          print only the summary\n"
+            "Exit status: 0 done, 1 some datagram could not be decoded, 2 usage or socket error.\n",
+            LISTEN_DEFAULT_PORT);
+}
+
+static int parse_addr(const char *text, struct sockaddr_storage *ss, socklen_t *len)
+{
+    char host[256], port[16];
+    const char *colon;
+    struct addrinfo hints, *res = NULL;
+    long p = LISTEN_DEFAULT_PORT;
+    char *end;
+
+    if (text[0] == '[') {
+        const char *close = strchr(text, ']');
+        if (!close || (size_t)(close - text) >= sizeof host)
+            return -1;
+        memcpy(host, text + 1, (size_t)(close - text - 1));
+        host[close - text - 1] = 0;
+        colon = close[1] == ':' ? close + 1 : NULL;
+        if (close[1] && !colon)
+            return -1;
+    } else {
+        colon = strrchr(text, ':');
+        if (strlen(text) >= sizeof host || (colon && strchr(text, ':') != colon))
+            return -1;
+        strcpy(host, text);
+        if (colon)
+            host[colon - text] = 0;
+    }
+    if (colon) {
+        errno = 0;
+        p = strtol(colon + 1, &end, 10);
+        if (end == colon + 1 || *end || errno || p < 1 || p > 65535)
+            return -1;
+    }
+    snprintf(port, sizeof port, "%ld", p);
+    memset(&hints, 0, sizeof hints);
+    hints.ai_family = *host ? AF_UNSPEC : AF_INET;
+    hints.ai_socktype = SOCK_DGRAM;
+    hints.ai_flags = AI_PASSIVE;
+    if (getaddrinfo(*host ? host : NULL, port, &hints, &res) || !res)
+        return -1;
+    memcpy(ss, res->ai_addr, res->ai_addrlen);
+    *len = res->ai_addrlen;
+    freeaddrinfo(res);
+    return 0;
+}
+
+static int open_socket(const struct sockaddr_storage *ss, socklen_t len, const char *text)
+{
+    int fd = socket(ss->ss_family, SOCK_DGRAM | SOCK_CLOEXEC, 0), one = 1, rcv = 4 << 20;
+    struct sockaddr_storage bind_addr = *ss;
+    int multicast = 0;
+
+    if (fd < 0) {
+        fprintf(stderr, "cdsp_tool listen: socket: %s\n", strerror(errno));
+        return -1;
+    }
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+    setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcv, sizeof rcv);
+    if (ss->ss_family == AF_INET) {
+        struct sockaddr_in *s4 = (struct sockaddr_in *)&bind_addr;
+        multicast = (ntohl(s4->sin_addr.s_addr) >> 28) == 14;
+    } else {
+        struct sockaddr_in6 *s6 = (struct sockaddr_in6 *)&bind_addr;
+        multicast = s6->sin6_addr.s6_addr[0] == 0xFF;
+    }
+    if (bind(fd, (struct sockaddr *)&bind_addr, len)) {
+        fprintf(stderr, "cdsp_tool listen: cannot listen on %s: %s\n", text, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    if (multicast && ss->ss_family == AF_INET) {
+        struct ip_mreq m;
+        m.imr_multiaddr = ((const struct sockaddr_in *)ss)->sin_addr;
+        m.imr_interface.s_addr = htonl(INADDR_ANY);
+        if (setsockopt(fd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &m, sizeof m)) {
+            fprintf(stderr, "cdsp_tool listen: cannot join %s: %s\n", text, strerror(errno));
+            close(fd);
+            return -1;
+        }
+    } else if (multicast) {
+        struct ipv6_mreq m;
+        m.ipv6mr_multiaddr = ((const struct sockaddr_in6 *)ss)->sin6_addr;
+        m.ipv6mr_interface = 0;
+        if (setsockopt(fd, IPPROTO_IPV6, IPV6_JOIN_GROUP, &m, sizeof m)) {
+            fprintf(stderr, "cdsp_tool listen: cannot join %s: %s\n", text, strerror(errno));
+            close(fd);
+            return -1;
+        }
+    }
+    return fd;
+}
+
+static void print_human(const cdspd_record *r)
+{
+    char head[96];
+    snprintf(head, sizeof head, "#%-7lu %s %-8llu", (unsigned long)r->seq,
+             r->kind == CDSPD_KIND_FRAME ? "frame" : "     ",
+             r->kind == CDSPD_KIND_FRAME ? (unsigned long long)r->frame_id : 0ull);
+    if (r->kind == CDSPD_KIND_STATUS) {
+        printf("#%-7lu --             %-11s (frames in %lu, dropped %lu, bad %lu, reconnects %lu)\n",
+               (unsigned long)r->seq, cdspd_status_token(r->status), (unsigned long)r->frames_in,
+               (unsigned long)r->frames_dropped, (unsigned long)r->frames_bad,
+               (unsigned long)r->reconnects);
+        return;
+    }
+    if (r->status != 0) {
+        printf("%s %-11s solve %.2f ms  latency %.2f ms\n", head, cdspd_status_token(r->status),
+               r->proc_us * 1e-3, r->latency_us * 1e-3);
+        return;
+    }
+    printf("%s ok  P_C (%8.2f %8.2f %8.2f) +-(%.2f %.2f %.2f)  v_L (%6.3f %6.3f %6.3f)  d %7.2f  "
+           "inliers %u/%u  solve %.2f ms  latency %.2f ms%s  dropped %lu\n",
+           head, r->point[0], r->point[1], r->point[2], r->sigma_point[0], r->sigma_point[1],
+           r->sigma_point[2], r->direction[0], r->direction[1], r->direction[2], r->distance,
+           r->inliers[0], r->inliers[1], r->proc_us * 1e-3, r->latency_us * 1e-3,
+           (r->flags & CDSPD_FLAG_TRACKED) ? "  tracked" : "", (unsigned long)r->frames_dropped);
+}
+
+int cdsp_tool_listen(int argc, char **argv)
+{
+    static const struct option longopts[] = {{"json", no_argument, NULL, 'j'},
+                                             {"count", required_argument, NULL, 'n'},
+                                             {"duration", required_argument, NULL, 't'},
+                                             {"quiet", no_argument, NULL, 'q'},
+                                             {"help", no_argument, NULL, 'h'},
+                                             {NULL, 0, NULL, 0}};
+    const char *addr_text = "0.0.0.0";
+    struct sockaddr_storage ss;
+    socklen_t sslen;
+    struct sigaction sa;
+    int json = 0, quiet = 0, fd, c;
+    long count = 0;
+    double duration = 0, t_end = 0;
+    unsigned long received = 0, bad = 0, missing = 0;
+    uint32_t last_seq = 0;
+    int have_seq = 0;
+    static uint8_t buf[65536];
+    static char out[4096];
+    char *end;
+
+    optind = 0;
+    while ((c = getopt_long(argc, argv, "jn:t:qh", longopts, NULL)) != -1) {
+        switch (c) {
+        case 'j': json = 1; break;
+        case 'q': quiet = 1; break;
+        case 'n':
+            errno = 0;
+            count = strtol(optarg, &end, 10);
+            if (end == optarg || *end || errno || count < 1) {
+                fprintf(stderr, "cdsp_tool listen: --count '%s': expected a positive integer\n", optarg);
+                return 2;
+            }
+            break;
+        case 't':
+            errno = 0;
+            duration = strtod(optarg, &end);
+            if (end == optarg || *end || errno || !(duration > 0) || !isfinite(duration)) {
+                fprintf(stderr, "cdsp_tool listen: --duration '%s': expected a positive number of "
+                        "seconds\n", optarg);
+                return 2;
+            }
+            break;
+        case 'h': usage(stdout); return 0;
+        default: usage(stderr); return 2;
+        }
+    }
+    if (optind < argc)
+        addr_text = argv[optind++];
+    if (optind < argc) {
+        fprintf(stderr, "cdsp_tool listen: unexpected argument '%s'\n", argv[optind]);
+        return 2;
+    }
+    if (parse_addr(addr_text, &ss, &sslen)) {
+        fprintf(stderr, "cdsp_tool listen: '%s': expected ADDR:PORT, :PORT or [V6ADDR]:PORT\n",
+                addr_text);
+        return 2;
+    }
+    fd = open_socket(&ss, sslen, addr_text);
+    if (fd < 0)
+        return 2;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    listen_stop = 0;
+    if (duration > 0)
+        t_end = now_s() + duration;
+    if (!quiet && !json)
+        fprintf(stderr, "cdsp_tool listen: listening on %s\n", addr_text);
+    while (!listen_stop && (count == 0 || (long)received < count)) {
+        struct pollfd pfd = {fd, POLLIN, 0};
+        int wait_ms = 200, pr;
+        ssize_t n;
+        cdspd_record r;
+        const char *why;
+        int is_json;
+        if (t_end > 0) {
+            double left = t_end - now_s();
+            if (left <= 0)
+                break;
+            if (left * 1000 < wait_ms)
+                wait_ms = (int)(left * 1000) + 1;
+        }
+        pr = poll(&pfd, 1, wait_ms);
+        if (pr <= 0)
+            continue;
+        n = recv(fd, buf, sizeof buf - 1, 0);
+        if (n < 0)
+            continue;
+        buf[n] = 0;
+        received++;
+        if (cdspd_proto_decode_any(buf, (size_t)n, &r, &is_json, &why)) {
+            bad++;
+            fprintf(stderr, "cdsp_tool listen: datagram of %zd bytes: %s\n", n, why);
+            continue;
+        }
+        if (have_seq && r.seq != last_seq + 1u && r.seq > last_seq)
+            missing += r.seq - last_seq - 1u;
+        last_seq = r.seq;
+        have_seq = 1;
+        if (quiet)
+            continue;
+        if (json) {
+            if (is_json)
+                printf("%s\n", (const char *)buf);
+            else if (cdspd_proto_encode_json(&r, out, sizeof out))
+                printf("%s\n", out);
+        } else {
+            print_human(&r);
+        }
+        fflush(stdout);
+    }
+    close(fd);
+    fprintf(stderr, "cdsp_tool listen: %lu datagrams, %lu undecodable, %lu sequence numbers missing\n",
+            received, bad, missing);
+    return bad ? 1 : 0;
+}
