@@ -28,19 +28,21 @@ ALL_TARGETS += $(BUILD)/cdsp_calib
 -include $(CALIB_OBJ:.o=.d)
 
 # The check: synthetic boards rendered by tests/calib/board_render.c, the
-# real binary run on them, its YAML read back with libyaml.
+# real binary run on them, its YAML read back with libyaml, then used by
+# cdsp_tool solve on simulated pipes (tools/tool.mk builds cdsp_tool).
 CALIB_TEST := $(BUILD)/calib/test_calib
 
 $(CALIB_TEST): tests/calib/test_calib.c tests/calib/board_render.c tests/calib/board_render.h
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -Itests/calib tests/calib/test_calib.c tests/calib/board_render.c \
-	  -lcmocka -lyaml -lm -o $@
+	  -lcmocka -lyaml -ljson-c -lm -o $@
 
 .PHONY: check-calib
 # Each run works in a directory of its own (kept when the check fails, to
 # look at the images), so concurrent `make check` runs do not collide.
-check-calib: $(BUILD)/cdsp_calib $(CALIB_TEST)
+check-calib: $(BUILD)/cdsp_calib $(BUILD)/cdsp_tool $(CALIB_TEST)
 	@work=$$(mktemp -d $(BUILD)/calib/work.XXXXXX) && \
-	 $(RUN) "calib/test_calib" $(CALIB_TEST) $(BUILD)/cdsp_calib $$work && rm -rf $$work
+	 $(RUN) "calib/test_calib" $(CALIB_TEST) $(BUILD)/cdsp_calib $(BUILD)/cdsp_tool $$work && \
+	 rm -rf $$work
 
 CHECK_STEPS += check-calib

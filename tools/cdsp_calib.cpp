@@ -88,9 +88,10 @@ const OptSpec opt_table[] = {
      "calibration succeeds). Default, or FILE '-': standard output."},
     {"overlay", opt_overlay, "DIR",
      "Write every image with a board to DIR/NAME.png (NAME: the\n"
-     "image's file name without its extension): detected corners\n"
-     "in green, corners reprojected by the calibration in red.\n"
-     "DIR is created if missing."},
+     "image's file name without its extension, then -N, N its place\n"
+     "on the command line, if an earlier image had that name):\n"
+     "detected corners in green, corners reprojected by the\n"
+     "calibration in red. DIR is created if missing."},
     {"coverage", opt_coverage, "FILE",
      "Write a picture of where the corners fell in the image (a\n"
      "PNG, or any format OpenCV writes by FILE's extension)."},
@@ -113,7 +114,8 @@ void print_help(std::FILE *f)
         "\n"
         "DESCRIPTION\n"
         "    Finds the board's inner corners in each image (OpenCV's\n"
-        "    findChessboardCorners, refined by cornerSubPix), calibrates the\n"
+        "    findChessboardCornersSB, then cornerSubPix on a copy blurred by\n"
+        "    1.5 px against pixel locking), calibrates the\n"
         "    camera (Zhang's closed form, then Levenberg-Marquardt over the\n"
         "    intrinsics, the distortion and every board pose: OpenCV's\n"
         "    calibrateCamera), drops the views whose RMS reprojection error\n"

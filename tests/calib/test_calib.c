@@ -1,7 +1,7 @@
 /*
  * test_calib.c - checks of the real cdsp_calib binary on synthetic boards.
  *
- * Usage: test_calib PATH/TO/cdsp_calib WORKDIR
+ * Usage: test_calib PATH/TO/cdsp_calib PATH/TO/cdsp_tool WORKDIR
  *
  * Twelve views of a 9x6 board are rendered with a known camera (K, k1, k2)
  * and known poses (board_render.c: exact inverse distortion, supersampled
@@ -20,7 +20,10 @@
  *     is not independent noise (residual pixel locking of the subpixel
  *     refinement, ~0.01 px, correlated along an edge). The RMS is itself
  *     bounded (0.1 px), so the tolerance cannot grow without failing that.
- * Then bad inputs: each documented message and exit status.
+ * Then the calibration in use: cdsp_tool solve on simulated pipe frames of
+ * the same camera, with the calibration found and with the true one (see
+ * test_pipe_poses_with_calibration for the margin). Then bad inputs: each
+ * documented message and exit status.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -29,6 +32,7 @@
 #include <stddef.h>
 
 #include <cmocka.h>
+#include <json-c/json.h>
 #include <yaml.h>
 
 #include <errno.h>
@@ -43,6 +47,7 @@
 #include "board_render.h"
 
 static const char *g_bin;    /* the cdsp_calib under test */
+static const char *g_tool;   /* cdsp_tool, which reads the calibration */
 static const char *g_work;   /* scratch directory */
 
 /* ------------------------------------------------------------------------
@@ -538,7 +543,8 @@ static int setup(void **state)
 {
     int v;
     (void)state;
-    if (strpbrk(g_work, " \t'\"\\$`*?[;&|<>()") || strpbrk(g_bin, " \t'\"\\$`*?[;&|<>()")) {
+    const char *meta = " \t'\"\\$`*?[;&|<>()";
+    if (strpbrk(g_work, meta) || strpbrk(g_bin, meta) || strpbrk(g_tool, meta)) {
         fprintf(stderr, "test_calib: paths with shell metacharacters are not supported\n");
         return -1;
     }
@@ -747,6 +753,201 @@ static void test_rejects_outlier_and_skips(void **state)
 }
 
 /* ------------------------------------------------------------------------
+ * The calibration in use: cdsp_tool solve on simulated pipes.
+ * ---------------------------------------------------------------------- */
+
+/* Undistorted normalized radius of the image corner farthest from the
+ * principal point: the largest field angle a contour point can have. */
+static double max_field_radius(void)
+{
+    double r_max = 0;
+    int c;
+    for (c = 0; c < 4; c++) {
+        double u = (c & 1) ? g_cam.width - 1 : 0, v = (c & 2) ? g_cam.height - 1 : 0;
+        double xd = (u - g_cam.cx) / g_cam.fx, yd = (v - g_cam.cy) / g_cam.fy;
+        double rd = sqrt(xd * xd + yd * yd), r = rd;
+        int it;
+        for (it = 0; it < 50; it++) {   /* r (1 + k1 r^2 + k2 r^4) = rd */
+            double r2 = r * r;
+            r -= (r * (1 + g_cam.k1 * r2 + g_cam.k2 * r2 * r2) - rd) /
+                 (1 + 3 * g_cam.k1 * r2 + 5 * g_cam.k2 * r2 * r2);
+        }
+        if (r > r_max)
+            r_max = r;
+    }
+    return r_max;
+}
+
+typedef struct {
+    int ok;
+    double point[3], dir[3], seg[2][3];
+} pipe_pose;
+
+static int json_vec3(json_object *o, const char *key, double v[3])
+{
+    json_object *a;
+    int i;
+    if (!json_object_object_get_ex(o, key, &a) || !json_object_is_type(a, json_type_array) ||
+        json_object_array_length(a) != 3)
+        return 0;
+    for (i = 0; i < 3; i++) {
+        json_object *x = json_object_array_get_idx(a, (size_t)i);
+        if (!json_object_is_type(x, json_type_double) && !json_object_is_type(x, json_type_int))
+            return 0;
+        v[i] = json_object_get_double(x);
+    }
+    return 1;
+}
+
+/* n JSON Lines records of cdsp_tool solve. */
+static int read_solves(const char *text, pipe_pose *p, int n)
+{
+    const char *line = text;
+    int k = 0;
+    while (line && *line && k < n) {
+        json_object *o = json_tokener_parse(line), *st, *seg;
+        const char *end = strchr(line, '\n');
+        memset(&p[k], 0, sizeof p[k]);
+        if (!o)
+            return 0;
+        p[k].ok = json_object_object_get_ex(o, "status", &st) &&
+                  strcmp(json_object_get_string(st), "ok") == 0 &&
+                  json_vec3(o, "point", p[k].point) && json_vec3(o, "direction", p[k].dir) &&
+                  json_object_object_get_ex(o, "segment", &seg) &&
+                  json_object_array_length(seg) == 2;
+        if (p[k].ok) {
+            json_object *pair = json_object_new_object();
+            json_object_object_add(pair, "a", json_object_get(json_object_array_get_idx(seg, 0)));
+            json_object_object_add(pair, "b", json_object_get(json_object_array_get_idx(seg, 1)));
+            p[k].ok = json_vec3(pair, "a", p[k].seg[0]) && json_vec3(pair, "b", p[k].seg[1]);
+            json_object_put(pair);
+        }
+        json_object_put(o);
+        k++;
+        line = end ? end + 1 : NULL;
+    }
+    return k == n;
+}
+
+/* The paper's accuracy metric (METHOD.md, Eq. 17-21): RMS distance from
+ * 100 points of the segment to the line (P, v). */
+static double segment_rmse(const double a[3], const double b[3], const double P[3],
+                           const double v[3])
+{
+    double s = 0, nv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    int i, k;
+    for (i = 0; i < 100; i++) {
+        double t = i / 99.0, d[3], c[3];
+        for (k = 0; k < 3; k++)
+            d[k] = a[k] + t * (b[k] - a[k]) - P[k];
+        c[0] = d[1] * v[2] - d[2] * v[1];
+        c[1] = d[2] * v[0] - d[0] * v[2];
+        c[2] = d[0] * v[1] - d[1] * v[0];
+        s += (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]) / (nv * nv);
+    }
+    return sqrt(s / 100);
+}
+
+#define N_PIPES 6
+
+/* Six frames of an infinite pipe (radius 8 mm, 380-490 mm away) crossing
+ * the image at several angles, contours reaching the image corners where
+ * the distortion is largest, rendered by cdsp_tool sim with the true
+ * camera. cdsp_tool solve runs on them with the true calibration and with
+ * the one cdsp_calib found (test_recovers_paper_model's). Margin: the pose
+ * error that the calibration's own 5-sigma uncertainty (the Cramer-Rao
+ * bound above) can cause at distance d, the far end of the visible axis:
+ *   a focal error scales the recovered distance (d = r / sin(alpha/2),
+ *   alpha shrinks as f grows): d 5 sigma_f / f;
+ *   a principal point error turns every ray by sigma_c / f: d 5 sigma_c / f;
+ *   a distortion error moves a contour point at field radius r by
+ *   (dk1 r^3 + dk2 r^5) in normalized units, an angle: d (5 sigma_k1 r^3 +
+ *   5 sigma_k2 r^5), r the image corner's (the largest).
+ * Each frame: the axis found with the calibration lies within that margin
+ * of the axis found with the true one, and its RMSE against the truth
+ * exceeds the true calibration's by less than the margin. */
+static void test_pipe_poses_with_calibration(void **state)
+{
+    const char *calibrated = path("out/k1k2.yaml");
+    char cmd[8192], *text, *truth_text;
+    pipe_pose with_true[N_PIPES], with_cal[N_PIPES];
+    camera_info ci;
+    double sig[N_INTR], sc, r, per_mm;
+    json_object *truth, *frames;
+    int k;
+    (void)state;
+
+    text = slurp(calibrated);
+    assert_non_null(text);   /* written by test_recovers_paper_model */
+    assert_true(parse_camera_info(text, &ci));
+    free(text);
+    sc = ci.rms / sqrt(2.0);
+    assert_true(crb_sigma(6, N_VIEWS, sig));
+    r = max_field_radius();
+    per_mm = 5 * sc *
+             (fmax(sig[0] / g_cam.fx, sig[1] / g_cam.fy) + fmax(sig[2], sig[3]) / fmin(g_cam.fx, g_cam.fy) +
+              sig[4] * r * r * r + sig[5] * r * r * r * r * r);
+    print_message("margin: %.3g mm per mm of distance (field radius %.3f)\n", per_mm, r);
+
+    snprintf(cmd, sizeof cmd,
+             "%s sim --out %s --width %d --height %d --fx %.17g --fy %.17g --cx %.17g "
+             "--cy %.17g --k1 %.17g --k2 %.17g --frames %d --radius 8 --point -60,-20,380 "
+             "--dir 0.3,1,0.15 --turn 30 --move 25,8,20 >%s 2>&1",
+             g_tool, path("pipes"), g_cam.width, g_cam.height, g_cam.fx, g_cam.fy, g_cam.cx,
+             g_cam.cy, g_cam.k1, g_cam.k2, N_PIPES, path("pipes.log"));
+    assert_int_equal(system(cmd), 0);
+
+    snprintf(cmd, sizeof cmd, "%s solve --no-time --calib %s --radius 8 %s >%s 2>>%s", g_tool,
+             path("pipes/camera.yaml"), path("pipes"), path("solve_true.jsonl"),
+             path("pipes.log"));
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd, "%s solve --no-time --calib %s --radius 8 %s >%s 2>>%s", g_tool,
+             calibrated, path("pipes"), path("solve_cal.jsonl"), path("pipes.log"));
+    assert_int_equal(system(cmd), 0);
+
+    text = slurp(path("solve_true.jsonl"));
+    assert_non_null(text);
+    assert_true(read_solves(text, with_true, N_PIPES));
+    free(text);
+    text = slurp(path("solve_cal.jsonl"));
+    assert_non_null(text);
+    assert_true(read_solves(text, with_cal, N_PIPES));
+    free(text);
+
+    truth_text = slurp(path("pipes/truth.json"));
+    assert_non_null(truth_text);
+    truth = json_tokener_parse(truth_text);
+    free(truth_text);
+    assert_non_null(truth);
+    assert_true(json_object_object_get_ex(truth, "frames", &frames));
+    assert_int_equal((int)json_object_array_length(frames), N_PIPES);
+
+    for (k = 0; k < N_PIPES; k++) {
+        json_object *f = json_object_array_get_idx(frames, (size_t)k);
+        double P[3], v[3], far, margin, e_true, e_cal, e_diff;
+        assert_true(with_true[k].ok && with_cal[k].ok);
+        assert_true(json_vec3(f, "axis_point", P) && json_vec3(f, "axis_dir", v));
+        far = fmax(sqrt(with_true[k].seg[0][0] * with_true[k].seg[0][0] +
+                        with_true[k].seg[0][1] * with_true[k].seg[0][1] +
+                        with_true[k].seg[0][2] * with_true[k].seg[0][2]),
+                   sqrt(with_true[k].seg[1][0] * with_true[k].seg[1][0] +
+                        with_true[k].seg[1][1] * with_true[k].seg[1][1] +
+                        with_true[k].seg[1][2] * with_true[k].seg[1][2]));
+        margin = per_mm * far;
+        e_true = segment_rmse(with_true[k].seg[0], with_true[k].seg[1], P, v);
+        e_cal = segment_rmse(with_cal[k].seg[0], with_cal[k].seg[1], P, v);
+        e_diff = segment_rmse(with_cal[k].seg[0], with_cal[k].seg[1], with_true[k].point,
+                              with_true[k].dir);
+        print_message("pipe %d (far end %.0f mm): RMSE %.4f mm with the true calibration, "
+                      "%.4f mm with cdsp_calib's; axes %.4f mm apart; margin %.3f mm\n",
+                      k, far, e_true, e_cal, e_diff, margin);
+        assert_true(e_diff < margin);
+        assert_true(e_cal < e_true + margin);
+    }
+    json_object_put(truth);
+}
+
+/* ------------------------------------------------------------------------
  * Calibration impossible: exit 1, nothing written.
  * ---------------------------------------------------------------------- */
 
@@ -901,6 +1102,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_help),
         cmocka_unit_test(test_recovers_paper_model),
         cmocka_unit_test(test_recovers_full_model_to_stdout),
+        cmocka_unit_test(test_pipe_poses_with_calibration),
         cmocka_unit_test(test_rejects_outlier_and_skips),
         cmocka_unit_test(test_wrong_board_size),
         cmocka_unit_test(test_no_board_anywhere),
@@ -910,11 +1112,12 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_usage_errors),
         cmocka_unit_test(test_unwritable_outputs),
     };
-    if (argc != 3) {
-        fprintf(stderr, "usage: test_calib PATH/TO/cdsp_calib WORKDIR\n");
+    if (argc != 4) {
+        fprintf(stderr, "usage: test_calib PATH/TO/cdsp_calib PATH/TO/cdsp_tool WORKDIR\n");
         return 2;
     }
     g_bin = argv[1];
-    g_work = argv[2];
+    g_tool = argv[2];
+    g_work = argv[3];
     return cmocka_run_group_tests_name("calib", tests, setup, NULL);
 }
