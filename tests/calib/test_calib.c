@@ -947,6 +947,31 @@ static void test_pipe_poses_with_calibration(void **state)
     json_object_put(truth);
 }
 
+/* Progress goes to stderr only when it is a terminal (script(1) gives the
+ * run one) and there are 8 images or more. */
+static void test_progress_on_terminal(void **state)
+{
+    char cmd[8192], *tty;
+    (void)state;
+    snprintf(cmd, sizeof cmd,
+             "script -qec \"%s -b 9x6 -s 30 -o %s '%s' >/dev/null\" /dev/null >%s 2>&1", g_bin,
+             path("out/tty.yaml"), path("views/*.pgm"), path("tty12.txt"));
+    assert_int_equal(system(cmd), 0);
+    snprintf(cmd, sizeof cmd,
+             "script -qec \"%s -b 9x6 -s 30 -o %s %s %s %s >/dev/null\" /dev/null >%s 2>&1",
+             g_bin, path("out/tty.yaml"), path("views/v00.pgm"), path("views/v01.pgm"),
+             path("views/v02.pgm"), path("tty3.txt"));
+    assert_int_equal(system(cmd), 0);
+    tty = slurp(path("tty12.txt"));
+    assert_non_null(tty);
+    assert_non_null(strstr(tty, "corners 12/12"));
+    free(tty);
+    tty = slurp(path("tty3.txt"));
+    assert_non_null(tty);
+    assert_null(strstr(tty, "corners"));
+    free(tty);
+}
+
 /* ------------------------------------------------------------------------
  * Calibration impossible: exit 1, nothing written.
  * ---------------------------------------------------------------------- */
@@ -1104,6 +1129,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_recovers_full_model_to_stdout),
         cmocka_unit_test(test_pipe_poses_with_calibration),
         cmocka_unit_test(test_rejects_outlier_and_skips),
+        cmocka_unit_test(test_progress_on_terminal),
         cmocka_unit_test(test_wrong_board_size),
         cmocka_unit_test(test_no_board_anywhere),
         cmocka_unit_test(test_too_few_views),
