@@ -157,7 +157,7 @@ bool detect_board(const cv::Mat &gray8, const cv::Mat &fine, cv::Size board,
     // cornerSubPix "locks" onto the pixel grid: it weights each pixel by
     // its squared gradient, and an edge whose profile spans only two or
     // three pixels has a squared-gradient centroid pulled toward the
-    // nearest pixel boundary. On sharp synthetic boards (test/calib) that
+    // nearest pixel boundary. On sharp synthetic boards (tests/calib) that
     // bias reached 0.08 px RMS for boards square to the pixel grid; a
     // Gaussian blur of sigma 1.5 px spreads every edge over enough pixels
     // to bring it under 0.02 px. The blur is point-symmetric, so it does
@@ -195,9 +195,7 @@ bool finite_mat(const cv::Mat &m)
     return cv::checkRange(m, true, nullptr, -DBL_MAX, DBL_MAX);
 }
 
-} // namespace
-
-static void run_pass(const std::vector<std::vector<cv::Point3f>> &obj,
+void run_pass(const std::vector<std::vector<cv::Point3f>> &obj,
                      const std::vector<std::vector<cv::Point2f>> &img,
                      cv::Size size, bool full_model, Pass &p)
 {
@@ -212,9 +210,9 @@ static void run_pass(const std::vector<std::vector<cv::Point3f>> &obj,
 }
 
 // Reprojection errors and board geometry of one view under a calibration.
-static void measure_view(View &v, const std::vector<cv::Point3f> &obj,
-                         const cv::Mat &K, const cv::Mat &D,
-                         const cv::Mat &rvec, const cv::Mat &tvec, cv::Point3d centre)
+void measure_view(View &v, const std::vector<cv::Point3f> &obj, const cv::Mat &K,
+                  const cv::Mat &D, const cv::Mat &rvec, const cv::Mat &tvec,
+                  cv::Point3d centre)
 {
     cv::projectPoints(obj, rvec, tvec, K, D, v.reprojected);
     double sum = 0, mx = 0;
@@ -233,12 +231,14 @@ static void measure_view(View &v, const std::vector<cv::Point3f> &obj,
     v.tilt_deg = std::acos(std::min(1.0, std::fabs(R(2, 2)))) * 180.0 / CV_PI;
 }
 
+} // namespace
+
 SolveStatus calibrate(std::vector<View> &views, cv::Size image_size,
                       cv::Size board, double square, bool full_model,
                       Result &res, std::string &problem)
 {
-    // Board corners in the board's plane, in the order findChessboardCorners
-    // returns them (row by row).
+    // Board corners in the board's plane, in the order the detector
+    // returns them (row by row, board.width per row).
     std::vector<cv::Point3f> board_pts;
     for (int j = 0; j < board.height; j++)
         for (int i = 0; i < board.width; i++)

@@ -42,7 +42,7 @@ static void put_matrix(std::FILE *f, const char *name, int rows, int cols,
     std::fprintf(f, "]\n");
 }
 
-bool write_camera_info(std::FILE *f, const std::string &camera_name,
+void write_camera_info(std::FILE *f, const std::string &camera_name,
                        cv::Size size, const Result &res, bool full_model,
                        int n_given)
 {
@@ -63,7 +63,6 @@ bool write_camera_info(std::FILE *f, const std::string &camera_name,
     const double identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     put_matrix(f, "rectification_matrix", 3, 3, identity);
     put_matrix(f, "projection_matrix", 3, 4, res.P.val);
-    return !std::ferror(f);
 }
 
 static bool write_image(const std::string &path, const cv::Mat &img)

@@ -18,8 +18,8 @@ std::string format_real(double x);
 
 // The ROS camera_info YAML (the layout ROS's camera_calibration writes),
 // preceded by comment lines with the RMS error and the image count.
-// false if writing failed (errno set by stdio).
-bool write_camera_info(std::FILE *f, const std::string &camera_name,
+// A failed write shows in ferror(f).
+void write_camera_info(std::FILE *f, const std::string &camera_name,
                        cv::Size size, const Result &res, bool full_model,
                        int n_given);
 

@@ -425,8 +425,13 @@ struct Output {
     }
     bool commit()
     {
-        if (f == stdout)
-            return std::fflush(stdout) == 0;
+        if (f == stdout) {
+            if (std::fflush(stdout) == 0 && !std::ferror(stdout))
+                return true;
+            std::fprintf(stderr, "%s: cannot write the calibration to standard output: %s\n",
+                         prog, std::strerror(errno));
+            return false;
+        }
         bool ok = !std::ferror(f);
         ok = (std::fclose(f) == 0) && ok;
         f = nullptr;
@@ -554,8 +559,8 @@ int run(const Options &o)
     if (!expand_inputs(o.inputs, paths))
         return exit_usage;
 
-    // Outputs are checked before the long corner search.
-    Output out;
+    // Outputs are checked before the long corner search; the YAML's
+    // temporary file is created only once there is something to write.
     if (o.output != "-" && !writable_dir(dir_of(o.output), "-o"))
         return exit_usage;
     if (!o.overlay.empty()) {
@@ -568,8 +573,6 @@ int run(const Options &o)
             return exit_usage;
     }
     if (!o.coverage.empty() && !writable_dir(dir_of(o.coverage), "--coverage"))
-        return exit_usage;
-    if (!out.open(o.output))
         return exit_usage;
     std::FILE *rep = o.output == "-" ? stderr : stdout;
 
@@ -649,13 +652,19 @@ int run(const Options &o)
     std::fflush(rep);
     print_warnings(res, cov);
 
+    // commit() checks the stream's error flag: a failed write is caught there.
     int rc = exit_ok;
-    if (!calib::write_camera_info(out.f, o.camera_name, size, res, o.full_model,
-                                  (int)views.size()) ||
-        !out.commit())
+    Output out;
+    if (!out.open(o.output)) {
         rc = exit_usage;
-    else if (o.output != "-")
-        std::fprintf(rep, "wrote %s\n", o.output.c_str());
+    } else {
+        calib::write_camera_info(out.f, o.camera_name, size, res, o.full_model,
+                                 (int)views.size());
+        if (!out.commit())
+            rc = exit_usage;
+        else if (o.output != "-")
+            std::fprintf(rep, "wrote %s\n", o.output.c_str());
+    }
 
     if (!o.overlay.empty()) {
         std::set<std::string> names;

@@ -1100,6 +1100,20 @@ static void test_unwritable_outputs(void **state)
     assert_non_null(strstr(r.err, "nowhere: No such file or directory"));
     run_free(&r);
 
+    /* The YAML on a full standard output. */
+    {
+        char cmd[8192], *err;
+        snprintf(cmd, sizeof cmd, "%s -b 9x6 -s 30 %s %s %s >/dev/full 2>%s", g_bin,
+                 path("views/v00.pgm"), path("views/v01.pgm"), path("views/v02.pgm"),
+                 path("full.err"));
+        r.status = system(cmd);
+        assert_true(WIFEXITED(r.status) && WEXITSTATUS(r.status) == 2);
+        err = slurp(path("full.err"));
+        assert_non_null(err);
+        assert_non_null(strstr(err, "cannot write the calibration to standard output"));
+        free(err);
+    }
+
     /* --overlay on an existing file, not a directory. */
     r = run_calib("-b 9x6 -s 30 --overlay %s %s", path("views/v00.pgm"), path("views/v01.pgm"));
     assert_int_equal(r.status, 2);
