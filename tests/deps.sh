@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Debian packages the project needs, listed per component in
-# .ci/packages.d/*.txt (whitespace-separated names).
+# .ci/packages.d/*.txt (whitespace-separated names, '#' comments).
 #   tests/deps.sh check    - exit 1, saying exactly what to run, if any is missing
 #   tests/deps.sh install  - apt-get install them (root, or through sudo)
 set -u
 cd "$(dirname "$0")/.."
-pkgs=$(cat .ci/packages.d/*.txt 2>/dev/null | tr -s ' \n' '\n' | grep -v '^#' | sort -u | tr '\n' ' ')
+# '#' starts a comment, to the end of its line
+pkgs=$(sed 's/#.*//' .ci/packages.d/*.txt 2>/dev/null | tr -s ' \t\n' '\n' | grep -v '^$' | sort -u | tr '\n' ' ')
 missing=""
 for p in $pkgs; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing="$missing $p"
