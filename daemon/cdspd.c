@@ -274,8 +274,21 @@ int main(int argc, char **argv)
         return EXIT_OK;
     }
     if (o.version) {
-        printf("cdspd %s (libcdsp %d.%d.%d)\n", CDSPD_VERSION, CDSP_VERSION_MAJOR, CDSP_VERSION_MINOR,
-               CDSP_VERSION_PATCH);
+        static const char *const kinds[] = {"sim", "file", "aravis", "v4l2", "libcamera"};
+        const char *why;
+        int k;
+        printf("cdspd %s (libcdsp %d.%d.%d)\nsources:", CDSPD_VERSION, CDSP_VERSION_MAJOR,
+               CDSP_VERSION_MINOR, CDSP_VERSION_PATCH);
+        for (k = 0; k < 5; k++)
+            if (cdspd_source_available(k, &why))
+                printf(" %s", kinds[k]);
+        printf("\nsd_notify: %s\n",
+#ifdef CDSPD_HAVE_SYSTEMD
+               "yes"
+#else
+               "no"
+#endif
+        );
         return EXIT_OK;
     }
     if (o.help_keys) {

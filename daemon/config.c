@@ -284,7 +284,17 @@ static int split_list(const char *value, char *buf, size_t buflen, const char **
             *q = 0;
         if (n == max)
             return max + 1;
-        items[n++] = trim(p);
+        items[n] = trim(p);
+        {
+            /* "a" or 'a': the quotes of a YAML flow item */
+            char *it = (char *)items[n];
+            size_t l = strlen(it);
+            if (l >= 2 && (it[0] == '"' || it[0] == '\'') && it[l - 1] == it[0]) {
+                it[l - 1] = 0;
+                items[n] = it + 1;
+            }
+        }
+        n++;
         if (!q)
             break;
         p = q + 1;
@@ -533,6 +543,11 @@ static int walk_mapping(yaml_walk *w, yaml_node_t *map, const char *prefix)
             if (cdspd_config_set(w->c, name, list, where, w->err, w->errlen))
                 return -1;
         } else {
+            if (!find_key(name) && !is_section(name)) {
+                errf(w->err, w->errlen, "%s: unknown key '%s' (cdspd --help-keys lists them)", where,
+                     name);
+                return -1;
+            }
             where_of(w, vn, where, sizeof where);
             if (!find_key(name) && is_section(name)) {
                 errf(w->err, w->errlen, "%s: key '%s' is a section: expected a mapping", where, name);

@@ -98,7 +98,8 @@ $(daemon_TDIR)/%: tests/daemon/%.c $(daemon_ARCHIVE) $(daemon_HOST_LIB) $(host_L
 
 .PHONY: check-daemon check-daemon-unit check-daemon-sim check-daemon-errors
 check-daemon-unit: $(daemon_UNIT)
-	@for t in $(daemon_UNIT); do $(RUN) "daemon/$$(basename $$t)" $$t || exit 1; done
+	@mkdir -p $(daemon_TDIR)/tmp
+	@for t in $(daemon_UNIT); do CDSPD_TMP=$(daemon_TDIR)/tmp $(RUN) "daemon/$$(basename $$t)" $$t || exit 1; done
 
 daemon_ENV = CDSPD=$(daemon_BIN) CDSPD_RX=$(daemon_RX) CDSP_LISTEN=$(daemon_LISTEN_BIN) \
              CDSPD_TMP=$(daemon_TDIR)/tmp

@@ -49,7 +49,8 @@ struct cdspd_pipeline {
 static void set_state(cdspd_pipeline *p, cdspd_pipe_state s)
 {
     pthread_mutex_lock(&p->mu);
-    p->state = s;
+    if (p->state != CDSPD_PIPE_FAILED)
+        p->state = s;
     pthread_mutex_unlock(&p->mu);
 }
 
@@ -74,8 +75,8 @@ static void *capture_main(void *arg)
     cdspd_pipeline *p = arg;
     const cdspd_config *c = &p->cfg;
     char err[1024];
-    int opened = 0, first = 1, lost_before = 0, fails = 0;
-    double backoff = c->retry_min;
+    int opened = 0, first = 1, lost_before = 0, fails = 0, ended = 0;
+    double backoff = c->retry_min, left = 0, wait;
     uint64_t t_first = cdspd_now_us(), last_bad_log = 0, bad_since_log = 0;
 
     pin(c->capture_cpu, "capture");
@@ -103,9 +104,8 @@ static void *capture_main(void *arg)
             }
             if (p->stop)
                 break;
-            if (first && p->must_open &&
-                (r == CDSPD_OPEN_FATAL ||
-                 (double)(cdspd_now_us() - t_first) * 1e-6 + backoff > c->open_timeout)) {
+            left = c->open_timeout - (double)(cdspd_now_us() - t_first) * 1e-6;
+            if (first && p->must_open && (r == CDSPD_OPEN_FATAL || left <= 0)) {
                 pthread_mutex_lock(&p->mu);
                 snprintf(p->error, sizeof p->error, "%s%s", err,
                          r == CDSPD_OPEN_FATAL ? "" : " (gave up after open_timeout)");
@@ -124,7 +124,8 @@ static void *capture_main(void *arg)
                 LOG_W(SOURCE, "%s; retrying in %.1f s", err, backoff);
             else
                 LOG_D(SOURCE, "%s; retrying in %.1f s", err, backoff);
-            cdspd_sleep_until(cdspd_now_us() + (uint64_t)(backoff * 1e6), (int)(backoff * 1000) + 1,
+            wait = first && p->must_open && left < backoff ? left : backoff;
+            cdspd_sleep_until(cdspd_now_us() + (uint64_t)(wait * 1e6), (int)(wait * 1000) + 1,
                               &p->stop);
             backoff *= 2;
             if (backoff > c->retry_max)
@@ -166,6 +167,7 @@ static void *capture_main(void *arg)
             break;
         case CDSPD_GRAB_END:
             LOG_I(SOURCE, "%s: no more frames", c->source);
+            ended = 1;
             goto done;
         default:
             break;
@@ -174,9 +176,11 @@ static void *capture_main(void *arg)
 done:
     if (opened)
         p->src->ops->close(p->src);
-    pthread_mutex_lock(&p->mu);
-    p->capture_done = 1;
-    pthread_mutex_unlock(&p->mu);
+    if (ended) {
+        pthread_mutex_lock(&p->mu);
+        p->capture_done = 1;
+        pthread_mutex_unlock(&p->mu);
+    }
     return NULL;
 }
 

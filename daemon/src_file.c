@@ -50,7 +50,7 @@ static int file_open(cdspd_source *s, char *err, size_t errlen)
         p->started = 0;
         return CDSPD_OPEN_OK;
     }
-    r = glob(s->arg, GLOB_ERR, NULL, &p->g);
+    r = glob(s->arg, 0, NULL, &p->g);
     if (r == GLOB_NOMATCH || (r == 0 && p->g.gl_pathc == 0)) {
         if (r == 0)
             globfree(&p->g);

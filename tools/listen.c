@@ -87,7 +87,7 @@ static int parse_addr(const char *text, struct sockaddr_storage *ss, socklen_t *
     if (colon) {
         errno = 0;
         p = strtol(colon + 1, &end, 10);
-        if (end == colon + 1 || *end || errno || p < 1 || p > 65535)
+        if (end == colon + 1 || *end || errno || p < 0 || p > 65535)
             return -1;
     }
     snprintf(port, sizeof port, "%ld", p);
@@ -245,8 +245,15 @@ int cdsp_tool_listen(int argc, char **argv)
     listen_stop = 0;
     if (duration > 0)
         t_end = now_s() + duration;
-    if (!quiet && !json)
-        fprintf(stderr, "cdsp_tool listen: listening on %s\n", addr_text);
+    if (!quiet && !json) {
+        struct sockaddr_storage got;
+        socklen_t gl = sizeof got;
+        unsigned port = 0;
+        if (!getsockname(fd, (struct sockaddr *)&got, &gl))
+            port = ntohs(got.ss_family == AF_INET6 ? ((struct sockaddr_in6 *)&got)->sin6_port
+                                                   : ((struct sockaddr_in *)&got)->sin_port);
+        fprintf(stderr, "cdsp_tool listen: listening on %s (port %u)\n", addr_text, port);
+    }
     while (!listen_stop && (count == 0 || (long)received < count)) {
         struct pollfd pfd = {fd, POLLIN, 0};
         int wait_ms = 200, pr;

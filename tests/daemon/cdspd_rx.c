@@ -60,7 +60,40 @@ typedef struct {
     int allow_seq_gaps, verbose, json_expected;
     long min_reconnects, min_bad, max_dropped;
     double resume_within;       /* after a source-down status: a pose within this many s */
+    const char *compare;        /* --record's .jsonl: frame k of a replay = its line k */
 } rx_options;
+
+/* The records of a --record results file, in order. */
+static cdspd_record *cmp_rec;
+static long cmp_n;
+
+static int load_compare(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    char line[8192];
+    long cap = 0;
+    if (!f) {
+        fprintf(stderr, "cdspd_rx: --compare-jsonl %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    while (fgets(line, sizeof line, f)) {
+        const char *why;
+        if (cmp_n == cap) {
+            cdspd_record *p = realloc(cmp_rec, (size_t)(cap = cap ? 2 * cap : 64) * sizeof *p);
+            if (!p)
+                return -1;
+            cmp_rec = p;
+        }
+        if (cdspd_proto_decode_json(line, strlen(line), &cmp_rec[cmp_n], &why)) {
+            fprintf(stderr, "cdspd_rx: %s:%ld: %s\n", path, cmp_n + 1, why);
+            fclose(f);
+            return -1;
+        }
+        cmp_n++;
+    }
+    fclose(f);
+    return 0;
+}
 
 static volatile sig_atomic_t rx_stop;
 static void on_signal(int s)
@@ -96,6 +129,8 @@ static void usage(FILE *f, int st)
             "  --resume-within S      after a source-down, poses must resume within S seconds\n"
             "  --delta PX             shading allowance (default 0.12)\n"
             "  --allow-seq-gaps       do not fail on missing sequence numbers\n"
+            "  --compare-jsonl FILE   a replay of --record's frames: frame k must give the\n"
+            "                         result of line k (status equal, pose within 6 sigma)\n"
             "  --json                 datagrams must be JSON\n"
             "  -v                     one line per datagram\n");
     exit(st);
@@ -116,7 +151,7 @@ static double num(const char *opt, const char *s)
 
 static void parse(int argc, char **argv, rx_options *o)
 {
-    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS };
+    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ };
     static const struct option lo[] = {
         {"bind", 1, NULL, B}, {"port-file", 1, NULL, PF}, {"truth", 1, NULL, TR},
         {"config", 1, NULL, CF}, {"set", 1, NULL, ST}, {"calib", 1, NULL, CA},
@@ -125,7 +160,7 @@ static void parse(int argc, char **argv, rx_options *o)
         {"expect-status", 1, NULL, ES}, {"min-expect", 1, NULL, ME}, {"min-status", 1, NULL, MS},
         {"max-status", 1, NULL, XS}, {"min-reconnects", 1, NULL, MRC}, {"min-bad", 1, NULL, MB},
         {"max-dropped", 1, NULL, MD}, {"resume-within", 1, NULL, RW}, {"delta", 1, NULL, DL},
-        {"allow-seq-gaps", 0, NULL, SG}, {"json", 0, NULL, JS}, {"help", 0, NULL, 'h'},
+        {"allow-seq-gaps", 0, NULL, SG}, {"compare-jsonl", 1, NULL, CJ}, {"json", 0, NULL, JS}, {"help", 0, NULL, 'h'},
         {NULL, 0, NULL, 0}};
     int c;
     memset(o, 0, sizeof *o);
@@ -175,6 +210,7 @@ static void parse(int argc, char **argv, rx_options *o)
         case DL: o->delta_px = num("--delta", optarg); break;
         case SG: o->allow_seq_gaps = 1; break;
         case JS: o->json_expected = 1; break;
+        case CJ: o->compare = optarg; break;
         case 'v': o->verbose = 1; break;
         case 'h': usage(stdout, 0); break;
         default: usage(stderr, 2);
@@ -220,6 +256,7 @@ int main(int argc, char **argv)
     double t0, t_last = 0, worst_ratio = 0, worst_dir_ratio = 0, t_down = -1, worst_resume = 0;
     long received = 0, poses = 0, statuses = 0, expect_hits = 0, in_view = 0, in_view_ok = 0;
     long gaps = 0, seq_errors = 0, away_poses = 0, bad_decode = 0, tracked = 0;
+    long compared = 0, cmp_fail = 0;
     long status_by[8] = {0};
     const char *status_names[8] = {"no-pipe", "few-points", "no-frame", "source-down", "bad-frame",
                                    "degenerate", "other", "json-mismatch"};
@@ -260,6 +297,8 @@ int main(int argc, char **argv)
         return 2;
     }
     f_px = (double)cam.fx;
+    if (o.compare && load_compare(o.compare))
+        return 2;
 
     if (cdspd_resolve_dest(o.bind_text, 1, &ss, &sl, err, sizeof err)) {
         fprintf(stderr, "cdspd_rx: --bind %s\n", err);
@@ -356,8 +395,20 @@ int main(int argc, char **argv)
                 if (!strcmp(tok, status_names[k]))
                     break;
             status_by[k]++;
-            if (o.expect_status && !strcmp(tok, o.expect_status))
-                expect_hits++;
+            if (o.expect_status) {
+                /* "a|b": any of them */
+                const char *p = o.expect_status;
+                size_t l = strlen(tok);
+                while (p && *p) {
+                    const char *bar = strchr(p, '|');
+                    size_t pl = bar ? (size_t)(bar - p) : strlen(p);
+                    if (pl == l && !strncmp(p, tok, l)) {
+                        expect_hits++;
+                        break;
+                    }
+                    p = bar ? bar + 1 : NULL;
+                }
+            }
             if (r.status == CDSPD_ST_SOURCE_DOWN && t_down < 0)
                 t_down = t;
         }
@@ -376,6 +427,33 @@ int main(int argc, char **argv)
             printf("seq %lu kind %d frame %llu status %s flags %x P_C %.3f %.3f %.3f\n",
                    (unsigned long)r.seq, r.kind, (unsigned long long)r.frame_id,
                    cdspd_status_token(r.status), (unsigned)r.flags, r.point[0], r.point[1], r.point[2]);
+        if (o.compare && r.kind == CDSPD_KIND_FRAME) {
+            const cdspd_record *e = (long)r.frame_id < cmp_n ? &cmp_rec[r.frame_id] : NULL;
+            compared++;
+            if (!e) {
+                fprintf(stderr, "cdspd_rx: FAIL: replayed frame %llu is not in %s\n",
+                        (unsigned long long)r.frame_id, o.compare);
+                cmp_fail++;
+            } else if ((e->status == 0) != (r.status == 0)) {
+                fprintf(stderr, "cdspd_rx: FAIL: replayed frame %llu: %s, recorded: %s\n",
+                        (unsigned long long)r.frame_id, cdspd_status_token(r.status),
+                        cdspd_status_token(e->status));
+                cmp_fail++;
+            } else if (r.status == 0) {
+                double d2 = 0, s2 = 0;
+                int k;
+                for (k = 0; k < 3; k++) {
+                    d2 += (r.point[k] - e->point[k]) * (r.point[k] - e->point[k]);
+                    s2 += e->sigma_point[k] * e->sigma_point[k];
+                }
+                if (sqrt(d2) > 6 * sqrt(s2) + 1e-9) {
+                    fprintf(stderr, "cdspd_rx: FAIL: replayed frame %llu: P_C %.4f from the recorded "
+                            "one (6 sigma: %.4f)\n", (unsigned long long)r.frame_id, sqrt(d2),
+                            6 * sqrt(s2));
+                    cmp_fail++;
+                }
+            }
+        }
         if (r.kind != CDSPD_KIND_FRAME || o.truth == TRUTH_NONE || r.status == CDSPD_ST_BAD_FRAME)
             continue;
         {
@@ -432,6 +510,9 @@ int main(int argc, char **argv)
             printf(" %s %ld", status_names[i], status_by[i]);
     printf("; daemon counters: reconnects %lu, bad %lu, dropped %lu\n", (unsigned long)max_reconnects,
            (unsigned long)max_bad, (unsigned long)max_dropped);
+    if (o.compare)
+        printf("cdspd_rx: replay: %ld frames compared with %ld recorded results, %ld differ\n",
+               compared, cmp_n, cmp_fail);
     if (o.truth != TRUTH_NONE)
         printf("cdspd_rx: in-view frames %ld, with a pose %ld; worst error / tolerance: point %.3f, "
                "direction %.3f\n", in_view, in_view_ok, worst_ratio, worst_dir_ratio);
@@ -445,6 +526,8 @@ int main(int argc, char **argv)
         }                                                                                         \
     } while (0)
     CHECK(received > 0, "no datagram received");
+    CHECK(!o.compare || (compared == cmp_n && cmp_fail == 0),
+          "replay: %ld frames compared with the %ld recorded, %ld differ", compared, cmp_n, cmp_fail);
     CHECK(bad_decode == 0, "%ld datagrams could not be decoded", bad_decode);
     CHECK(status_by[7] == 0, "datagrams in the wrong format");
     CHECK(o.allow_seq_gaps || (gaps == 0 && seq_errors == 0), "sequence numbers not continuous "

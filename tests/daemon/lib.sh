@@ -1,0 +1,102 @@
+# tests/daemon/lib.sh: helpers of the daemon's end-to-end scripts (sourced).
+# Every process started here is recorded and stopped on exit; every wait is
+# bounded. Needs CDSPD, CDSPD_RX (and CDSP_LISTEN where used) in the
+# environment (daemon/daemon.mk sets them) and CDSPD_TMP for scratch files.
+set -u
+for v in CDSPD CDSPD_RX; do
+    [ -x "${!v:-}" ] || { echo "$0: \$$v must name the built program" >&2; exit 2; }
+done
+mkdir -p "${CDSPD_TMP:-/tmp}" || exit 2
+work=$(mktemp -d "${CDSPD_TMP:-/tmp}/$(basename "$0" .sh).XXXXXX") || exit 2
+CALIB=daemon/demo-camera.yaml
+pids=()
+
+cleanup() {
+    local p
+    for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null; done
+    for p in "${pids[@]}"; do
+        for _ in $(seq 30); do kill -0 "$p" 2>/dev/null || break; sleep 0.1; done
+        kill -KILL "$p" 2>/dev/null
+        wait "$p" 2>/dev/null
+    done
+    [ -n "${KEEP_TMP:-}" ] || rm -rf "$work"
+}
+trap cleanup EXIT
+trap 'exit 1' INT TERM HUP
+
+fail() {
+    echo "FAIL: $*" >&2
+    local f
+    for f in "$work"/*.log "$work"/*.err "$work"/*.out; do
+        [ -s "$f" ] || continue
+        echo "--- $(basename "$f") (last 25 lines)" >&2
+        tail -n 25 "$f" >&2
+    done
+    exit 1
+}
+
+# start_rx NAME ARGS...: cdspd_rx in the background; sets RX_PORT and NAME_pid.
+start_rx() {
+    local name=$1; shift
+    rm -f "$work/$name.port"
+    "$CDSPD_RX" --port-file "$work/$name.port" "$@" >"$work/$name.out" 2>"$work/$name.err" &
+    local pid=$!
+    pids+=("$pid")
+    eval "${name}_pid=$pid"
+    for _ in $(seq 50); do
+        [ -s "$work/$name.port" ] && { RX_PORT=$(cat "$work/$name.port"); return 0; }
+        kill -0 "$pid" 2>/dev/null || break
+        sleep 0.1
+    done
+    fail "cdspd_rx $name did not start"
+}
+
+# start_cdspd NAME ARGS...: cdspd in the background, log in NAME.log; sets NAME_pid.
+start_cdspd() {
+    local name=$1; shift
+    "$CDSPD" "$@" >"$work/$name.out" 2>"$work/$name.log" &
+    local pid=$!
+    pids+=("$pid")
+    eval "${name}_pid=$pid"
+}
+
+# wait_for PID SECONDS: its exit status, or 124 (and it is killed) after SECONDS.
+wait_for() {
+    local pid=$1 n=$(( $2 * 10 ))
+    while [ $n -gt 0 ]; do
+        if ! kill -0 "$pid" 2>/dev/null; then
+            wait "$pid"
+            return $?
+        fi
+        sleep 0.1
+        n=$((n - 1))
+    done
+    kill -KILL "$pid" 2>/dev/null
+    wait "$pid" 2>/dev/null
+    return 124
+}
+
+# wait_log FILE PATTERN SECONDS: until grep finds PATTERN in FILE.
+wait_log() {
+    local n=$(( $3 * 10 ))
+    while [ $n -gt 0 ]; do
+        grep -q -- "$2" "$1" 2>/dev/null && return 0
+        sleep 0.1
+        n=$((n - 1))
+    done
+    return 1
+}
+
+# expect_rc WANT NAME CMD...: run CMD (bounded 30 s), its exit status must be WANT.
+expect_rc() {
+    local want=$1 name=$2 rc; shift 2
+    timeout -k 5 30 "$@" >"$work/$name.out" 2>"$work/$name.err"
+    rc=$?
+    [ $rc -eq "$want" ] || fail "$name: exit status $rc, expected $want"
+}
+
+# expect_msg NAME TEXT: NAME.err (or .log) holds TEXT.
+expect_msg() {
+    grep -qF -- "$2" "$work/$1.err" "$work/$1.log" 2>/dev/null ||
+        fail "$1: expected the message '$2'"
+}

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# tests/daemon/sim_e2e.sh: cdspd on its simulated camera -> UDP on 127.0.0.1
+# -> test receivers (cdspd_rx) that know the simulated truth:
+#   1. binary datagrams to two destinations: every pose within the
+#      tolerance derived from its own sigmas, every in-view frame a pose,
+#      sequence numbers continuous at both, status datagrams (no pipe)
+#      while the pipe is out of view (sim.away);
+#   2. the same as JSON (--format json);
+#   3. --record every frame, then replay the recording with file: and get
+#      the recorded results again; the file source ends -> exit status 0;
+#   4. a slow file source: "no-frame" status datagrams between frames;
+#   5. the listener (cdsp_tool listen) decodes and prints the stream.
+# Exit status 0 when all pass.
+. "$(dirname "$0")/lib.sh"
+
+common=(--calib "$CALIB" --radius 10 --set sim.rate=50 --set stats_interval=0)
+
+echo "--- 1. binary, two destinations"
+start_rx rx1 --truth sim --calib "$CALIB" --set radius=10 --set sim.rate=50 \
+    --duration 40 --idle 2 --min-poses 100 --expect-status "no-pipe|few-points" --max-dropped 0
+p1=$RX_PORT
+start_rx rx2 --truth sim --calib "$CALIB" --set radius=10 --set sim.rate=50 \
+    --duration 40 --idle 2 --min-poses 100 --expect-status "no-pipe|few-points"
+p2=$RX_PORT
+start_cdspd d1 "${common[@]}" --dest 127.0.0.1:$p1 --dest localhost:$p2 --duration 4
+wait_for "$d1_pid" 30; rc=$?
+[ $rc -eq 0 ] || fail "cdspd exit status $rc, expected 0 after --duration"
+wait_for "$rx1_pid" 10 || fail "receiver 1"
+wait_for "$rx2_pid" 10 || fail "receiver 2"
+cat "$work/rx1.out"
+grep -q "frames in 0 (" "$work/d1.log" && fail "a final statistics line with no frames"
+grep -q "final: " "$work/d1.log" || fail "no final statistics line"
+
+echo "--- 2. JSON"
+start_rx rx3 --json --truth sim --calib "$CALIB" --set radius=10 --set sim.rate=50 \
+    --duration 40 --idle 2 --min-poses 40
+start_cdspd d2 "${common[@]}" --dest 127.0.0.1:$RX_PORT --format json --duration 1.5
+wait_for "$d2_pid" 30 || fail "cdspd (json) exit status $?"
+wait_for "$rx3_pid" 10 || fail "receiver (json)"
+cat "$work/rx3.out"
+
+echo "--- 3. record, then replay with file:"
+rec=$work/rec
+start_rx rx4 --duration 40 --idle 2
+start_cdspd d3 "${common[@]}" --set sim.frames=16 --dest 127.0.0.1:$RX_PORT --duration 1.5 \
+    --record "$rec" --set record_every=1
+wait_for "$d3_pid" 30 || fail "cdspd (record) exit status $?"
+wait_for "$rx4_pid" 10 || fail "receiver (record)"
+n_pgm=$(ls "$rec"/*.pgm 2>/dev/null | wc -l)
+jsonl=$(ls "$rec"/*.jsonl)
+n_json=$(wc -l <"$jsonl")
+echo "recorded $n_pgm frames, $n_json results"
+[ "$n_pgm" -ge 20 ] && [ "$n_pgm" -eq "$n_json" ] || fail "recorded $n_pgm frames and $n_json results"
+start_rx rx5 --compare-jsonl "$jsonl" --duration 40 --idle 2 --max-dropped 0
+start_cdspd d4 --calib "$CALIB" --radius 10 --source "file:$rec/*.pgm" --set file.rate=100 \
+    --dest 127.0.0.1:$RX_PORT --set stats_interval=0
+wait_for "$d4_pid" 30; rc=$?
+[ $rc -eq 0 ] || fail "cdspd replaying a recording: exit status $rc, expected 0 at its end"
+grep -q "no more frames" "$work/d4.log" || fail "the file source did not report its end"
+wait_for "$rx5_pid" 10 || fail "replay differs from the recording"
+cat "$work/rx5.out"
+
+echo "--- 4. a slow source: no-frame statuses"
+start_rx rx6 --duration 40 --idle 2 --expect-status no-frame --min-expect 4
+start_cdspd d5 --calib "$CALIB" --radius 10 --source "file:$rec/*.pgm" --set file.rate=2 \
+    --set status_interval=0.1 --dest 127.0.0.1:$RX_PORT --duration 2.2
+wait_for "$d5_pid" 30 || fail "cdspd (slow file) exit status $?"
+wait_for "$rx6_pid" 10 || fail "no-frame statuses"
+cat "$work/rx6.out"
+
+if [ -x "${CDSP_LISTEN:-}" ]; then
+    echo "--- 5. cdsp_tool listen"
+    "$CDSP_LISTEN" 127.0.0.1:0 --count 20 --duration 30 >"$work/listen.out" 2>"$work/listen.err" &
+    lpid=$!; pids+=("$lpid")
+    wait_log "$work/listen.err" "(port [0-9]*)" 5 || fail "the listener did not start"
+    lport=$(sed -n 's/.*(port \([0-9]*\)).*/\1/p' "$work/listen.err")
+    start_cdspd d6 "${common[@]}" --set sim.frames=8 --set sim.away=0 --dest 127.0.0.1:$lport --duration 3
+    wait_for "$lpid" 30 || fail "cdsp_tool listen exit status $?"
+    wait_for "$d6_pid" 30 || fail "cdspd (listen) exit status $?"
+    head -3 "$work/listen.out"
+    n_ok=$(grep -c ' ok  P_C (' "$work/listen.out")
+    [ "$n_ok" -ge 15 ] || fail "the listener printed $n_ok poses of 20 datagrams"
+    grep -q "20 datagrams, 0 undecodable, 0 sequence numbers missing" "$work/listen.err" ||
+        fail "listener summary"
+fi
+echo "PASS: sim -> cdspd -> UDP: poses within tolerance, continuous sequence, statuses, JSON, record/replay"

@@ -1,0 +1,292 @@
+/*
+ * test_proto.c - cdspd's datagram format (daemon/proto.c) against
+ * docs/protocol.md: byte positions and little-endian order of the binary
+ * record, round trips of random records through binary and JSON, the
+ * rejection of foreign or damaged datagrams, and the status tokens.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <stdio.h>
+#include <math.h>
+#include <cmocka.h>
+
+#include "proto.h"
+
+static void random_record(cdsp_rng *g, cdspd_record *r, int ok)
+{
+    double *d[] = {r->point, r->direction, &r->lines[0][0], &r->segment[0][0], r->sigma_point,
+                   r->sigma_direction, r->rms};
+    int nd[] = {3, 3, 6, 6, 3, 3, 2}, i, k;
+    memset(r, 0, sizeof *r);
+    r->version = CDSPD_PROTO_VERSION;
+    r->kind = ok ? CDSPD_KIND_FRAME : CDSPD_KIND_STATUS;
+    r->seq = cdsp_rng_u32(g);
+    r->status = ok ? 0 : CDSPD_ST_SOURCE_DOWN;
+    r->flags = ok ? (CDSPD_FLAG_TRACKED | CDSPD_FLAG_RECORDED) : CDSPD_FLAG_SOURCE_DOWN;
+    r->frame_id = ((uint64_t)cdsp_rng_u32(g) << 21) ^ cdsp_rng_u32(g);
+    r->t_camera_us = ((uint64_t)cdsp_rng_u32(g) << 20) ^ cdsp_rng_u32(g);
+    r->t_host_us = ((uint64_t)cdsp_rng_u32(g) << 19) ^ cdsp_rng_u32(g);
+    r->radius = 8.25;
+    if (ok) {
+        for (i = 0; i < 7; i++)
+            for (k = 0; k < nd[i]; k++)
+                d[i][k] = 1000 * ((double)cdsp_rng_uniform(g) - 0.5) / (1 + k);
+        r->distance = 123.456789012345;
+        r->alpha = 0.0375;
+        r->sigma_distance = 1e-3 * (double)cdsp_rng_uniform(g);
+        r->inliers[0] = cdsp_rng_below(g, 5000);
+        r->inliers[1] = cdsp_rng_below(g, 5000);
+        r->n_edges = cdsp_rng_below(g, 16384);
+    }
+    r->proc_us = cdsp_rng_below(g, 100000);
+    r->latency_us = cdsp_rng_below(g, 100000);
+    r->frames_in = cdsp_rng_u32(g);
+    r->frames_dropped = cdsp_rng_u32(g);
+    r->frames_bad = cdsp_rng_u32(g);
+    r->reconnects = cdsp_rng_below(g, 100);
+}
+
+static void assert_records_equal(const cdspd_record *a, const cdspd_record *b)
+{
+    /* field by field: the struct has padding */
+    assert_int_equal(a->kind, b->kind);
+    assert_int_equal(a->seq, b->seq);
+    assert_int_equal(a->status, b->status);
+    assert_int_equal(a->flags, b->flags);
+    assert_true(a->frame_id == b->frame_id);
+    assert_true(a->t_camera_us == b->t_camera_us);
+    assert_true(a->t_host_us == b->t_host_us);
+    assert_memory_equal(&a->radius, &b->radius, sizeof a->radius);
+    assert_memory_equal(a->point, b->point, sizeof a->point);
+    assert_memory_equal(a->direction, b->direction, sizeof a->direction);
+    assert_memory_equal(&a->distance, &b->distance, sizeof a->distance);
+    assert_memory_equal(&a->alpha, &b->alpha, sizeof a->alpha);
+    assert_memory_equal(a->lines, b->lines, sizeof a->lines);
+    assert_memory_equal(a->segment, b->segment, sizeof a->segment);
+    assert_memory_equal(a->sigma_point, b->sigma_point, sizeof a->sigma_point);
+    assert_memory_equal(a->sigma_direction, b->sigma_direction, sizeof a->sigma_direction);
+    assert_memory_equal(&a->sigma_distance, &b->sigma_distance, sizeof a->sigma_distance);
+    assert_memory_equal(a->rms, b->rms, sizeof a->rms);
+    assert_int_equal(a->inliers[0], b->inliers[0]);
+    assert_int_equal(a->inliers[1], b->inliers[1]);
+    assert_int_equal(a->n_edges, b->n_edges);
+    assert_int_equal(a->proc_us, b->proc_us);
+    assert_int_equal(a->latency_us, b->latency_us);
+    assert_int_equal(a->frames_in, b->frames_in);
+    assert_int_equal(a->frames_dropped, b->frames_dropped);
+    assert_int_equal(a->frames_bad, b->frames_bad);
+    assert_int_equal(a->reconnects, b->reconnects);
+}
+
+/* The byte table of docs/protocol.md, checked with hand-made values. */
+static void test_layout(void **state)
+{
+    cdspd_record r;
+    uint8_t b[CDSPD_PROTO_SIZE + 8];
+    static const uint8_t one_le[8] = {0, 0, 0, 0, 0, 0, 0xF0, 0x3F};       /* 1.0 */
+    static const uint8_t minus2_le[8] = {0, 0, 0, 0, 0, 0, 0x00, 0xC0};    /* -2.0 */
+    (void)state;
+    memset(&r, 0, sizeof r);
+    r.kind = CDSPD_KIND_FRAME;
+    r.seq = 0x01020304u;
+    r.status = CDSP_E_NO_PIPE; /* -6 */
+    r.flags = CDSPD_FLAG_TRACKED | CDSPD_FLAG_RECORDED;
+    r.n_edges = 0x0A0B0C0Du;
+    r.frame_id = 0x1122334455667788ull;
+    r.t_camera_us = 5;
+    r.t_host_us = 0x100000000ull;
+    r.radius = 1.0;
+    r.point[0] = 1.0;
+    r.point[2] = -2.0;
+    r.direction[1] = 1.0;
+    r.distance = -2.0;
+    r.segment[1][2] = 1.0;
+    r.rms[1] = 1.0;
+    r.inliers[1] = 258;
+    r.proc_us = 7;
+    r.latency_us = 8;
+    r.frames_in = 9;
+    r.frames_dropped = 10;
+    r.frames_bad = 11;
+    r.reconnects = 12;
+    assert_int_equal(cdspd_proto_encode(&r, b, CDSPD_PROTO_SIZE - 1), 0);
+    assert_int_equal(cdspd_proto_encode(&r, b, sizeof b), CDSPD_PROTO_SIZE);
+    assert_int_equal(CDSPD_PROTO_SIZE, 320);
+    assert_memory_equal(b, "CDSP", 4);
+    assert_int_equal(b[4], 1);
+    assert_int_equal(b[5], CDSPD_KIND_FRAME);
+    assert_int_equal(b[6], 320 & 0xFF);
+    assert_int_equal(b[7], 320 >> 8);
+    assert_int_equal(b[8], 0x04);
+    assert_int_equal(b[11], 0x01);
+    assert_int_equal(b[12], 0xFA); /* -6, two's complement */
+    assert_int_equal(b[13], 0xFF);
+    assert_int_equal(b[15], 0xFF);
+    assert_int_equal(b[16], 0x11);
+    assert_int_equal(b[20], 0x0D);
+    assert_int_equal(b[23], 0x0A);
+    assert_int_equal(b[24], 0x88);
+    assert_int_equal(b[31], 0x11);
+    assert_int_equal(b[32], 5);
+    assert_int_equal(b[44], 1); /* 2^32 */
+    assert_memory_equal(b + 48, one_le, 8);  /* radius */
+    assert_memory_equal(b + 56, one_le, 8);  /* point x */
+    assert_memory_equal(b + 72, minus2_le, 8); /* point z */
+    assert_memory_equal(b + 88, one_le, 8);  /* direction y */
+    assert_memory_equal(b + 104, minus2_le, 8); /* distance */
+    assert_memory_equal(b + 168 + 40, one_le, 8); /* segment[1][2] */
+    assert_memory_equal(b + 280, one_le, 8); /* rms[1] */
+    assert_int_equal(b[292], 2);            /* inliers[1] = 258 */
+    assert_int_equal(b[293], 1);
+    assert_int_equal(b[296], 7);
+    assert_int_equal(b[300], 8);
+    assert_int_equal(b[304], 9);
+    assert_int_equal(b[308], 10);
+    assert_int_equal(b[312], 11);
+    assert_int_equal(b[316], 12);
+}
+
+static void test_binary_round_trip(void **state)
+{
+    cdsp_rng g;
+    int i;
+    (void)state;
+    cdsp_rng_seed(&g, 4, 1);
+    for (i = 0; i < 200; i++) {
+        cdspd_record a, b;
+        uint8_t buf[CDSPD_PROTO_SIZE];
+        const char *why = NULL;
+        random_record(&g, &a, i % 3 != 0);
+        assert_int_equal(cdspd_proto_encode(&a, buf, sizeof buf), CDSPD_PROTO_SIZE);
+        assert_int_equal(cdspd_proto_decode(buf, sizeof buf, &b, &why), 0);
+        assert_int_equal(b.version, 1);
+        assert_records_equal(&a, &b);
+    }
+}
+
+static void test_binary_rejects(void **state)
+{
+    cdspd_record a, b;
+    uint8_t buf[CDSPD_PROTO_SIZE + 80];
+    const char *why;
+    cdsp_rng g;
+    (void)state;
+    cdsp_rng_seed(&g, 5, 1);
+    random_record(&g, &a, 1);
+    cdspd_proto_encode(&a, buf, sizeof buf);
+    why = NULL;
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE - 1, &b, &why), -1);
+    assert_string_equal(why, "truncated datagram");
+    assert_int_equal(cdspd_proto_decode(buf, 3, &b, &why), -1);
+    buf[0] = 'X';
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
+    assert_non_null(strstr(why, "magic"));
+    buf[0] = 'C';
+    buf[4] = 2;
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
+    assert_non_null(strstr(why, "version"));
+    buf[4] = 1;
+    buf[5] = 9;
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
+    buf[5] = CDSPD_KIND_FRAME;
+    buf[6] = (uint8_t)(319 & 0xFF);
+    buf[7] = 319 >> 8;
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
+    /* a longer record of a later revision: fields appended, still read */
+    buf[6] = (uint8_t)(400 & 0xFF);
+    buf[7] = 400 >> 8;
+    memset(buf + CDSPD_PROTO_SIZE, 0x5A, 80);
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 400, has 320 */
+    assert_int_equal(cdspd_proto_decode(buf, 400, &b, &why), 0);
+    assert_records_equal(&a, &b);
+}
+
+static void test_json_round_trip(void **state)
+{
+    cdsp_rng g;
+    int i;
+    char text[4096];
+    (void)state;
+    cdsp_rng_seed(&g, 6, 1);
+    for (i = 0; i < 100; i++) {
+        cdspd_record a, b;
+        size_t n;
+        const char *why = NULL;
+        random_record(&g, &a, i % 4 != 0);
+        /* JSON carries tracked/full-search as one boolean */
+        if (a.status == 0)
+            a.flags &= ~CDSPD_FLAG_FULL_SEARCH;
+        n = cdspd_proto_encode_json(&a, text, sizeof text);
+        assert_true(n > 0 && n == strlen(text));
+        if (cdspd_proto_decode_json(text, n, &b, &why))
+            fail_msg("%s: %s", why, text);
+        assert_records_equal(&a, &b);
+    }
+}
+
+static void test_json_fields(void **state)
+{
+    cdspd_record a;
+    char text[4096];
+    cdsp_rng g;
+    static const char *const names[] = {"\"seq\":", "\"t_camera_us\":", "\"t_host_us\":",
+                                        "\"status\":\"ok\"", "\"point\":[", "\"direction\":[",
+                                        "\"distance\":", "\"segment\":[[", "\"sigma\":{",
+                                        "\"inliers\":[", "\"radius\":", "\"tracked\":true",
+                                        "\"frames_dropped\":", "\"latency_us\":"};
+    size_t i;
+    (void)state;
+    cdsp_rng_seed(&g, 7, 1);
+    random_record(&g, &a, 1);
+    assert_true(cdspd_proto_encode_json(&a, text, sizeof text) > 0);
+    for (i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (!strstr(text, names[i]))
+            fail_msg("no %s in %s", names[i], text);
+    random_record(&g, &a, 0);
+    assert_true(cdspd_proto_encode_json(&a, text, sizeof text) > 0);
+    assert_non_null(strstr(text, "\"status\":\"error\",\"error\":\"source-down\""));
+    assert_non_null(strstr(text, "\"kind\":\"status\""));
+    assert_null(strstr(text, "\"point\""));
+    /* too small a buffer: nothing, not a truncated object */
+    assert_int_equal(cdspd_proto_encode_json(&a, text, 40), 0);
+    /* the decoder refuses what is not a record */
+    {
+        cdspd_record b;
+        const char *why;
+        assert_int_equal(cdspd_proto_decode_json("{\"seq\": 1}", 10, &b, &why), -1);
+        assert_int_equal(cdspd_proto_decode_json("[1,2]", 5, &b, &why), -1);
+        assert_int_equal(cdspd_proto_decode_json("{\"seq\":", 7, &b, &why), -1);
+    }
+}
+
+static void test_status_tokens(void **state)
+{
+    int s, back;
+    (void)state;
+    for (s = 0; s >= CDSP_E_FORMAT; s--) {
+        assert_string_equal(cdspd_status_token(s), cdsp_status_token((cdsp_status)s));
+        assert_true(cdspd_status_from_token(cdspd_status_token(s), &back));
+        assert_int_equal(back, s);
+    }
+    assert_string_equal(cdspd_status_token(CDSPD_ST_NO_FRAME), "no-frame");
+    assert_string_equal(cdspd_status_token(CDSPD_ST_SOURCE_DOWN), "source-down");
+    assert_string_equal(cdspd_status_token(CDSPD_ST_BAD_FRAME), "bad-frame");
+    assert_true(cdspd_status_from_token("bad-frame", &back));
+    assert_int_equal(back, CDSPD_ST_BAD_FRAME);
+    assert_string_equal(cdspd_status_token(-50), "unknown");
+    assert_false(cdspd_status_from_token("nonsense", &back));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_layout),         cmocka_unit_test(test_binary_round_trip),
+        cmocka_unit_test(test_binary_rejects), cmocka_unit_test(test_json_round_trip),
+        cmocka_unit_test(test_json_fields),    cmocka_unit_test(test_status_tokens),
+    };
+    return cmocka_run_group_tests_name("daemon-proto", tests, NULL, NULL);
+}
