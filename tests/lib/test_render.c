@@ -98,6 +98,65 @@ static void test_contours_exact(void **state)
     contour_positions(0.1, 0.5);
 }
 
+/* Shaded pipes: a contour pixel's pipe part must carry the mean of the
+ * shading over that part (it changes like sqrt(distance) near the limb),
+ * not the limb's value. Reference: the same scene rendered 4x finer and
+ * box-filtered, whose own error is 4x smaller. A window-sum difference d
+ * (intensity x px) moves the edge by d / contrast; required < 0.01 px (the
+ * limb-value shortcut this replaced was off by 0.04-0.13 px). */
+static void test_shaded_coverage(void **state)
+{
+    const int SS = 4, Wd = 320, Hd = 240;
+    double ambient;
+    (void)state;
+    for (ambient = 0.5; ambient < 0.9; ambient += 0.35) {
+        cdsp_camera cam, big;
+        cdsp_scene s;
+        cdsp_image a, b;
+        double P[3] = {0, 0, 300}, v[3] = {0.1, 1, 0.1}, l[2][3], pin[2];
+        uint16_t *pa, *pb;
+        int k;
+        sup_camera(&cam, Wd, Hd, 400, 0, 0);
+        sup_camera(&big, Wd * SS, Hd * SS, 400.0 * SS, 0, 0);
+        big.cx = (cdsp_real)(((double)cam.cx + 0.5) * SS - 0.5);
+        big.cy = (cdsp_real)(((double)cam.cy + 0.5) * SS - 0.5);
+        sup_scene(&s, P, v, 8);
+        s.ambient = (cdsp_real)ambient;
+        s.texture = 0;
+        s.blur_sigma_px = 0;
+        s.noise_sigma = 0;
+        pa = sup_render(&s, &cam, 16, 1, &a);
+        pb = sup_render(&s, &big, 16, 1, &b);
+        assert_non_null(pa);
+        assert_non_null(pb);
+        assert_true(sup_contour_lines(&cam, P, v, 8, l, pin));
+        for (k = 0; k < 2; k++) {
+            double sum = 0;
+            int y, rows = 0;
+            for (y = 20; y < Hd - 20; y += 2) {
+                double xe = -(l[k][1] * y + l[k][2]) / l[k][0], d = 0;
+                int x, i0 = (int)floor(xe) - 5, i1 = (int)floor(xe) + 5;
+                for (x = i0; x <= i1; x++) {
+                    double ref = 0;
+                    int yy, xx;
+                    for (yy = 0; yy < SS; yy++)
+                        for (xx = 0; xx < SS; xx++)
+                            ref += pb[(size_t)(y * SS + yy) * (size_t)(Wd * SS) + (size_t)(x * SS + xx)];
+                    d += pa[(size_t)y * (size_t)Wd + (size_t)x] / 65535.0 - ref / (SS * SS * 65535.0);
+                }
+                sum += d;
+                rows++;
+            }
+            sum /= rows;
+            if (fabs(sum / (double)(s.pipe_level - s.background_level)) > 0.01)
+                fail_msg("ambient %.2f contour %d: edge moved %.4f px from the supersampled one",
+                         ambient, k, sum / (double)(s.pipe_level - s.background_level));
+        }
+        free(pa);
+        free(pb);
+    }
+}
+
 /* A finite pipe: the cap faces the camera where the axis runs away from it;
  * beyond the end is background; clutter bars are drawn at their level. */
 static void test_caps_and_clutter(void **state)
@@ -263,6 +322,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_contours_exact),
+        cmocka_unit_test(test_shaded_coverage),
         cmocka_unit_test(test_caps_and_clutter),
         cmocka_unit_test(test_noise_and_depth),
         cmocka_unit_test(test_reproducible_and_args),
