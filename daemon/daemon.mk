@@ -55,11 +55,17 @@ daemon_OBJ := $(patsubst %.c,$(daemon_DIR)/%.o,$(daemon_SRC)) \
 daemon_MAIN_OBJ := $(daemon_DIR)/cdspd.o
 daemon_HOST_LIB := $(BUILD)/libcdsp_host.a
 
-$(daemon_DIR)/%.o: daemon/%.c
+# Objects depend on the optional sources found: a stamp that changes with them.
+daemon_STAMP := $(daemon_DIR)/features
+daemon_FEATURES := $(strip $(daemon_DEFS))
+$(shell mkdir -p $(daemon_DIR); [ "$$(cat $(daemon_STAMP) 2>/dev/null)" = "$(daemon_FEATURES)" ] || \
+        echo "$(daemon_FEATURES)" >$(daemon_STAMP))
+
+$(daemon_DIR)/%.o: daemon/%.c $(daemon_STAMP)
 	@mkdir -p $(@D)
 	$(CC) $(daemon_CFLAGS) -c $< -o $@
 
-$(daemon_DIR)/%.o: daemon/%.cpp
+$(daemon_DIR)/%.o: daemon/%.cpp $(daemon_STAMP)
 	@mkdir -p $(@D)
 	$(CXX) $(daemon_CXXFLAGS) -c $< -o $@
 
@@ -110,8 +116,17 @@ check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_LISTEN_BIN)
 check-daemon-errors: $(daemon_BIN) $(daemon_RX)
 	@$(daemon_ENV) $(RUN) "daemon/errors" tests/daemon/errors.sh
 
-check-daemon: check-daemon-unit check-daemon-sim check-daemon-errors
-CHECK_STEPS += check-daemon
+daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors
+
+ifneq ($(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),)
+.PHONY: check-daemon-aravis
+check-daemon-aravis: $(daemon_BIN) $(daemon_RX) $(BUILD)/fakecam/cdsp_fakecam
+	@$(daemon_ENV) $(RUN) "daemon/aravis-fakecam" tests/daemon/aravis_e2e.sh $(BUILD)/fakecam/cdsp_fakecam
+daemon_CHECKS += check-daemon-aravis
+endif
+
+check-daemon: $(daemon_CHECKS)
+CHECK_STEPS += $(daemon_CHECKS)
 
 # --- demo ------------------------------------------------------------------------
 # cdspd on its simulated camera and the listener beside it, printing poses

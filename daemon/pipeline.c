@@ -160,10 +160,10 @@ static void *capture_main(void *arg)
         case CDSPD_GRAB_LOST:
             LOG_W(SOURCE, "%s lost: %s; reopening (back-off %.1f .. %.1f s)", c->source,
                   *err ? err : "no reason given", c->retry_min, c->retry_max);
-            p->src->ops->close(p->src);
+            cdspd_stats_set_down(p->stats, 1);
+            p->src->ops->close(p->src); /* may wait for a dead device's time-outs */
             opened = 0;
             lost_before = 1;
-            cdspd_stats_set_down(p->stats, 1);
             break;
         case CDSPD_GRAB_END:
             LOG_I(SOURCE, "%s: no more frames", c->source);

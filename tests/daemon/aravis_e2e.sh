@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# tests/daemon/aravis_e2e.sh FAKECAM: cdspd's aravis source end to end with
+# the fake GigE Vision camera (tests/fakecam: libaravis's ArvGvFakeCamera
+# drawing pipes of known pose, fakecam_path.h) on 127.0.0.1:
+#   1. poses of every frame within the tolerance of their sigmas against the
+#      camera's ground truth, sequence numbers continuous;
+#   2. the camera killed (SIGKILL) and started again: cdspd reports the
+#      source down (status datagrams), reopens it and poses resume;
+#   3. a camera that drops 2 of every 1000 GVSP packets (and never resends):
+#      incomplete frames are counted and skipped, the others solved;
+#   4. no such camera: exit status 3 after open_timeout.
+# One fake camera per machine (GVCP has one port): the lock the fake
+# camera's own test uses is held throughout.
+. "$(dirname "$0")/lib.sh"
+fakecam=${1:?usage: aravis_e2e.sh FAKECAM}
+[ -x "$fakecam" ] || fail "'$fakecam' is not an executable"
+cycle=25
+cam_pid=""
+
+start_camera() {
+    "$fakecam" -i 127.0.0.1 --duration 120 --cycle $cycle "$@" >"$work/cam.out" 2>"$work/cam.err" &
+    cam_pid=$!
+    pids+=("$cam_pid")
+    for _ in $(seq 100); do
+        grep -q '^cdsp_fakecam: ready' "$work/cam.out" && return 0
+        kill -0 "$cam_pid" 2>/dev/null || break
+        sleep 0.1
+    done
+    fail "cdsp_fakecam did not start"
+}
+stop_camera() {
+    kill -"${1:-TERM}" "$cam_pid" 2>/dev/null
+    wait_for "$cam_pid" 10 >/dev/null 2>&1
+}
+
+exec 8>/tmp/cdsp-fakecam-gvcp.lock
+flock -w 300 8 || fail "the fake camera's lock is held by another test for 300 s"
+
+arv=(--source aravis:127.0.0.1 --calib "$CALIB" --radius 10 --set retry_min=0.5 --set retry_max=2
+     --set aravis.frame_timeout=2 --set stats_interval=0 --set status_interval=0.25)
+
+echo "--- 1+2. poses against the camera's truth; camera killed and restarted"
+start_camera
+start_rx rx --truth fakecam --cycle $cycle --calib "$CALIB" --duration 90 --idle 3 --min-poses 60 \
+    --expect-status source-down --min-reconnects 1 --resume-within 30
+start_cdspd d "${arv[@]}" --dest 127.0.0.1:$RX_PORT
+wait_log "$work/d.log" "aravis:127.0.0.1: open" 20 || fail "cdspd did not open the camera"
+sleep 4
+stop_camera KILL
+wait_log "$work/d.log" "lost: " 15 || fail "cdspd did not notice the camera's loss"
+grep -m1 "lost: " "$work/d.log"
+sleep 2   # the camera stays away: status datagrams say source-down
+start_camera
+wait_log "$work/d.log" "aravis:127.0.0.1: reopened" 30 || fail "cdspd did not reopen the camera"
+sleep 3
+kill -TERM "$d_pid"
+wait_for "$d_pid" 10 || fail "cdspd exit status $? after SIGTERM"
+wait_for "$rx_pid" 10 || fail "receiver"
+cat "$work/rx.out"
+stop_camera
+
+echo "--- 3. GVSP packet loss"
+start_camera -r 2
+start_rx rx2 --truth fakecam --cycle $cycle --calib "$CALIB" --duration 60 --idle 3 --min-poses 20 \
+    --min-bad 3
+start_cdspd d2 "${arv[@]}" --dest 127.0.0.1:$RX_PORT
+wait_log "$work/d2.log" "aravis:127.0.0.1: open" 20 || fail "cdspd did not open the lossy camera"
+sleep 5
+kill -TERM "$d2_pid"
+wait_for "$d2_pid" 10 || fail "cdspd exit status $? after SIGTERM (lossy camera)"
+wait_for "$rx2_pid" 10 || fail "receiver (lossy camera)"
+cat "$work/rx2.out"
+grep -m1 "frame skipped" "$work/d2.log" || fail "no message about incomplete frames"
+stop_camera
+
+echo "--- 4. no such camera"
+expect_rc 3 nocam "$CDSPD" --source aravis:cdspd-no-such-camera --calib "$CALIB" --radius 10 \
+    --dest 127.0.0.1:9 --set open_timeout=2
+expect_msg nocam "no camera 'cdspd-no-such-camera'"
+grep "cannot open the source" "$work/nocam.err"
+echo "PASS: aravis source with the fake GigE Vision camera"
