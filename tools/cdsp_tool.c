@@ -1,9 +1,11 @@
 /*
  * cdsp_tool.c - the offline tool on saved frames: `cdsp_tool COMMAND ...`
  * dispatches to one subcommand per file (tool_solve.c for solve and
- * overlay, tool_sim.c, tool_export.c, tool_bench.c). Each has --help.
+ * overlay, tool_sim.c, tool_export.c, tool_bench.c, and listen.c, which
+ * decodes cdspd's UDP stream with the daemon's protocol code). Each has --help.
  */
 #include "tool_internal.h"
+#include "listen.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -18,6 +20,7 @@ static const struct {
     {"sim", tool_sim_main, "simulated frames of a known pipe, calibration, ground truth"},
     {"export", tool_export_main, "solved pipes as a PLY or OBJ mesh of cylinders"},
     {"bench", tool_bench_main, "the paper's accuracy study on simulated data"},
+    {"listen", cdsp_tool_listen, "decode and print the poses cdspd streams over UDP"},
 };
 
 #define N_COMMANDS (sizeof commands / sizeof commands[0])

@@ -43,8 +43,11 @@ $(BUILD)/tools/%.o: tools/%.c
 	@mkdir -p $(@D)
 	$(CC) $(tool_CFLAGS) -c $< -o $@
 
-$(tool_BIN): $(tool_OBJ) $(CDSP_HOST_LIB) $(host_LIB)
-	$(CC) $(tool_CFLAGS) $(tool_OBJ) $(CDSP_HOST_LIB) $(host_LIB) $(tool_PKG_LIBS) -lpthread -lm -o $@
+# `cdsp_tool listen` is tools/listen.c with the daemon's protocol decoder,
+# built by daemon/daemon.mk (included before this file) as daemon_LISTEN_OBJS.
+$(tool_BIN): $(tool_OBJ) $(daemon_LISTEN_OBJS) $(CDSP_HOST_LIB) $(host_LIB)
+	$(CC) $(tool_CFLAGS) $(tool_OBJ) $(daemon_LISTEN_OBJS) $(CDSP_HOST_LIB) $(host_LIB) \
+	    $(tool_PKG_LIBS) -lpthread -lm -o $@
 
 ALL_TARGETS += $(CDSP_HOST_LIB) $(tool_BIN)
 
@@ -76,22 +79,34 @@ tool_ASAN_BIN := $(BUILD)/tools-asan/cdsp_tool
 tool_ASAN_TOOL_OBJ := $(patsubst tools/%.c,$(BUILD)/tools-asan/%.o,$(tool_SRC))
 $(BUILD)/tools-asan/%.o: tools/%.c
 	@mkdir -p $(@D)
-	$(CLANG) $(tool_ASAN_CFLAGS) -c $< -o $@
-$(tool_ASAN_BIN): $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LIB) $(asan_LIB)
-	$(CLANG) $(tool_ASAN_CFLAGS) $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LIB) $(asan_LIB) \
-	  $(tool_PKG_LIBS) -lpthread -lm -o $@
+	$(CLANG) $(tool_ASAN_CFLAGS) $(CFLAGS_EXTRA) -c $< -o $@
+# the listener (tools/listen.c + daemon/proto.c) in each sanitizer build too
+tool_ASAN_LISTEN_OBJ := $(BUILD)/tools-asan/listen.o $(BUILD)/tools-asan/proto.o
+$(BUILD)/tools-asan/proto.o: daemon/proto.c
+	@mkdir -p $(@D)
+	$(CLANG) $(tool_ASAN_CFLAGS) -Idaemon -c $< -o $@
+$(BUILD)/tools-asan/listen.o: CFLAGS_EXTRA := -Idaemon
+$(tool_ASAN_BIN): $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LISTEN_OBJ) $(tool_ASAN_LIB) $(asan_LIB)
+	$(CLANG) $(tool_ASAN_CFLAGS) $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LISTEN_OBJ) $(tool_ASAN_LIB) \
+	  $(asan_LIB) $(tool_PKG_LIBS) -lpthread -lm -o $@
 
 tool_TSAN_CFLAGS := $(BASE_CFLAGS) -O1 -g -fsanitize=thread -Itools/common $(tool_PKG_CFLAGS)
 tool_TSAN_BIN := $(BUILD)/tools-tsan/cdsp_tool
 tool_TSAN_OBJ := $(patsubst tools/%.c,$(BUILD)/tools-tsan/%.o,$(tool_SRC))
 $(BUILD)/tools-tsan/%.o: tools/%.c
 	@mkdir -p $(@D)
-	$(CLANG) $(tool_TSAN_CFLAGS) -c $< -o $@
-$(tool_TSAN_BIN): $(tool_TSAN_OBJ) $(CDSP_HOST_LIB) $(host_LIB)
-	$(CLANG) $(tool_TSAN_CFLAGS) $(tool_TSAN_OBJ) $(CDSP_HOST_LIB) $(host_LIB) \
-	  $(tool_PKG_LIBS) -lpthread -lm -o $@
+	$(CLANG) $(tool_TSAN_CFLAGS) $(CFLAGS_EXTRA) -c $< -o $@
+tool_TSAN_LISTEN_OBJ := $(BUILD)/tools-tsan/listen.o $(BUILD)/tools-tsan/proto.o
+$(BUILD)/tools-tsan/proto.o: daemon/proto.c
+	@mkdir -p $(@D)
+	$(CLANG) $(tool_TSAN_CFLAGS) -Idaemon -c $< -o $@
+$(BUILD)/tools-tsan/listen.o: CFLAGS_EXTRA := -Idaemon
+$(tool_TSAN_BIN): $(tool_TSAN_OBJ) $(tool_TSAN_LISTEN_OBJ) $(CDSP_HOST_LIB) $(host_LIB)
+	$(CLANG) $(tool_TSAN_CFLAGS) $(tool_TSAN_OBJ) $(tool_TSAN_LISTEN_OBJ) $(CDSP_HOST_LIB) \
+	  $(host_LIB) $(tool_PKG_LIBS) -lpthread -lm -o $@
 
--include $(tool_ASAN_TOOL_OBJ:.o=.d) $(tool_TSAN_OBJ:.o=.d)
+-include $(tool_ASAN_TOOL_OBJ:.o=.d) $(tool_TSAN_OBJ:.o=.d) $(tool_ASAN_LISTEN_OBJ:.o=.d) \
+         $(tool_TSAN_LISTEN_OBJ:.o=.d)
 
 # Sanitizer findings exit with statuses the suite never expects (66, 86, 87).
 tool_SAN_ENV := ASAN_OPTIONS=detect_leaks=1:exitcode=86 \
