@@ -103,18 +103,11 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
     st = cdsp_image_check(img);
     if (st != CDSP_OK)
         return st;
-    st = cdsp_camera_check(cam);
+    st = cdsp__solve_args_check(cam, radius, p);
     if (st != CDSP_OK)
         return st;
     if (img->width != cam->width || img->height != cam->height)
         return CDSP_E_ARG;
-    if (!R_FINITE(radius))
-        return CDSP_E_NONFINITE;
-    if (!(radius > R(0)))
-        return CDSP_E_ARG;
-    st = cdsp__params_check(p);
-    if (st != CDSP_OK)
-        return st;
 
     if (prior && v3_finite(prior->lines[0]) && v3_finite(prior->lines[1])) {
         n = track_edges(img, cam, p, prior, ws->edge, CDSP_MAX_EDGES);

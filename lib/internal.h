@@ -141,6 +141,8 @@ void cdsp__axis_to_result(const cdsp__axis *a, const cdsp_real l1[3], const cdsp
 void cdsp__axis_swap(cdsp_result *r);
 int cdsp__axis_wants_swap(const cdsp_real v[3]);
 cdsp_status cdsp__params_check(const cdsp_params *p);
+/* The checks every solve entry point makes: camera, radius, parameters. */
+cdsp_status cdsp__solve_args_check(const cdsp_camera *cam, cdsp_real radius, const cdsp_params *p);
 cdsp_status cdsp__edge_params_check(const cdsp_edge_params *p);
 size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p,
                                 int horizontal, int line, int from, int to,

@@ -301,6 +301,18 @@ cdsp_status cdsp__params_check(const cdsp_params *p)
     return cdsp__edge_params_check(&p->edge);
 }
 
+cdsp_status cdsp__solve_args_check(const cdsp_camera *cam, cdsp_real radius, const cdsp_params *p)
+{
+    cdsp_status st = cdsp_camera_check(cam);
+    if (st != CDSP_OK)
+        return st;
+    if (!R_FINITE(radius))
+        return CDSP_E_NONFINITE;
+    if (!(radius > R(0)))
+        return CDSP_E_ARG;
+    return cdsp__params_check(p);
+}
+
 cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                               size_t n, const cdsp_params *p, const cdsp_result *prior,
                               cdsp_points_ws *ws, cdsp_rng *rng, cdsp_result *out)
@@ -308,14 +320,7 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cd
     cdsp_status st;
     if (!cam || !p || !ws || !rng || !out || (!pts && n))
         return CDSP_E_ARG;
-    st = cdsp_camera_check(cam);
-    if (st != CDSP_OK)
-        return st;
-    if (!R_FINITE(radius))
-        return CDSP_E_NONFINITE;
-    if (!(radius > R(0)))
-        return CDSP_E_ARG;
-    st = cdsp__params_check(p);
+    st = cdsp__solve_args_check(cam, radius, p);
     if (st != CDSP_OK)
         return st;
     if (n > CDSP_MAX_POINTS)

@@ -489,6 +489,21 @@ static void blur_line(float *data, size_t n, size_t stride, const float *kern, i
     }
 }
 
+/* One output pixel: sensor noise, rounding to the output's levels, clamping. */
+static void store(const cdsp_scene *s, cdsp_rng *rng, cdsp_real val, cdsp_real full, void *out,
+                  size_t stride, size_t bpp, int x, int y)
+{
+    long qv;
+    if (s->noise_sigma > R(0))
+        val += s->noise_sigma * cdsp_rng_normal(rng);
+    qv = (long)(val * full + R(0.5));
+    qv = qv < 0 ? 0 : (qv > (long)full ? (long)full : qv);
+    if (bpp == 1)
+        ((unsigned char *)out)[(size_t)y * stride + (size_t)x] = (unsigned char)qv;
+    else
+        ((uint16_t *)(void *)((unsigned char *)out + (size_t)y * stride))[x] = (uint16_t)qv;
+}
+
 #define RENDER_MAX_KERNEL 25 /* radius: 3 sigma up to sigma = 8 px */
 
 cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, size_t stride,
@@ -577,20 +592,10 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
             } else {
                 val = pixel(&k, q, Jp);
             }
-            if (use_scratch) {
+            if (use_scratch)
                 scratch[(size_t)y * (size_t)W + (size_t)x] = (float)val;
-            } else {
-                cdsp_real vv = val;
-                long qv;
-                if (s->noise_sigma > R(0))
-                    vv += s->noise_sigma * cdsp_rng_normal(rng);
-                qv = (long)(vv * k.full + R(0.5));
-                qv = qv < 0 ? 0 : (qv > (long)k.full ? (long)k.full : qv);
-                if (bpp == 1)
-                    ((unsigned char *)out)[(size_t)y * stride + (size_t)x] = (unsigned char)qv;
-                else
-                    ((uint16_t *)(void *)((unsigned char *)out + (size_t)y * stride))[x] = (uint16_t)qv;
-            }
+            else
+                store(s, rng, val, k.full, out, stride, bpp, x, y);
             q[0] += Jp[0] > R(0) ? R(1) / Jp[0] : R(1); /* next pixel's guess */
         }
     }
@@ -615,17 +620,8 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
             blur_line(scratch + x, (size_t)H, (size_t)W, kern, rad, line);
     }
     for (y = 0; y < H; y++)
-        for (x = 0; x < W; x++) {
-            cdsp_real vv = (cdsp_real)scratch[(size_t)y * (size_t)W + (size_t)x];
-            long qv;
-            if (s->noise_sigma > R(0))
-                vv += s->noise_sigma * cdsp_rng_normal(rng);
-            qv = (long)(vv * k.full + R(0.5));
-            qv = qv < 0 ? 0 : (qv > (long)k.full ? (long)k.full : qv);
-            if (bpp == 1)
-                ((unsigned char *)out)[(size_t)y * stride + (size_t)x] = (unsigned char)qv;
-            else
-                ((uint16_t *)(void *)((unsigned char *)out + (size_t)y * stride))[x] = (uint16_t)qv;
-        }
+        for (x = 0; x < W; x++)
+            store(s, rng, (cdsp_real)scratch[(size_t)y * (size_t)W + (size_t)x], k.full, out, stride,
+                  bpp, x, y);
     return CDSP_OK;
 }

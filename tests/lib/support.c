@@ -153,22 +153,23 @@ double sup_axis_angle(const double u[3], const double v[3])
     return atan2(sqrt(dot(c, c)), fabs(dot(u, v)));
 }
 
-size_t sup_contour_points(const cdsp_camera *cam, const double point[3], const double dir[3],
-                          double radius, double s0, double s1, size_t per_line, double sigma,
-                          double contrast, cdsp_rng *rng, cdsp_edge *out, size_t cap,
-                          double visible_px[2])
+/* The two tangent planes through the optical centre of the cylinder
+ * (point, dir, radius), in double and independent of the library: with F
+ * the foot of the axis (d = |F| > r), e1 = F/d, e2 = v x e1, the normals
+ * n = (r/d) e1 +- sqrt(1 - r^2/d^2) e2 satisfy n.v = 0 and n.F = r. Also
+ * the unit axis direction and the foot. Returns 0 when the camera is inside. */
+static int tangent_planes(const double point[3], const double dir[3], double radius,
+                          double n[2][3], double v[3], double foot[3])
 {
-    /* Exact contour lines in double, independent of the library: tangent
-     * planes n = (r/d) e1 +- sqrt(1 - r^2/d^2) e2 (see render.c). */
-    double v[3] = {dir[0], dir[1], dir[2]}, foot[3], e1[3], e2[3], d, c, s, n[2][3];
-    size_t cnt = 0, i;
-    int k, j;
+    double e1[3], e2[3], d, c, s, t;
+    int j;
+    v[0] = dir[0];
+    v[1] = dir[1];
+    v[2] = dir[2];
     normalize(v);
-    {
-        double t = dot(point, v);
-        for (j = 0; j < 3; j++)
-            foot[j] = point[j] - t * v[j];
-    }
+    t = dot(point, v);
+    for (j = 0; j < 3; j++)
+        foot[j] = point[j] - t * v[j];
     d = sqrt(dot(foot, foot));
     if (d <= radius)
         return 0;
@@ -181,6 +182,19 @@ size_t sup_contour_points(const cdsp_camera *cam, const double point[3], const d
         n[0][j] = c * e1[j] + s * e2[j];
         n[1][j] = c * e1[j] - s * e2[j];
     }
+    return 1;
+}
+
+size_t sup_contour_points(const cdsp_camera *cam, const double point[3], const double dir[3],
+                          double radius, double s0, double s1, size_t per_line, double sigma,
+                          double contrast, cdsp_rng *rng, cdsp_edge *out, size_t cap,
+                          double visible_px[2])
+{
+    double v[3], foot[3], n[2][3];
+    size_t cnt = 0, i;
+    int k, j;
+    if (!tangent_planes(point, dir, radius, n, v, foot))
+        return 0;
     for (k = 0; k < 2; k++) {
         /* the generator of plane k passes through foot - r n_k, along v;
          * first find the part of [s0, s1] whose image lies inside the frame
@@ -245,27 +259,14 @@ size_t sup_contour_points(const cdsp_camera *cam, const double point[3], const d
 int sup_contour_lines(const cdsp_camera *cam, const double point[3], const double dir[3],
                       double radius, double l[2][3], double p_in[2])
 {
-    double v[3] = {dir[0], dir[1], dir[2]}, foot[3], e1[3], e2[3], d, c, s, X[3];
+    double v[3], foot[3], nn[2][3], X[3];
     double fx = (double)cam->fx, fy = (double)cam->fy, cx = (double)cam->cx, cy = (double)cam->cy;
     int k, j;
-    normalize(v);
-    {
-        double t = dot(point, v);
-        for (j = 0; j < 3; j++)
-            foot[j] = point[j] - t * v[j];
-    }
-    d = sqrt(dot(foot, foot));
-    if (d <= radius)
+    if (!tangent_planes(point, dir, radius, nn, v, foot))
         return 0;
-    for (j = 0; j < 3; j++)
-        e1[j] = foot[j] / d;
-    cross(v, e1, e2);
-    c = radius / d;
-    s = sqrt(1 - c * c);
     for (k = 0; k < 2; k++) {
-        double n[3], a, b, len;
-        for (j = 0; j < 3; j++)
-            n[j] = c * e1[j] + (k ? -s : s) * e2[j];
+        const double *n = nn[k];
+        double a, b, len;
         a = n[0] / fx;
         b = n[1] / fy;
         len = sqrt(a * a + b * b);
