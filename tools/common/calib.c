@@ -9,35 +9,17 @@
  * silently dropped.
  */
 #define _POSIX_C_SOURCE 200809L
-#include "cdsp_host.h"
+#include "host_internal.h"
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <yaml.h>
 
-static int fail(cdsp_host_err *err, int rc, const char *name, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 4, 5)))
-#endif
-    ;
-
-static int fail(cdsp_host_err *err, int rc, const char *name, const char *fmt, ...)
-{
-    if (err) {
-        va_list ap;
-        int k = snprintf(err->msg, sizeof err->msg, "%s: ", name ? name : "(calibration)");
-        if (k < 0 || (size_t)k >= sizeof err->msg)
-            k = 0;
-        va_start(ap, fmt);
-        vsnprintf(err->msg + k, sizeof err->msg - (size_t)k, fmt, ap);
-        va_end(ap);
-    }
-    return rc;
-}
+/* Messages name the file, or this when no name was given. */
+#define fail(err, rc, name, ...) cdsp_host__fail(err, rc, (name) ? (name) : "(calibration)", __VA_ARGS__)
 
 typedef struct {
     yaml_document_t *doc;
