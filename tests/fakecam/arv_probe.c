@@ -29,6 +29,7 @@
 #include <arv.h>
 
 #include "cdsp.h"
+#include "cli.h"
 #include "fakecam_path.h"
 
 typedef struct {
@@ -49,10 +50,7 @@ typedef struct {
 enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TIMEOUT, OPT_MAXINC, OPT_MININC, OPT_CYCLE,
        OPT_TRUTH, OPT_WRAP };
 
-static const struct {
-    struct option opt;
-    const char *arg, *help;
-} option_table[] = {
+static const cli_option option_table[] = {
     {{"address", required_argument, NULL, 'a'}, "ADDR",
      "loopback address of the camera, 127.x.y.z (default 127.0.0.1)"},
     {{"serial", required_argument, NULL, 's'}, "SERIAL", "its serial number (default CDSP01)"},
@@ -81,45 +79,25 @@ static const struct {
 
 static void usage(FILE *f, int status)
 {
-    size_t i;
-    fprintf(f, "usage: arv_probe [options]\n"
-               "Stream frames from cdsp_fakecam and check them pixel for pixel.\n");
-    for (i = 0; i < N_OPTIONS; i++) {
-        const struct option *o = &option_table[i].opt;
-        char left[64];
-        if (o->val < 256)
-            snprintf(left, sizeof left, "-%c, --%s%s%s", o->val, o->name,
-                     option_table[i].arg ? " " : "", option_table[i].arg ? option_table[i].arg : "");
-        else
-            snprintf(left, sizeof left, "    --%s %s", o->name, option_table[i].arg);
-        fprintf(f, "  %-28s %s\n", left, option_table[i].help);
-    }
+    cli_usage(f,
+              "usage: arv_probe [options]\n"
+              "Stream frames from cdsp_fakecam and check them pixel for pixel.\n",
+              option_table, N_OPTIONS, 28);
     exit(status);
 }
 
 static double parse_number(const char *opt, const char *s, double lo, double hi)
 {
-    char *end;
-    double v;
-    errno = 0;
-    v = strtod(s, &end);
-    if (end == s || *end || errno || !(v >= lo && v <= hi)) {
-        fprintf(stderr, "arv_probe: --%s '%s': expected a number in [%g, %g]\n", opt, s, lo, hi);
-        exit(2);
-    }
-    return v;
+    return cli_number("arv_probe", opt, s, lo, hi);
 }
 
 static void parse_options(int argc, char **argv, probe_options *o)
 {
     struct option longopts[N_OPTIONS + 1];
     struct in_addr a;
-    size_t i;
     int c;
 
-    for (i = 0; i < N_OPTIONS; i++)
-        longopts[i] = option_table[i].opt;
-    memset(&longopts[N_OPTIONS], 0, sizeof longopts[N_OPTIONS]);
+    cli_longopts(option_table, N_OPTIONS, longopts);
     memset(o, 0, sizeof *o);
     o->address = "127.0.0.1";
     o->serial = "CDSP01";

@@ -34,6 +34,7 @@
 #include <arv.h>
 
 #include "cdsp.h"
+#include "cli.h"
 #include "fakecam_path.h"
 
 typedef struct {
@@ -200,10 +201,7 @@ drawn:
  * ---------------------------------------------------------------------- */
 enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TRUTH, OPT_DURATION, OPT_CYCLE };
 
-static const struct {
-    struct option opt;
-    const char *arg, *help;
-} option_table[] = {
+static const cli_option option_table[] = {
     {{"serial", required_argument, NULL, 's'}, "SERIAL",
      "serial number (default CDSP01; Aravis names the camera Aravis-Fake-SERIAL)"},
     {{"interface", required_argument, NULL, 'i'}, "ADDR",
@@ -231,44 +229,24 @@ static const struct {
 
 static void usage(FILE *f, int status)
 {
-    size_t i;
-    fprintf(f, "usage: cdsp_fakecam [options]\n"
-               "A fake GigE Vision camera showing the pipe of tests/fakecam/fakecam_path.h.\n");
-    for (i = 0; i < N_OPTIONS; i++) {
-        const struct option *o = &option_table[i].opt;
-        char left[64];
-        if (o->val < 256)
-            snprintf(left, sizeof left, "-%c, --%s%s%s", o->val, o->name,
-                     option_table[i].arg ? " " : "", option_table[i].arg ? option_table[i].arg : "");
-        else
-            snprintf(left, sizeof left, "    --%s %s", o->name, option_table[i].arg);
-        fprintf(f, "  %-30s %s\n", left, option_table[i].help);
-    }
+    cli_usage(f,
+              "usage: cdsp_fakecam [options]\n"
+              "A fake GigE Vision camera showing the pipe of tests/fakecam/fakecam_path.h.\n",
+              option_table, N_OPTIONS, 30);
     exit(status);
 }
 
 static double parse_number(const char *opt, const char *s, double lo, double hi)
 {
-    char *end;
-    double v;
-    errno = 0;
-    v = strtod(s, &end);
-    if (end == s || *end || errno || !(v >= lo && v <= hi)) {
-        fprintf(stderr, "cdsp_fakecam: --%s '%s': expected a number in [%g, %g]\n", opt, s, lo, hi);
-        exit(2);
-    }
-    return v;
+    return cli_number("cdsp_fakecam", opt, s, lo, hi);
 }
 
 static void parse_options(int argc, char **argv, fakecam_options *o)
 {
     struct option longopts[N_OPTIONS + 1];
-    size_t i;
     int c;
 
-    for (i = 0; i < N_OPTIONS; i++)
-        longopts[i] = option_table[i].opt;
-    memset(&longopts[N_OPTIONS], 0, sizeof longopts[N_OPTIONS]);
+    cli_longopts(option_table, N_OPTIONS, longopts);
 
     o->serial = "CDSP01";
     o->address = "127.0.0.1";

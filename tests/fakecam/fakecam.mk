@@ -11,9 +11,10 @@ fakecam_BINS := $(fakecam_DIR)/cdsp_fakecam $(fakecam_DIR)/arv_probe
 fakecam_ARV_CFLAGS = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags aravis-0.8 2>/dev/null))
 fakecam_ARV_LIBS   = $(shell pkg-config --libs aravis-0.8 2>/dev/null || echo -laravis-0.8)
 
-$(fakecam_BINS): $(fakecam_DIR)/%: tests/fakecam/%.c tests/fakecam/fakecam_path.h $(host_LIB)
+$(fakecam_BINS): $(fakecam_DIR)/%: tests/fakecam/%.c tests/fakecam/cli.c tests/fakecam/cli.h \
+                 tests/fakecam/fakecam_path.h $(host_LIB)
 	@mkdir -p $(@D)
-	$(CC) $(HOST_CFLAGS) $(fakecam_ARV_CFLAGS) -Itests/fakecam $< $(host_LIB) \
+	$(CC) $(HOST_CFLAGS) $(fakecam_ARV_CFLAGS) -Itests/fakecam $< tests/fakecam/cli.c $(host_LIB) \
 	    $(fakecam_ARV_LIBS) -lm -o $@
 
 -include $(fakecam_BINS:=.d)
