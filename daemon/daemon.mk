@@ -92,6 +92,7 @@ ALL_TARGETS += $(daemon_BIN) $(daemon_LISTEN_BIN)
 daemon_TDIR := $(BUILD)/tests/daemon
 daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool
 daemon_RX := $(daemon_TDIR)/cdspd_rx
+daemon_FEED := $(daemon_TDIR)/v4l2_feed
 # The daemon's modules as an archive: a test links the ones it uses.
 daemon_ARCHIVE := $(daemon_DIR)/libcdspd.a
 $(daemon_ARCHIVE): $(daemon_OBJ)
@@ -123,6 +124,14 @@ ifneq ($(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),)
 check-daemon-aravis: $(daemon_BIN) $(daemon_RX) $(BUILD)/fakecam/cdsp_fakecam
 	@$(daemon_ENV) $(RUN) "daemon/aravis-fakecam" tests/daemon/aravis_e2e.sh $(BUILD)/fakecam/cdsp_fakecam
 daemon_CHECKS += check-daemon-aravis
+endif
+
+ifneq ($(filter -DCDSPD_HAVE_V4L2,$(daemon_DEFS)),)
+.PHONY: check-daemon-v4l2
+check-daemon-v4l2: $(daemon_BIN) $(daemon_RX) $(daemon_FEED)
+	@CDSPD_TMP=$(daemon_TDIR)/tmp $(RUN) "daemon/v4l2-vivid-vm" tests/daemon/vm_v4l2.sh \
+	    $(daemon_BIN) $(daemon_RX) $(daemon_FEED)
+daemon_CHECKS += check-daemon-v4l2
 endif
 
 check-daemon: $(daemon_CHECKS)

@@ -38,3 +38,29 @@ int cdspd_sim_pose(const cdspd_config *c, int slot, double point[3], double dir[
     dir[2] = d[2] / n;
     return slot < away_from;
 }
+
+void cdspd_sim_scene(const cdspd_config *c, int slot, cdsp_scene *s)
+{
+    double p[3], v[3];
+    int i;
+    cdsp_scene_default(s);
+    if (!cdspd_sim_pose(c, slot, p, v)) {
+        p[0] = 0;
+        p[1] = 0;
+        p[2] = -1000 - 100 * c->radius;
+        v[0] = 1;
+        v[1] = 0;
+        v[2] = 0;
+    }
+    for (i = 0; i < 3; i++) {
+        s->axis_point[i] = (cdsp_real)p[i];
+        s->axis_dir[i] = (cdsp_real)v[i];
+    }
+    s->radius = (cdsp_real)c->radius;
+    s->half_length = 0;
+    s->ambient = (cdsp_real)c->sim.ambient;
+    s->noise_sigma = (cdsp_real)c->sim.noise;
+    s->blur_sigma_px = (cdsp_real)c->sim.blur;
+    s->texture = (cdsp_real)c->sim.texture;
+    s->texture_seed = (uint32_t)c->sim.seed;
+}

@@ -24,4 +24,9 @@ int cdspd_sim_slot(const cdspd_config *c, uint64_t frame);
  * the pipe is in view, 0 when the slot is in the away part of the path. */
 int cdspd_sim_pose(const cdspd_config *c, int slot, double point[3], double dir[3]);
 
+/* The scene of slot k as cdsp_render draws it: the pose above (out of
+ * view: the pipe lies behind the camera), radius, and the sim.* look
+ * (ambient, noise, blur, texture); libcdsp's defaults otherwise. */
+void cdspd_sim_scene(const cdspd_config *c, int slot, cdsp_scene *s);
+
 #endif

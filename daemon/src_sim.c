@@ -35,33 +35,6 @@ typedef struct {
     const cdspd_config *cfg;
 } sim_priv;
 
-static void scene_for_slot(const cdspd_config *c, int slot, cdsp_scene *s)
-{
-    double p[3], v[3];
-    int i;
-    cdsp_scene_default(s);
-    if (!cdspd_sim_pose(c, slot, p, v)) {
-        /* out of view: the pipe lies behind the camera */
-        p[0] = 0;
-        p[1] = 0;
-        p[2] = -1000 - 100 * c->radius;
-        v[0] = 1;
-        v[1] = 0;
-        v[2] = 0;
-    }
-    for (i = 0; i < 3; i++) {
-        s->axis_point[i] = (cdsp_real)p[i];
-        s->axis_dir[i] = (cdsp_real)v[i];
-    }
-    s->radius = (cdsp_real)c->radius;
-    s->half_length = 0;
-    s->ambient = (cdsp_real)c->sim.ambient;
-    s->noise_sigma = (cdsp_real)c->sim.noise;
-    s->blur_sigma_px = (cdsp_real)c->sim.blur;
-    s->texture = (cdsp_real)c->sim.texture;
-    s->texture_seed = (uint32_t)c->sim.seed;
-}
-
 static void *render_worker(void *arg)
 {
     sim_priv *p = arg;
@@ -83,7 +56,7 @@ static void *render_worker(void *arg)
         pthread_mutex_unlock(&p->mu);
         if (slot < 0)
             break;
-        scene_for_slot(p->cfg, slot, &scene);
+        cdspd_sim_scene(p->cfg, slot, &scene);
         cdsp_rng_seed(&rng, p->cfg->sim.seed, (uint64_t)slot);
         st = cdsp_render(&scene, &p->cfg->cam, p->ring + (size_t)slot * p->frame_bytes, 0, p->bits,
                          scratch, nscr, &rng);

@@ -49,7 +49,8 @@ typedef struct {
     const char *bind_text, *port_file, *config, *calib;
     const char *sets[MAX_SETS];
     int n_sets;
-    enum { TRUTH_NONE, TRUTH_SIM, TRUTH_FAKECAM } truth;
+    enum { TRUTH_NONE, TRUTH_SIM, TRUTH_FAKECAM, TRUTH_SIM_ANY } truth;
+    long min_slots;             /* sim-any: distinct poses seen */
     unsigned cycle;
     double duration, idle;
     long count, min_poses, min_status, max_status;
@@ -115,7 +116,10 @@ static void usage(FILE *f, int st)
             "usage: cdspd_rx [options]\n"
             "  --bind ADDR:PORT       where to listen (default 127.0.0.1:0)\n"
             "  --port-file FILE       write the bound port there once listening\n"
-            "  --truth sim|fakecam|none  ground truth of the frames (default none)\n"
+            "  --truth sim|fakecam|sim-any|none  ground truth of the frames (default none);\n"
+            "                         sim-any: frames do not carry the sim's frame numbers (V4L2\n"
+            "                         loop-back): each pose must match one of the path's poses\n"
+            "  --min-slots N          sim-any: at least N different poses seen\n"
             "  --config FILE --set K=V --calib FILE  the daemon's configuration (truth sim)\n"
             "  --cycle N              the fake camera's --cycle\n"
             "  --duration S           stop after S seconds (default 10)\n"
@@ -151,7 +155,7 @@ static double num(const char *opt, const char *s)
 
 static void parse(int argc, char **argv, rx_options *o)
 {
-    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ };
+    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ, MSL };
     static const struct option lo[] = {
         {"bind", 1, NULL, B}, {"port-file", 1, NULL, PF}, {"truth", 1, NULL, TR},
         {"config", 1, NULL, CF}, {"set", 1, NULL, ST}, {"calib", 1, NULL, CA},
@@ -160,7 +164,7 @@ static void parse(int argc, char **argv, rx_options *o)
         {"expect-status", 1, NULL, ES}, {"min-expect", 1, NULL, ME}, {"min-status", 1, NULL, MS},
         {"max-status", 1, NULL, XS}, {"min-reconnects", 1, NULL, MRC}, {"min-bad", 1, NULL, MB},
         {"max-dropped", 1, NULL, MD}, {"resume-within", 1, NULL, RW}, {"delta", 1, NULL, DL},
-        {"allow-seq-gaps", 0, NULL, SG}, {"compare-jsonl", 1, NULL, CJ}, {"json", 0, NULL, JS}, {"help", 0, NULL, 'h'},
+        {"allow-seq-gaps", 0, NULL, SG}, {"compare-jsonl", 1, NULL, CJ}, {"min-slots", 1, NULL, MSL}, {"json", 0, NULL, JS}, {"help", 0, NULL, 'h'},
         {NULL, 0, NULL, 0}};
     int c;
     memset(o, 0, sizeof *o);
@@ -181,6 +185,8 @@ static void parse(int argc, char **argv, rx_options *o)
                 o->truth = TRUTH_SIM;
             else if (!strcmp(optarg, "fakecam"))
                 o->truth = TRUTH_FAKECAM;
+            else if (!strcmp(optarg, "sim-any"))
+                o->truth = TRUTH_SIM_ANY;
             else if (!strcmp(optarg, "none"))
                 o->truth = TRUTH_NONE;
             else
@@ -211,6 +217,7 @@ static void parse(int argc, char **argv, rx_options *o)
         case SG: o->allow_seq_gaps = 1; break;
         case JS: o->json_expected = 1; break;
         case CJ: o->compare = optarg; break;
+        case MSL: o->min_slots = (long)num("--min-slots", optarg); break;
         case 'v': o->verbose = 1; break;
         case 'h': usage(stdout, 0); break;
         default: usage(stderr, 2);
@@ -227,7 +234,7 @@ static int truth_of(const rx_options *o, const cdspd_config *c, uint64_t frame, 
 {
     double p[3], t;
     int i, in_view = 1;
-    if (o->truth == TRUTH_SIM)
+    if (o->truth == TRUTH_SIM || o->truth == TRUTH_SIM_ANY)
         in_view = cdspd_sim_pose(c, cdspd_sim_slot(c, frame), p, dir);
     else
         fakecam_pose(frame, o->cycle, p, dir);
@@ -240,6 +247,30 @@ static int truth_of(const rx_options *o, const cdspd_config *c, uint64_t frame, 
 static double norm3(const double a[3])
 {
     return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
+
+/* Error / tolerance of a pose (see the top of this file): P_C and direction. */
+static void pose_ratios(const rx_options *o, const cdspd_record *r, double f_px, const double foot[3],
+                        const double dir[3], double *rp, double *rd)
+{
+    double e[3], sig = 0, sigd = 0, d, w, allow, c[3], ang, allow_d;
+    int k;
+    for (k = 0; k < 3; k++) {
+        e[k] = r->point[k] - foot[k];
+        sig += r->sigma_point[k] * r->sigma_point[k];
+        sigd += r->sigma_direction[k] * r->sigma_direction[k];
+    }
+    d = norm3(foot);
+    w = 2 * f_px * r->radius / d;
+    allow = 6 * sqrt(sig) + d * o->delta_px * (1 / f_px + 2 / w) + 1e-9 * d;
+    c[0] = r->direction[1] * dir[2] - r->direction[2] * dir[1];
+    c[1] = r->direction[2] * dir[0] - r->direction[0] * dir[2];
+    c[2] = r->direction[0] * dir[1] - r->direction[1] * dir[0];
+    ang = atan2(norm3(c), fabs(r->direction[0] * dir[0] + r->direction[1] * dir[1] +
+                               r->direction[2] * dir[2]));
+    allow_d = 6 * sqrt(sigd) + 4 * o->delta_px / w + 1e-7;
+    *rp = norm3(e) / allow;
+    *rd = ang / allow_d;
 }
 
 int main(int argc, char **argv)
@@ -256,7 +287,8 @@ int main(int argc, char **argv)
     double t0, t_last = 0, worst_ratio = 0, worst_dir_ratio = 0, t_down = -1, worst_resume = 0;
     long received = 0, poses = 0, statuses = 0, expect_hits = 0, in_view = 0, in_view_ok = 0;
     long gaps = 0, seq_errors = 0, away_poses = 0, bad_decode = 0, tracked = 0;
-    long compared = 0, cmp_fail = 0;
+    long compared = 0, cmp_fail = 0, slots_seen = 0;
+    static unsigned char slot_seen[4096];
     long status_by[8] = {0};
     const char *status_names[8] = {"no-pipe", "few-points", "no-frame", "source-down", "bad-frame",
                                    "degenerate", "other", "json-mismatch"};
@@ -456,10 +488,37 @@ int main(int argc, char **argv)
         }
         if (r.kind != CDSPD_KIND_FRAME || o.truth == TRUTH_NONE || r.status == CDSPD_ST_BAD_FRAME)
             continue;
+        if (o.truth == TRUTH_SIM_ANY) {
+            double foot[3], dir[3], best = 1e300, rp, rd;
+            int slot, best_slot = -1;
+            if (r.status != 0)
+                continue;
+            poses++;
+            for (slot = 0; slot < cfg.sim.frames; slot++) {
+                if (!truth_of(&o, &cfg, (uint64_t)slot, foot, dir))
+                    continue;
+                pose_ratios(&o, &r, f_px, foot, dir, &rp, &rd);
+                if ((rp > rd ? rp : rd) < best) {
+                    best = rp > rd ? rp : rd;
+                    best_slot = slot;
+                }
+            }
+            if (best_slot >= 0 && best <= 1) {
+                if (!slot_seen[best_slot % 4096]++)
+                    slots_seen++;
+            } else {
+                fprintf(stderr, "cdspd_rx: FAIL: frame %llu: P_C (%.2f %.2f %.2f) matches none of the "
+                        "path's poses (best: slot %d at %.2f times its tolerance)\n",
+                        (unsigned long long)r.frame_id, r.point[0], r.point[1], r.point[2], best_slot,
+                        best);
+            }
+            if (best > worst_ratio)
+                worst_ratio = best;
+            continue;
+        }
         {
-            double foot[3], dir[3], got[3], gdir[3], e[3], err_p, sig = 0, sigd = 0, d, w, allow,
-                   c[3], ang, allow_d;
-            int view = truth_of(&o, &cfg, r.frame_id, foot, dir), k;
+            double foot[3], dir[3], rp, rd;
+            int view = truth_of(&o, &cfg, r.frame_id, foot, dir);
             if (!view) {
                 if (r.status == 0) {
                     away_poses++;
@@ -475,30 +534,14 @@ int main(int argc, char **argv)
             poses++;
             if (r.flags & CDSPD_FLAG_TRACKED)
                 tracked++;
-            for (k = 0; k < 3; k++) {
-                got[k] = r.point[k];
-                gdir[k] = r.direction[k];
-                e[k] = got[k] - foot[k];
-                sig += r.sigma_point[k] * r.sigma_point[k];
-                sigd += r.sigma_direction[k] * r.sigma_direction[k];
-            }
-            err_p = norm3(e);
-            d = norm3(foot);
-            w = 2 * f_px * r.radius / d;
-            allow = 6 * sqrt(sig) + d * o.delta_px * (1 / f_px + 2 / w) + 1e-9 * d;
-            c[0] = gdir[1] * dir[2] - gdir[2] * dir[1];
-            c[1] = gdir[2] * dir[0] - gdir[0] * dir[2];
-            c[2] = gdir[0] * dir[1] - gdir[1] * dir[0];
-            ang = atan2(norm3(c), fabs(gdir[0] * dir[0] + gdir[1] * dir[1] + gdir[2] * dir[2]));
-            allow_d = 6 * sqrt(sigd) + 4 * o.delta_px / w + 1e-7;
-            if (err_p / allow > worst_ratio)
-                worst_ratio = err_p / allow;
-            if (ang / allow_d > worst_dir_ratio)
-                worst_dir_ratio = ang / allow_d;
-            if (err_p > allow || ang > allow_d)
-                fprintf(stderr, "cdspd_rx: FAIL: frame %llu: P_C off by %.4f (allowed %.4f: sigma "
-                        "%.4f, d %.1f), direction off by %.5f rad (allowed %.5f)\n",
-                        (unsigned long long)r.frame_id, err_p, allow, sqrt(sig), d, ang, allow_d);
+            pose_ratios(&o, &r, f_px, foot, dir, &rp, &rd);
+            if (rp > worst_ratio)
+                worst_ratio = rp;
+            if (rd > worst_dir_ratio)
+                worst_dir_ratio = rd;
+            if (rp > 1 || rd > 1)
+                fprintf(stderr, "cdspd_rx: FAIL: frame %llu: P_C off by %.2f times its tolerance, "
+                        "direction by %.2f times\n", (unsigned long long)r.frame_id, rp, rd);
         }
     }
 
@@ -513,7 +556,10 @@ int main(int argc, char **argv)
     if (o.compare)
         printf("cdspd_rx: replay: %ld frames compared with %ld recorded results, %ld differ\n",
                compared, cmp_n, cmp_fail);
-    if (o.truth != TRUTH_NONE)
+    if (o.truth == TRUTH_SIM_ANY)
+        printf("cdspd_rx: poses %ld, each matching one of the path's; %ld different ones seen\n", poses,
+               slots_seen);
+    else if (o.truth != TRUTH_NONE)
         printf("cdspd_rx: in-view frames %ld, with a pose %ld; worst error / tolerance: point %.3f, "
                "direction %.3f\n", in_view, in_view_ok, worst_ratio, worst_dir_ratio);
 
@@ -526,6 +572,8 @@ int main(int argc, char **argv)
         }                                                                                         \
     } while (0)
     CHECK(received > 0, "no datagram received");
+    CHECK(o.truth != TRUTH_SIM_ANY || slots_seen >= o.min_slots,
+          "%ld different poses of the path seen, expected at least %ld", slots_seen, o.min_slots);
     CHECK(!o.compare || (compared == cmp_n && cmp_fail == 0),
           "replay: %ld frames compared with the %ld recorded, %ld differ", compared, cmp_n, cmp_fail);
     CHECK(bad_decode == 0, "%ld datagrams could not be decoded", bad_decode);

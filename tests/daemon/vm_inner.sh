@@ -1,0 +1,90 @@
+#!/bin/sh
+# tests/daemon/vm_inner.sh FOURCC [loss]: runs inside the VM of
+# tests/vm/run-in-vm.sh (vivid loaded, its output node looped to its
+# capture node, both 320x240 FOURCC). v4l2_feed writes cdspd's simulated
+# pipe frames into the output node; cdspd captures them from the capture
+# node through its v4l2 source and sends poses to cdspd_rx on 127.0.0.1,
+# which checks each against the simulated path. With "loss": a frame the
+# driver flags as corrupted (counted, skipped), then the device unplugged
+# (vivid's disconnect control: its nodes fail with ENODEV until every file
+# handle is closed, then work again): cdspd reports source-down, reopens
+# the device and poses resume.
+# Prints PASS or FAIL; exit 0 on PASS.
+fourcc=${1:-GREY}
+mode=${2:-plain}
+cam=/etc/cdspd-cam.yaml
+sets="--set radius=10 --set sim.frames=6 --set sim.away=0"
+fail() {
+    echo "FAIL: $*"
+    for f in /tmp/feed.out /tmp/rx.out /tmp/cdspd.log; do echo "--- $f"; tail -n 25 $f; done
+    exit 1
+}
+# wait_for FILE TEXT TENTHS
+wait_for() {
+    i=0
+    until grep -q "$2" "$1" 2>/dev/null; do
+        i=$((i + 1)); [ $i -le "$3" ] || return 1
+        sleep 0.1
+    done
+}
+setup_vivid() {
+    v4l2-ctl -d "$CDSP_VIVID_CAP" -i 3 &&
+    v4l2-ctl -d "$CDSP_VIVID_CAP" -v "width=320,height=240,pixelformat=$fourcc" &&
+    v4l2-ctl -d "$CDSP_VIVID_OUT" -x "width=320,height=240,pixelformat=$fourcc" &&
+    v4l2-ctl -d "$CDSP_VIVID_CAP" -c loop_video=1 -c osd_text_mode=2 &&
+    # before the first fed frame vivid shows its test pattern: black, no edges
+    v4l2-ctl -d "$CDSP_VIVID_CAP" -c test_pattern=5
+}
+start_feed() {
+    : >/tmp/feed.out
+    v4l2_feed -o "$CDSP_VIVID_OUT" --calib $cam $sets --fourcc "$fourcc" --hold 6 --duration 200 \
+        >>/tmp/feed.out 2>&1 &
+    feed=$!
+    wait_for /tmp/feed.out streaming 600 || fail "v4l2_feed did not start"
+}
+
+ip link set lo up 2>/dev/null || ifconfig lo 127.0.0.1 up || fail "no loopback interface"
+setup_vivid || fail "vivid setup"
+start_feed
+cat /tmp/feed.out
+
+rxargs="--min-poses 20 --min-slots 4"
+dur=10
+if [ "$mode" = loss ]; then
+    rxargs="$rxargs --min-bad 1 --min-reconnects 1 --expect-status source-down --resume-within 60"
+    dur=25
+fi
+cdspd_rx --port-file /tmp/port --truth sim-any --calib $cam $sets --duration 200 --idle 8 $rxargs \
+    >/tmp/rx.out 2>&1 &
+rx=$!
+i=0
+until [ -s /tmp/port ]; do i=$((i + 1)); [ $i -le 100 ] || fail "cdspd_rx did not start"; sleep 0.1; done
+
+cdspd --source "v4l2:$CDSP_VIVID_CAP" --calib $cam --radius 10 --dest 127.0.0.1:$(cat /tmp/port) \
+    --set v4l2.format="$fourcc" --set stats_interval=0 --set retry_min=0.5 --set retry_max=1 \
+    --set status_interval=0.2 \
+    --duration $dur 2>/tmp/cdspd.log &
+d=$!
+wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: open" 300 || fail "cdspd did not open the device"
+if [ "$mode" = loss ]; then
+    sleep 4
+    v4l2-ctl -d "$CDSP_VIVID_CAP" -c inject_v4l2_buf_flag_error=1 || fail "cannot inject a bad frame"
+    sleep 2
+    v4l2-ctl -d "$CDSP_VIVID_CAP" -c disconnect=1 || fail "cannot disconnect vivid"
+    wait_for /tmp/cdspd.log " lost: " 100 || fail "cdspd did not notice the unplugged device"
+    grep " lost: " /tmp/cdspd.log
+    # the output node went too: the feed stops; start it again
+    kill $feed 2>/dev/null; wait $feed
+    setup_vivid || fail "vivid setup after the disconnect"
+    start_feed
+    wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: reopened" 300 || fail "cdspd did not reopen the device"
+fi
+wait $d
+rc=$?
+cat /tmp/cdspd.log
+[ $rc -eq 0 ] || fail "cdspd exit status $rc"
+wait $rx; rxrc=$?
+cat /tmp/rx.out
+[ $rxrc -eq 0 ] || fail "cdspd_rx"
+kill $feed 2>/dev/null
+echo "PASS: v4l2 $fourcc ($mode): vivid loop -> cdspd -> UDP -> poses of the simulated path"

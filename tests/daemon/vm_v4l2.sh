@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# tests/daemon/vm_v4l2.sh CDSPD RX FEED: cdspd's v4l2 source against a real
+# V4L2 driver: the kernel's vivid in a qemu VM (tests/vm/run-in-vm.sh), once
+# in GREY with a corrupted frame and the device unplugged and back, once in
+# YUYV, 320x240 (TCG is slow: small frames). The check
+# runs inside the VM (tests/daemon/vm_inner.sh) and prints PASS/FAIL on the
+# console. Exit status 0 when both pass.
+set -u
+cdspd=$1 rx=$2 feed=$3
+shift 3
+work=$(mktemp -d "${CDSPD_TMP:-/tmp}/vm_v4l2.XXXXXX") || exit 2
+trap 'rm -rf "$work"' EXIT
+cat >"$work/cam.yaml" <<YAML
+image_width: 320
+image_height: 240
+camera_matrix: {rows: 3, cols: 3, data: [400, 0, 159.5, 0, 400, 119.5, 0, 0, 1]}
+distortion_model: plumb_bob
+distortion_coefficients: {rows: 1, cols: 5, data: [-0.05, 0.01, 0, 0, 0]}
+YAML
+rc=0
+for run in "GREY loss" "YUYV plain"; do
+    set -- $run
+    fourcc=$1 mode=$2
+    echo "=== v4l2 $fourcc ($mode) in the VM"
+    tests/vm/run-in-vm.sh --timeout "${VM_TIMEOUT:-240}" --format "320x240:$fourcc" \
+        --file "$cdspd:/bin/cdspd" --file "$rx:/bin/cdspd_rx" --file "$feed:/bin/v4l2_feed" \
+        --file "tests/daemon/vm_inner.sh:/bin/vm_inner.sh" --file "$work/cam.yaml:/etc/cdspd-cam.yaml" \
+        -- sh /bin/vm_inner.sh "$fourcc" "$mode" || rc=1
+done
+exit $rc
