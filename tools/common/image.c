@@ -336,7 +336,11 @@ above:
                 i % w, i / w, v, maxval);
 }
 
-int cdsp_host_pgm_read(const char *path, cdsp_host_image *out, cdsp_host_err *err)
+/* Read the whole file (bounded by the largest frame), then decode it; the
+ * file's path names it in messages. */
+typedef int (*decode_fn)(const void *, size_t, const char *, cdsp_host_image *, cdsp_host_err *);
+static int read_and_decode(const char *path, decode_fn decode, cdsp_host_image *out,
+                           cdsp_host_err *err)
 {
     void *buf;
     size_t len;
@@ -344,9 +348,14 @@ int cdsp_host_pgm_read(const char *path, cdsp_host_image *out, cdsp_host_err *er
     out->data = NULL;
     if (rc)
         return rc;
-    rc = cdsp_host_pgm_decode(buf, len, path, out, err);
+    rc = decode(buf, len, path, out, err);
     free(buf);
     return rc;
+}
+
+int cdsp_host_pgm_read(const char *path, cdsp_host_image *out, cdsp_host_err *err)
+{
+    return read_and_decode(path, cdsp_host_pgm_decode, out, err);
 }
 
 static FILE *open_out(const char *path, cdsp_host_err *err)
@@ -515,15 +524,7 @@ done:
 
 int cdsp_host_png_read(const char *path, cdsp_host_image *out, cdsp_host_err *err)
 {
-    void *buf;
-    size_t len;
-    int rc = cdsp_host_read_file(path, max_frame_bytes(), &buf, &len, err);
-    out->data = NULL;
-    if (rc)
-        return rc;
-    rc = cdsp_host_png_decode(buf, len, path, out, err);
-    free(buf);
-    return rc;
+    return read_and_decode(path, cdsp_host_png_decode, out, err);
 }
 
 static int png_encode(const char *path, const void *px, size_t len, int width, int height,
@@ -628,15 +629,7 @@ int cdsp_host_image_decode(const void *buf, size_t len, const char *name, cdsp_h
 
 int cdsp_host_image_read(const char *path, cdsp_host_image *out, cdsp_host_err *err)
 {
-    void *buf;
-    size_t len;
-    int rc = cdsp_host_read_file(path, max_frame_bytes(), &buf, &len, err);
-    out->data = NULL;
-    if (rc)
-        return rc;
-    rc = cdsp_host_image_decode(buf, len, path, out, err);
-    free(buf);
-    return rc;
+    return read_and_decode(path, cdsp_host_image_decode, out, err);
 }
 
 static int ends_with(const char *s, const char *suffix)
