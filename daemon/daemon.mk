@@ -82,7 +82,7 @@ $(daemon_DIR)/listen_main.o: tests/daemon/listen_main.c tools/listen.h
 	@mkdir -p $(@D)
 	$(CC) $(daemon_CFLAGS) -Itools -c $< -o $@
 $(daemon_LISTEN_BIN): $(daemon_DIR)/listen_main.o $(daemon_LISTEN_OBJS) $(daemon_HOST_LIB) $(host_LIB)
-	$(CC) $^ $(daemon_LIBS) -o $@
+	$(CC) $^ $(shell pkg-config --libs json-c yaml-0.1 spng 2>/dev/null || echo -ljson-c -lyaml -lspng) -lm -o $@
 
 ALL_TARGETS += $(daemon_BIN) $(daemon_LISTEN_BIN)
 
@@ -93,15 +93,20 @@ daemon_TDIR := $(BUILD)/tests/daemon
 daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool
 daemon_RX := $(daemon_TDIR)/cdspd_rx
 daemon_FEED := $(daemon_TDIR)/v4l2_feed
+daemon_NOTIFY := $(daemon_TDIR)/notify_rx
 # The daemon's modules as an archive: a test links the ones it uses.
 daemon_ARCHIVE := $(daemon_DIR)/libcdspd.a
 $(daemon_ARCHIVE): $(daemon_OBJ)
 	rm -f $@ && $(AR) rcs $@ $^
 
-$(daemon_TDIR)/%: tests/daemon/%.c $(daemon_ARCHIVE) $(daemon_HOST_LIB) $(host_LIB)
+$(daemon_TDIR)/%.o: tests/daemon/%.c $(daemon_STAMP)
 	@mkdir -p $(@D)
-	$(daemon_LINK) $(filter-out -MMD -MP,$(daemon_CFLAGS)) -Itests/daemon -Itests/fakecam $< \
-	    $(daemon_ARCHIVE) $(daemon_HOST_LIB) $(host_LIB) $(daemon_LIBS) -lcmocka -o $@
+	$(CC) $(daemon_CFLAGS) -Itests/daemon -Itests/fakecam -c $< -o $@
+
+$(daemon_TDIR)/%: $(daemon_TDIR)/%.o $(daemon_ARCHIVE) $(daemon_HOST_LIB) $(host_LIB)
+	$(daemon_LINK) $< $(daemon_ARCHIVE) $(daemon_HOST_LIB) $(host_LIB) $(daemon_LIBS) -lcmocka -o $@
+
+-include $(wildcard $(daemon_TDIR)/*.d)
 
 .PHONY: check-daemon check-daemon-unit check-daemon-sim check-daemon-errors
 check-daemon-unit: $(daemon_UNIT)
@@ -114,8 +119,8 @@ daemon_ENV = CDSPD=$(daemon_BIN) CDSPD_RX=$(daemon_RX) CDSP_LISTEN=$(daemon_LIST
 check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_LISTEN_BIN)
 	@$(daemon_ENV) $(RUN) "daemon/sim-e2e" tests/daemon/sim_e2e.sh
 
-check-daemon-errors: $(daemon_BIN) $(daemon_RX)
-	@$(daemon_ENV) $(RUN) "daemon/errors" tests/daemon/errors.sh
+check-daemon-errors: $(daemon_BIN) $(daemon_RX) $(daemon_NOTIFY)
+	@$(daemon_ENV) NOTIFY_RX=$(daemon_NOTIFY) $(RUN) "daemon/errors" tests/daemon/errors.sh
 
 daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors
 
@@ -145,3 +150,4 @@ DEMO_SECONDS ?= 0
 .PHONY: daemon-demo
 daemon-demo: $(daemon_BIN) $(daemon_LISTEN_BIN)
 	@daemon/demo.sh $(daemon_BIN) $(daemon_LISTEN_BIN) $(DEMO_SECONDS)
+.PRECIOUS: $(daemon_TDIR)/%.o

@@ -222,7 +222,9 @@ static void *proc_main(void *arg)
     cdsp_rng rng;
     cdsp_result res, prev;
     int have_prev = 0;
-    uint64_t processed = 0, timeout_us = (uint64_t)(c->status_interval * 1e6);
+    uint64_t processed = 0, status_us = (uint64_t)(c->status_interval * 1e6);
+    /* wake at least every 100 ms (the watchdog follows the heartbeat) */
+    uint64_t wait_us = status_us < 100000u ? status_us : 100000u, last = cdspd_now_us();
     static const size_t cap = 4096;
     uint8_t *buf = malloc(cap);
 
@@ -241,7 +243,7 @@ static void *proc_main(void *arg)
         done = p->capture_done;
         p->heartbeat++;
         pthread_mutex_unlock(&p->mu);
-        f = cdspd_pool_take(&p->pool, done ? 1000 : timeout_us);
+        f = cdspd_pool_take(&p->pool, done ? 1000 : wait_us);
         if (p->stop)
             break;
         memset(&rec, 0, sizeof rec);
@@ -251,6 +253,9 @@ static void *proc_main(void *arg)
                 set_state(p, CDSPD_PIPE_ENDED);
                 break;
             }
+            if (cdspd_now_us() - last < status_us)
+                continue;
+            last = cdspd_now_us();
             rec.kind = CDSPD_KIND_STATUS;
             if (cdspd_stats_down(p->stats)) {
                 rec.status = CDSPD_ST_SOURCE_DOWN;
@@ -267,6 +272,7 @@ static void *proc_main(void *arg)
                   cdspd_status_token(rec.status));
             continue;
         }
+        last = cdspd_now_us();
         rec.kind = CDSPD_KIND_FRAME;
         rec.frame_id = f->frame_id;
         rec.t_camera_us = f->t_camera_us;

@@ -59,7 +59,47 @@ expect_msg nofiles "no file matches"
 expect_msg nofiles "gave up after open_timeout"
 if "$CDSPD" --version | grep -q '^sources:.* v4l2'; then
     expect_rc 3 nov4l2 "$CDSPD" "${base[@]}" --source v4l2:/dev/video-cdspd-none --set open_timeout=1
-    expect_msg nov4l2 "/dev/video-cdspd-none"
+    expect_msg nov4l2 "v4l2: cannot open /dev/video-cdspd-none: No such file or directory"
+fi
+if "$CDSPD" --version | grep -q '^sources:.* libcamera'; then
+    # no camera on this machine (a real one would be found and used)
+    expect_rc 3 nolibcamera "$CDSPD" "${base[@]}" --source libcamera --set open_timeout=1
+    expect_msg nolibcamera "libcamera: no camera found"
+    expect_rc 3 nolibcamera2 "$CDSPD" "${base[@]}" --source libcamera:/base/cdspd-none --set open_timeout=1
+    expect_msg nolibcamera2 "libcamera: no camera"
+else
+    expect_rc 2 nolibcamera "$CDSPD" "${base[@]}" --source libcamera
+    expect_msg nolibcamera "the libcamera source is not built in"
+fi
+
+echo "--- systemd: the unit, and the notifications (READY, WATCHDOG, RELOADING, STOPPING)"
+if command -v systemd-analyze >/dev/null 2>&1; then
+    sed "s#/usr/local/bin/cdspd#$(cd "$(dirname "$CDSPD")" && pwd)/$(basename "$CDSPD")#" \
+        daemon/cdspd.service >"$work/cdspd.service"
+    systemd-analyze verify "$work/cdspd.service" || fail "systemd-analyze verify daemon/cdspd.service"
+fi
+if [ -x "${NOTIFY_RX:-}" ] && "$CDSPD" --version | grep -q '^sd_notify: yes'; then
+    sock=$(cd "$work" && pwd)/notify.sock   # NOTIFY_SOCKET must be absolute
+    "$NOTIFY_RX" "$sock" 30 >"$work/notify.out" 2>"$work/notify.err" &
+    npid=$!; pids+=("$npid")
+    for _ in $(seq 50); do [ -S "$sock" ] && break; sleep 0.1; done
+    NOTIFY_SOCKET=$sock WATCHDOG_USEC=400000 start_cdspd dn "${base[@]}" \
+        --set sim.frames=8 --set sim.rate=50 --duration 3
+    wait_log "$work/dn.log" "sim: open" 20 || fail "cdspd (notify) did not start"
+    sleep 1
+    kill -HUP "$dn_pid"
+    wait_for "$dn_pid" 20 || fail "cdspd (notify) exit status $?"
+    sleep 0.3
+    kill -TERM "$npid"; wait "$npid" 2>/dev/null
+    cat "$work/notify.out" | sort -k2 | uniq -c -f1 | sed 's/^/  /'
+    grep -q " READY=1" "$work/notify.out" || fail "no READY=1"
+    grep -q " RELOADING=1" "$work/notify.out" || fail "no RELOADING=1 on SIGHUP"
+    grep -q " STOPPING=1" "$work/notify.out" || fail "no STOPPING=1"
+    [ "$(grep -c " WATCHDOG=1" "$work/notify.out")" -ge 8 ] || fail "the watchdog was fed too rarely"
+    grep -q "not feeding the watchdog" "$work/dn.log" && fail "the watchdog was not fed while all ran"
+    # READY comes after the source opened (the sim renders first)
+    [ "$(grep -m1 -n " READY=1" "$work/notify.out" | cut -d: -f1)" -le \
+      "$(grep -m1 -n " STOPPING=1" "$work/notify.out" | cut -d: -f1)" ] || fail "READY after STOPPING"
 fi
 
 echo "--- signals: SIGHUP with a broken file keeps running; a good one is applied"
