@@ -157,7 +157,7 @@ static const key_def keys[] = {
      "decode all frames at start when they fit in this many MiB, else read each in turn"},
     /* ---- aravis source ---------------------------------------------------- */
     {"aravis.pixel_format", K_STR, O(aravis.pixel_format), 0, 0, NULL, "auto",
-     "Mono8 | Mono10 | Mono12 | Mono16 | auto (the deepest of these the camera offers)"},
+     "Mono8 | Mono10 | Mono12 | Mono16 | auto (Mono8 when offered, else the deepest)"},
     {"aravis.exposure_us", K_REAL, O(aravis.exposure_us), 0, 1e9, NULL, "0",
      "exposure time, us, 0 = leave the camera's"},
     {"aravis.gain", K_REAL, O(aravis.gain), -1, 1e6, NULL, "-1", "gain (camera units), -1 = leave"},
@@ -174,13 +174,13 @@ static const key_def keys[] = {
      "seconds without any frame (complete or not) before the camera counts as lost"},
     /* ---- v4l2 source -------------------------------------------------------- */
     {"v4l2.format", K_STR, O(v4l2.format), 0, 0, NULL, "auto",
-     "GREY | Y16 | YUYV | any fourcc libv4l2 converts to YU12 | auto (the first of these)"},
+     "GREY | Y16 | YUYV | YU12 (libv4l2 converts to it) | auto (GREY, Y16, YUYV if offered, else YU12)"},
     {"v4l2.buffers", K_INT, O(v4l2.buffers), 2, 32, NULL, "4", "mmap buffers"},
     {"v4l2.frame_rate", K_REAL, O(v4l2.frame_rate), 0, 100000, NULL, "0",
      "frames per second asked of the driver, 0 = leave"},
     /* ---- libcamera source ----------------------------------------------------- */
     {"libcamera.format", K_STR, O(libcamera.format), 0, 0, NULL, "auto",
-     "R8 | R16 | YUYV | NV12 | YUV420 | auto (the first the camera offers)"},
+     "R8 | R10 | R12 | YUYV | NV12 | YUV420 | auto (the first the camera takes)"},
     {"libcamera.buffers", K_INT, O(libcamera.buffers), 2, 32, NULL, "4", "frame buffers"},
 };
 

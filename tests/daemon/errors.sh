@@ -53,6 +53,12 @@ cmp -s <(tail -n +2 "$work/check.out") <(tail -n +2 "$work/recheck.out") ||
 grep -q '^format: json' "$work/recheck.out" && grep -q '^  rate: 30' "$work/recheck.out" ||
     fail "--check-config lost the command line's values"
 
+echo "--- the example configuration is valid and shows every key"
+expect_rc 0 example "$CDSPD" --config daemon/cdspd.yaml --calib "$CALIB" --check-config
+diff <(grep -v '^#' "$work/example.out" | sed 's/:.*//') \
+     <(grep -v '^ *#' daemon/cdspd.yaml | grep -E '^ *[a-z0-9_]+:' | sed 's/:.*//') ||
+    fail "daemon/cdspd.yaml does not list the keys cdspd has, in its order"
+
 echo "--- a source that is not there: exit status 3"
 expect_rc 3 nofiles "$CDSPD" "${base[@]}" --source "file:$work/none/*.pgm" --set open_timeout=1 --set retry_min=0.2
 expect_msg nofiles "no file matches"
