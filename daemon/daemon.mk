@@ -142,6 +142,12 @@ endif
 check-daemon: $(daemon_CHECKS)
 CHECK_STEPS += $(daemon_CHECKS)
 
+# --- bench -----------------------------------------------------------------------
+.PHONY: bench-daemon
+bench-daemon: $(daemon_BIN) $(daemon_RX) $(if $(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),$(BUILD)/fakecam/cdsp_fakecam)
+	@$(daemon_ENV) tests/daemon/bench.sh $(if $(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),$(BUILD)/fakecam/cdsp_fakecam)
+BENCH_STEPS += bench-daemon
+
 # --- demo ------------------------------------------------------------------------
 # cdspd on its simulated camera and the listener beside it, printing poses
 # until Ctrl-C, or for DEMO_SECONDS seconds.

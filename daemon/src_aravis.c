@@ -80,6 +80,12 @@ static void close_camera(arv_priv *p)
         }
     }
     if (p->stream) {
+        guint64 done = 0, failures = 0, underruns = 0;
+        arv_stream_get_statistics(p->stream, &done, &failures, &underruns);
+        /* underruns: a frame came while cdspd held every buffer (cdspd's
+         * fault); failures: incomplete frames (the network's) */
+        LOG_I(SOURCE, "aravis: stream statistics: %llu frames complete, %llu failed, %llu underruns",
+              (unsigned long long)done, (unsigned long long)failures, (unsigned long long)underruns);
         arv_stream_set_emit_signals(p->stream, FALSE);
         g_object_unref(p->stream);
         p->stream = NULL;
