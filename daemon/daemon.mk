@@ -94,6 +94,10 @@ daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDI
 daemon_RX := $(daemon_TDIR)/cdspd_rx
 daemon_FEED := $(daemon_TDIR)/v4l2_feed
 daemon_NOTIFY := $(daemon_TDIR)/notify_rx
+daemon_MCOUNT := $(daemon_TDIR)/malloc_count.so
+$(daemon_MCOUNT): tests/daemon/malloc_count.c
+	@mkdir -p $(@D)
+	$(CC) $(filter-out -MMD -MP,$(HOST_CFLAGS)) -fPIC -shared $< -ldl -o $@
 # The daemon's modules as an archive: a test links the ones it uses.
 daemon_ARCHIVE := $(daemon_DIR)/libcdspd.a
 $(daemon_ARCHIVE): $(daemon_OBJ)
@@ -116,8 +120,8 @@ check-daemon-unit: $(daemon_UNIT)
 daemon_ENV = CDSPD=$(daemon_BIN) CDSPD_RX=$(daemon_RX) CDSP_LISTEN=$(daemon_LISTEN_BIN) \
              CDSPD_TMP=$(daemon_TDIR)/tmp
 
-check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_LISTEN_BIN)
-	@$(daemon_ENV) $(RUN) "daemon/sim-e2e" tests/daemon/sim_e2e.sh
+check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_LISTEN_BIN) $(daemon_MCOUNT)
+	@$(daemon_ENV) MALLOC_COUNT=$(daemon_MCOUNT) $(RUN) "daemon/sim-e2e" tests/daemon/sim_e2e.sh
 
 check-daemon-errors: $(daemon_BIN) $(daemon_RX) $(daemon_NOTIFY)
 	@$(daemon_ENV) NOTIFY_RX=$(daemon_NOTIFY) $(RUN) "daemon/errors" tests/daemon/errors.sh

@@ -83,4 +83,22 @@ if [ -x "${CDSP_LISTEN:-}" ]; then
     grep -q "20 datagrams, 0 undecodable, 0 sequence numbers missing" "$work/listen.err" ||
         fail "listener summary"
 fi
+if [ -n "${MALLOC_COUNT:-}" ]; then
+    echo "--- 6. no allocation per frame in steady state"
+    for d in 1 4; do
+        start_rx rxm$d --duration 40 --idle 2
+        LD_PRELOAD=$MALLOC_COUNT start_cdspd m$d "${common[@]}" --set sim.frames=8 --set sim.rate=200 \
+            --dest 127.0.0.1:$RX_PORT --duration $d
+        wait_for "$(eval echo \$m${d}_pid)" 30 || fail "cdspd (malloc count) exit status $?"
+        wait_for "$(eval echo \$rxm${d}_pid)" 10 || fail "receiver (malloc count)"
+        eval "n$d=\$(sed -n 's/^malloc_count: //p' \"\$work/m$d.log\")"
+        eval "f$d=\$(sed -n 's/.*total: in \([0-9]*\),.*/\1/p' \"\$work/m$d.log\")"
+    done
+    echo "allocations: $n1 for $f1 frames, $n4 for $f4 frames"
+    [ -n "$n1" ] && [ -n "$n4" ] || fail "no allocation count"
+    [ $((f4 - f1)) -ge 300 ] || fail "the longer run did not process more frames ($f1, $f4)"
+    # a few allocations may depend on timing (a status datagram's path, the
+    # log), none may come per frame
+    [ $((n4 - n1)) -le 20 ] || fail "$((n4 - n1)) more allocations for $((f4 - f1)) more frames"
+fi
 echo "PASS: sim -> cdspd -> UDP: poses within tolerance, continuous sequence, statuses, JSON, record/replay"
