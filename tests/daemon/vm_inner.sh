@@ -68,8 +68,15 @@ d=$!
 wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: open" 300 || fail "cdspd did not open the device"
 if [ "$mode" = loss ]; then
     sleep 4
-    v4l2-ctl -d "$CDSP_VIVID_CAP" -c inject_v4l2_buf_flag_error=1 || fail "cannot inject a bad frame"
-    sleep 2
+    # vivid flags the next buffer of whichever of its nodes comes first,
+    # the output node's included: inject until the capture side got one
+    i=0
+    until grep -q "flagged as corrupted" /tmp/cdspd.log; do
+        i=$((i + 1)); [ $i -le 20 ] || fail "no corrupted frame reached cdspd"
+        v4l2-ctl -d "$CDSP_VIVID_CAP" -c inject_v4l2_buf_flag_error=1 || fail "cannot inject a bad frame"
+        sleep 0.5
+    done
+    sleep 1
     v4l2-ctl -d "$CDSP_VIVID_CAP" -c disconnect=1 || fail "cannot disconnect vivid"
     wait_for /tmp/cdspd.log " lost: " 100 || fail "cdspd did not notice the unplugged device"
     grep " lost: " /tmp/cdspd.log
