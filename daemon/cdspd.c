@@ -263,15 +263,17 @@ int main(int argc, char **argv)
 
     if (!cfg || !next || !stats) {
         fprintf(stderr, "cdspd: out of memory\n");
-        return EXIT_RUNTIME;
+        rc = EXIT_RUNTIME;
+        goto out;
     }
     if (cli_scan(&o, argc, argv)) {
         usage(stderr);
-        return EXIT_CONFIG;
+        rc = EXIT_CONFIG;
+        goto out;
     }
     if (o.help) {
         usage(stdout);
-        return EXIT_OK;
+        goto out;
     }
     if (o.version) {
         static const char *const kinds[] = {"sim", "file", "aravis", "v4l2", "libcamera"};
@@ -289,24 +291,25 @@ int main(int argc, char **argv)
                "no"
 #endif
         );
-        return EXIT_OK;
+        goto out;
     }
     if (o.help_keys) {
         printf("Configuration keys (YAML: nested mappings give the dotted names; "
                "--set KEY=VALUE):\n");
         cdspd_config_help(stdout);
-        return EXIT_OK;
+        goto out;
     }
     if (load_config(&o, cfg, err, sizeof err)) {
         fprintf(stderr, "cdspd: %s\n", err);
-        return EXIT_CONFIG;
+        rc = EXIT_CONFIG;
+        goto out;
     }
     if (o.check) {
         printf("# cdspd: configuration OK: source %s, calibration %s (%dx%d), %d destination%s\n",
                cfg->source, cfg->calib, cfg->cam.width, cfg->cam.height, cfg->n_dest,
                cfg->n_dest > 1 ? "s" : "");
         cdspd_config_dump(cfg, stdout);
-        return EXIT_OK;
+        goto out;
     }
     apply_log_levels(cfg);
 
@@ -321,7 +324,8 @@ int main(int argc, char **argv)
     signal(SIGXFSZ, SIG_IGN); /* a file size limit is a write error for --record, not death */
     if (pthread_create(&sig_th, NULL, signal_thread, &set)) {
         fprintf(stderr, "cdspd: cannot start the signal thread\n");
-        return EXIT_RUNTIME;
+        rc = EXIT_RUNTIME;
+        goto out;
     }
     pthread_detach(sig_th);
 
@@ -334,7 +338,8 @@ int main(int argc, char **argv)
     rc = cdspd_pipeline_start(&pipe, cfg, stats, &seq, 1, err, sizeof err);
     if (rc) {
         LOG_E(MAIN, "%s", err);
-        return rc;
+        cdspd_stats_destroy(stats);
+        goto out;
     }
     t_stats = cdspd_now_us();
     wd_us = cdspd_notify_watchdog_us();
@@ -424,6 +429,7 @@ int main(int argc, char **argv)
     cdspd_stats_log(&w, "final: ");
     LOG_I(MAIN, "stopped (exit status %d)", rc);
     cdspd_stats_destroy(stats);
+out:
     free(stats);
     free(cfg);
     free(next);
