@@ -35,7 +35,8 @@ enum {
     EXIT_SOURCE = 3     /* the source could not be opened within open_timeout */
 };
 
-static volatile int sig_stop, sig_reload, sig_stats, sig_last;
+/* written by the signal thread, read and cleared by main (CDSPD_GET/SET) */
+static int sig_stop, sig_reload, sig_stats, sig_last;
 
 static void *signal_thread(void *arg)
 {
@@ -44,13 +45,13 @@ static void *signal_thread(void *arg)
         int sig;
         if (sigwait(set, &sig))
             continue;
-        sig_last = sig;
+        CDSPD_SET(sig_last, sig);
         if (sig == SIGTERM || sig == SIGINT)
-            sig_stop = 1;
+            CDSPD_SET(sig_stop, 1);
         else if (sig == SIGHUP)
-            sig_reload = 1;
+            CDSPD_SET(sig_reload, 1);
         else if (sig == SIGUSR1)
-            sig_stats = 1;
+            CDSPD_SET(sig_stats, 1);
     }
     return NULL;
 }
@@ -348,8 +349,8 @@ int main(int argc, char **argv)
         uint64_t now;
         sleep_ms(50);
         now = cdspd_now_us();
-        if (sig_stop) {
-            LOG_I(MAIN, "%s: stopping", sig_last == SIGINT ? "SIGINT" : "SIGTERM");
+        if (CDSPD_GET(sig_stop)) {
+            LOG_I(MAIN, "%s: stopping", CDSPD_GET(sig_last) == SIGINT ? "SIGINT" : "SIGTERM");
             break;
         }
         st = cdspd_pipeline_state(pipe);
@@ -373,8 +374,8 @@ int main(int argc, char **argv)
             LOG_I(MAIN, "--duration %g s reached: stopping", cfg->duration);
             break;
         }
-        if (sig_reload) {
-            sig_reload = 0;
+        if (CDSPD_GET(sig_reload)) {
+            CDSPD_SET(sig_reload, 0);
             LOG_I(MAIN, "SIGHUP: reloading the configuration");
             if (load_config(&o, next, err, sizeof err)) {
                 LOG_E(CONFIG, "reload: %s; keeping the running configuration", err);
@@ -399,8 +400,8 @@ int main(int argc, char **argv)
                       cfg->n_dest > 1 ? "s" : "");
             }
         }
-        if (sig_stats) {
-            sig_stats = 0;
+        if (CDSPD_GET(sig_stats)) {
+            CDSPD_SET(sig_stats, 0);
             cdspd_stats_window_take(stats, &w);
             cdspd_stats_log(&w, "SIGUSR1: ");
             t_stats = now;

@@ -36,7 +36,7 @@ struct cdspd_pipeline {
 
     pthread_t capture, proc;
     int have_capture, have_proc;
-    volatile int stop;
+    int stop;                  /* CDSPD_GET/SET: read by every thread */
 
     pthread_mutex_t mu;        /* guards the fields below */
     cdspd_pipe_state state;
@@ -80,7 +80,7 @@ static void *capture_main(void *arg)
     uint64_t t_first = cdspd_now_us(), last_bad_log = 0, bad_since_log = 0;
 
     pin(c->capture_cpu, "capture");
-    while (!p->stop) {
+    while (!CDSPD_GET(p->stop)) {
         cdspd_frame *f;
         int r;
         if (!opened) {
@@ -102,7 +102,7 @@ static void *capture_main(void *arg)
                 first = 0;
                 continue;
             }
-            if (p->stop)
+            if (CDSPD_GET(p->stop))
                 break;
             left = c->open_timeout - (double)(cdspd_now_us() - t_first) * 1e-6;
             if (first && p->must_open && (r == CDSPD_OPEN_FATAL || left <= 0)) {
@@ -234,7 +234,7 @@ static void *proc_main(void *arg)
     }
     pin(c->proc_cpu, "processing");
     cdsp_rng_seed(&rng, c->seed, 1);
-    while (!p->stop) {
+    while (!CDSPD_GET(p->stop)) {
         cdspd_frame *f;
         cdspd_record rec;
         int done;
@@ -244,7 +244,7 @@ static void *proc_main(void *arg)
         p->heartbeat++;
         pthread_mutex_unlock(&p->mu);
         f = cdspd_pool_take(&p->pool, done ? 1000 : wait_us);
-        if (p->stop)
+        if (CDSPD_GET(p->stop))
             break;
         memset(&rec, 0, sizeof rec);
         rec.radius = c->radius;
@@ -424,7 +424,7 @@ void cdspd_pipeline_stop(cdspd_pipeline *p)
 {
     if (!p)
         return;
-    p->stop = 1;
+    CDSPD_SET(p->stop, 1);
     if (p->have_capture)
         pthread_join(p->capture, NULL);
     cdspd_pool_wake(&p->pool);

@@ -16,7 +16,7 @@
 static void disable(cdspd_recorder *r, const char *what)
 {
     LOG_E(RECORD, "%s: recording stopped for the rest of this run (the daemon keeps running)", what);
-    r->disabled = 1;
+    CDSPD_SET(r->disabled, 1);
 }
 
 static void write_one(cdspd_recorder *r)
@@ -79,7 +79,7 @@ int cdspd_recorder_start(cdspd_recorder *r, const cdspd_config *c, size_t frame_
     struct tm tm;
 
     memset(r, 0, sizeof *r);
-    r->disabled = 1;
+    CDSPD_SET(r->disabled, 1);
     if (!*c->record)
         return 0;
     strcpy(r->dir, c->record);
@@ -112,7 +112,7 @@ int cdspd_recorder_start(cdspd_recorder *r, const cdspd_config *c, size_t frame_
         return -1;
     }
     r->have_thread = 1;
-    r->disabled = 0;
+    CDSPD_SET(r->disabled, 0);
     LOG_I(RECORD, "recording every %d%s frame into %s (%s-*.pgm, %s.jsonl)", r->every,
           r->every == 1 ? "" : "th", r->dir, r->run, r->run);
     return 0;
@@ -120,16 +120,16 @@ int cdspd_recorder_start(cdspd_recorder *r, const cdspd_config *c, size_t frame_
 
 int cdspd_recorder_wants(const cdspd_recorder *r, uint64_t processed)
 {
-    return !r->disabled && processed % (uint64_t)r->every == 0;
+    return !CDSPD_GET(r->disabled) && processed % (uint64_t)r->every == 0;
 }
 
 int cdspd_recorder_ready(cdspd_recorder *r)
 {
     int ready;
-    if (r->disabled || !r->have_thread)
+    if (CDSPD_GET(r->disabled) || !r->have_thread)
         return 0;
     pthread_mutex_lock(&r->mu);
-    ready = !r->busy && !r->disabled;
+    ready = !r->busy && !CDSPD_GET(r->disabled);
     pthread_mutex_unlock(&r->mu);
     return ready;
 }
@@ -139,10 +139,10 @@ int cdspd_recorder_offer(cdspd_recorder *r, const cdspd_frame *f, const cdspd_re
     size_t bytes = f->stride * (size_t)f->height;
     uint8_t *data;
     int taken = 0;
-    if (r->disabled || !r->have_thread)
+    if (CDSPD_GET(r->disabled) || !r->have_thread)
         return 0;
     pthread_mutex_lock(&r->mu);
-    if (!r->busy && !r->disabled && bytes <= r->frame.cap) {
+    if (!r->busy && !CDSPD_GET(r->disabled) && bytes <= r->frame.cap) {
         size_t cap = r->frame.cap;
         data = r->frame.data;
         memcpy(data, f->data, bytes);
@@ -177,5 +177,5 @@ void cdspd_recorder_stop(cdspd_recorder *r)
     r->results = NULL;
     free(r->frame.data);
     r->frame.data = NULL;
-    r->disabled = 1;
+    CDSPD_SET(r->disabled, 1);
 }

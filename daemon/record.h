@@ -29,7 +29,7 @@ typedef struct {
     pthread_mutex_t mu;
     pthread_cond_t cv;
     int busy, stop;
-    volatile int disabled;
+    int disabled;           /* CDSPD_GET/SET: the writer sets it */
     cdspd_frame frame;      /* its own buffer */
     cdspd_record rec;
     FILE *results;

@@ -19,7 +19,7 @@ uint64_t cdspd_now_us(void)
     return (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u;
 }
 
-int cdspd_sleep_until(uint64_t t_us, int max_ms, volatile int *stop)
+int cdspd_sleep_until(uint64_t t_us, int max_ms, int *stop)
 {
     uint64_t limit = cdspd_now_us() + (uint64_t)max_ms * 1000u;
     for (;;) {
@@ -27,7 +27,7 @@ int cdspd_sleep_until(uint64_t t_us, int max_ms, volatile int *stop)
         struct timespec ts;
         if (now >= t_us)
             return 1;
-        if (now >= limit || (stop && *stop))
+        if (now >= limit || (stop && CDSPD_GET(*stop)))
             return 0;
         /* wake at least every 50 ms to notice a stop */
         d = until - now;

@@ -62,7 +62,7 @@ struct cdspd_source {
     const cdspd_config *cfg;
     const char *arg;       /* after "kind:" in cfg->source */
     void *priv;
-    volatile int *stop;    /* set by the pipeline to abort long waits */
+    int *stop;             /* set by the pipeline to abort long waits (CDSPD_GET) */
 };
 
 /* A source for cfg->source (not opened), or NULL with err: kind not built
@@ -80,10 +80,15 @@ int cdspd_src_aravis_init(cdspd_source *s, char *err, size_t errlen);
 int cdspd_src_v4l2_init(cdspd_source *s, char *err, size_t errlen);
 int cdspd_src_libcamera_init(cdspd_source *s, char *err, size_t errlen);
 
+/* Flags shared between threads. C99 has no atomics: GCC's and Clang's
+ * builtins (sequentially consistent enough for a stop flag). */
+#define CDSPD_GET(x) __atomic_load_n(&(x), __ATOMIC_ACQUIRE)
+#define CDSPD_SET(x, v) __atomic_store_n(&(x), (v), __ATOMIC_RELEASE)
+
 /* Helpers for sources. */
 uint64_t cdspd_now_us(void);                 /* CLOCK_MONOTONIC, us */
 /* Sleep until CLOCK_MONOTONIC reaches t_us, at most max_ms, waking early if
  * *stop is set. Returns 1 when t_us was reached. */
-int cdspd_sleep_until(uint64_t t_us, int max_ms, volatile int *stop);
+int cdspd_sleep_until(uint64_t t_us, int max_ms, int *stop);
 
 #endif

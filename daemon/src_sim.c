@@ -31,7 +31,7 @@ typedef struct {
     pthread_mutex_t mu;
     int next_slot, failed;
     cdsp_status fail_status;
-    volatile int *stop;
+    int *stop;
     const cdspd_config *cfg;
 } sim_priv;
 
@@ -52,7 +52,7 @@ static void *render_worker(void *arg)
             p->failed = 1;
             p->fail_status = CDSP_E_CAPACITY;
         }
-        slot = p->failed || (p->stop && *p->stop) || p->next_slot >= p->frames ? -1 : p->next_slot++;
+        slot = p->failed || (p->stop && CDSPD_GET(*p->stop)) || p->next_slot >= p->frames ? -1 : p->next_slot++;
         pthread_mutex_unlock(&p->mu);
         if (slot < 0)
             break;
