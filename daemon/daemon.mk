@@ -1,7 +1,8 @@
 # daemon/daemon.mk: cdspd, the capture daemon (docs/cdspd.md), its UDP
-# protocol (docs/protocol.md), the listener (tools/listen.c, built here as
-# build/cdsp_listen until cdsp_tool wires `cdsp_tool listen`), their tests
-# (tests/daemon/) and `make demo`. Names start with daemon_.
+# protocol (docs/protocol.md), the objects of `cdsp_tool listen`
+# (tools/listen.c + daemon/proto.c, linked by tools/tool.mk), the tests
+# (tests/daemon/), `make bench`'s bench-daemon and `make demo`. Names start
+# with daemon_.
 #
 # Optional sources are built when their development package is there
 # (pkg-config): aravis-0.8 (libaravis-dev), libv4l2 (libv4l-dev), libcamera
@@ -9,7 +10,8 @@
 
 daemon_DIR := $(BUILD)/daemon
 daemon_BIN := $(BUILD)/cdspd
-daemon_LISTEN_BIN := $(BUILD)/cdsp_listen
+# cdsp_tool (tools/tool.mk, included after this file): the listener
+daemon_TOOL := $(BUILD)/cdsp_tool
 CXX ?= g++
 
 daemon_has = $(shell pkg-config --exists $(1) 2>/dev/null && echo yes)
@@ -78,15 +80,10 @@ daemon_LISTEN_OBJS := $(daemon_DIR)/listen.o $(daemon_DIR)/proto.o
 $(daemon_DIR)/listen.o: tools/listen.c tools/listen.h daemon/proto.h
 	@mkdir -p $(@D)
 	$(CC) $(daemon_CFLAGS) -Itools -c $< -o $@
-$(daemon_DIR)/listen_main.o: tests/daemon/listen_main.c tools/listen.h
-	@mkdir -p $(@D)
-	$(CC) $(daemon_CFLAGS) -Itools -c $< -o $@
-$(daemon_LISTEN_BIN): $(daemon_DIR)/listen_main.o $(daemon_LISTEN_OBJS) $(daemon_HOST_LIB) $(host_LIB)
-	$(CC) $^ $(shell pkg-config --libs json-c yaml-0.1 spng 2>/dev/null || echo -ljson-c -lyaml -lspng) -lm -o $@
 
-ALL_TARGETS += $(daemon_BIN) $(daemon_LISTEN_BIN)
+ALL_TARGETS += $(daemon_BIN)
 
--include $(daemon_OBJ:.o=.d) $(daemon_MAIN_OBJ:.o=.d) $(daemon_DIR)/listen.d $(daemon_DIR)/listen_main.d
+-include $(daemon_OBJ:.o=.d) $(daemon_MAIN_OBJ:.o=.d) $(daemon_DIR)/listen.d
 
 # --- tests ---------------------------------------------------------------------
 daemon_TDIR := $(BUILD)/tests/daemon
@@ -117,10 +114,10 @@ check-daemon-unit: $(daemon_UNIT)
 	@mkdir -p $(daemon_TDIR)/tmp
 	@for t in $(daemon_UNIT); do CDSPD_TMP=$(daemon_TDIR)/tmp $(RUN) "daemon/$$(basename $$t)" $$t || exit 1; done
 
-daemon_ENV = CDSPD=$(daemon_BIN) CDSPD_RX=$(daemon_RX) CDSP_LISTEN=$(daemon_LISTEN_BIN) \
+daemon_ENV = CDSPD=$(daemon_BIN) CDSPD_RX=$(daemon_RX) CDSP_LISTEN="$(daemon_TOOL) listen" \
              CDSPD_TMP=$(daemon_TDIR)/tmp
 
-check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_LISTEN_BIN) $(daemon_MCOUNT)
+check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_TOOL) $(daemon_MCOUNT)
 	@$(daemon_ENV) MALLOC_COUNT=$(daemon_MCOUNT) $(RUN) "daemon/sim-e2e" tests/daemon/sim_e2e.sh
 
 check-daemon-errors: $(daemon_BIN) $(daemon_RX) $(daemon_NOTIFY)
@@ -153,11 +150,11 @@ bench-daemon: $(daemon_BIN) $(daemon_RX) $(if $(filter -DCDSPD_HAVE_ARAVIS,$(dae
 BENCH_STEPS += bench-daemon
 
 # --- demo ------------------------------------------------------------------------
-# cdspd on its simulated camera and the listener beside it, printing poses
-# until Ctrl-C, or for DEMO_SECONDS seconds.
+# cdspd on its simulated camera and `cdsp_tool listen` beside it, printing
+# poses until Ctrl-C, or for DEMO_SECONDS seconds.
 DEMO_TARGET := daemon-demo
 DEMO_SECONDS ?= 0
 .PHONY: daemon-demo
-daemon-demo: $(daemon_BIN) $(daemon_LISTEN_BIN)
-	@daemon/demo.sh $(daemon_BIN) $(daemon_LISTEN_BIN) $(DEMO_SECONDS)
+daemon-demo: $(daemon_BIN) $(daemon_TOOL)
+	@daemon/demo.sh $(daemon_BIN) $(daemon_TOOL) $(DEMO_SECONDS)
 .PRECIOUS: $(daemon_TDIR)/%.o

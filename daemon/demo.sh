@@ -1,16 +1,16 @@
 #!/usr/bin/env bash
-# daemon/demo.sh CDSPD LISTEN SECONDS: `make demo`. cdspd on its simulated
-# camera (daemon/demo-camera.yaml, a 10 mm pipe swaying in front of it)
-# sends binary datagrams to 127.0.0.1; the listener (cdsp_tool listen)
-# prints every pose. Runs until Ctrl-C, or SECONDS seconds when > 0.
+# daemon/demo.sh CDSPD CDSP_TOOL SECONDS: `make demo`. cdspd on its
+# simulated camera (daemon/demo-camera.yaml, a 10 mm pipe swaying in front
+# of it) sends binary datagrams to 127.0.0.1; `cdsp_tool listen` prints
+# every pose. Runs until Ctrl-C, or SECONDS seconds when > 0.
 set -u
-cdspd=$1 listen=$2 seconds=${3:-0}
+cdspd=$1 tool=$2 seconds=${3:-0}
 port=${DEMO_PORT:-23770}
 here=$(cd "$(dirname "$0")" && pwd)
 dur=(); ldur=()
 if [ "$seconds" != 0 ]; then dur=(--duration "$seconds"); ldur=(--duration "$((seconds + 8))"); fi
 
-"$listen" "127.0.0.1:$port" "${ldur[@]}" &
+"$tool" listen "127.0.0.1:$port" "${ldur[@]}" &
 lpid=$!
 "$cdspd" --calib "$here/demo-camera.yaml" --radius 10 --dest "127.0.0.1:$port" --set stats_interval=5 \
     "${dur[@]}" &

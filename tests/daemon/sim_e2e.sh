@@ -68,9 +68,11 @@ wait_for "$d5_pid" 30 || fail "cdspd (slow file) exit status $?"
 wait_for "$rx6_pid" 10 || fail "no-frame statuses"
 cat "$work/rx6.out"
 
-if [ -x "${CDSP_LISTEN:-}" ]; then
+# CDSP_LISTEN: the listener command, "build/cdsp_tool listen"
+read -r -a listen <<<"${CDSP_LISTEN:-}"
+if [ ${#listen[@]} -gt 0 ] && [ -x "${listen[0]}" ]; then
     echo "--- 5. cdsp_tool listen"
-    "$CDSP_LISTEN" 127.0.0.1:0 --count 20 --duration 30 >"$work/listen.out" 2>"$work/listen.err" &
+    "${listen[@]}" 127.0.0.1:0 --count 20 --duration 30 >"$work/listen.out" 2>"$work/listen.err" &
     lpid=$!; pids+=("$lpid")
     wait_log "$work/listen.err" "(port [0-9]*)" 5 || fail "the listener did not start"
     lport=$(sed -n 's/.*(port \([0-9]*\)).*/\1/p' "$work/listen.err")
