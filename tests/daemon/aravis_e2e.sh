@@ -7,7 +7,8 @@
 #   2. the camera killed (SIGKILL) and started again: cdspd reports the
 #      source down (status datagrams), reopens it and poses resume;
 #   3. a camera that drops 2 of every 1000 GVSP packets (and never resends):
-#      incomplete frames are counted and skipped, the others solved;
+#      incomplete frames are counted and skipped, the others solved; then
+#      Mono16 frames (the pixel format set by cdspd);
 #   4. no such camera: exit status 3 after open_timeout.
 # One fake camera per machine (GVCP has one port): the lock the fake
 # camera's own test uses is held throughout.
@@ -71,6 +72,19 @@ wait_for "$d2_pid" 10 || fail "cdspd exit status $? after SIGTERM (lossy camera)
 wait_for "$rx2_pid" 10 || fail "receiver (lossy camera)"
 cat "$work/rx2.out"
 grep -m1 "frame skipped" "$work/d2.log" || fail "no message about incomplete frames"
+stop_camera
+
+echo "--- 3b. Mono16 (set by cdspd)"
+start_camera
+start_rx rx3 --truth fakecam --cycle $cycle --calib "$CALIB" --duration 60 --idle 3 --min-poses 15
+start_cdspd d3 "${arv[@]}" --set aravis.pixel_format=Mono16 --dest 127.0.0.1:$RX_PORT
+wait_log "$work/d3.log" "aravis:127.0.0.1: open" 20 || fail "cdspd did not open the camera in Mono16"
+grep -q "16 bit" "$work/d3.log" || fail "the camera is not in Mono16"
+sleep 4
+kill -TERM "$d3_pid"
+wait_for "$d3_pid" 10 || fail "cdspd exit status $? after SIGTERM (Mono16)"
+wait_for "$rx3_pid" 10 || fail "receiver (Mono16)"
+cat "$work/rx3.out"
 stop_camera
 
 echo "--- 4. no such camera"
