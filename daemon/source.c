@@ -39,6 +39,26 @@ int cdspd_sleep_until(uint64_t t_us, int max_ms, int *stop)
     }
 }
 
+int cdspd_pace_wait(cdspd_pace *pc, uint64_t n, uint64_t period, int timeout_ms, int *stop,
+                    uint64_t *t)
+{
+    if (!pc->started) {
+        pc->t_base = cdspd_now_us();
+        pc->started = 1;
+    }
+    *t = pc->t_base + n * period;
+    if (!period)
+        return 1;
+    {
+        uint64_t now = cdspd_now_us();
+        if (now > *t + 2 * period) {
+            pc->t_base = now - n * period;
+            *t = now;
+        }
+    }
+    return cdspd_sleep_until(*t, timeout_ms, stop);
+}
+
 int cdspd_source_available(int kind, const char **why)
 {
     *why = NULL;

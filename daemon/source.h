@@ -91,4 +91,17 @@ uint64_t cdspd_now_us(void);                 /* CLOCK_MONOTONIC, us */
  * *stop is set. Returns 1 when t_us was reached. */
 int cdspd_sleep_until(uint64_t t_us, int max_ms, int *stop);
 
+/* Frame pacing of the sources that make their own frames (sim, file): frame
+ * n is due at t_base + n * period (us). Like a real camera, a source that
+ * fell far behind (a stalled machine) does not catch up on the frames it
+ * could not deliver: the schedule restarts from now. */
+typedef struct {
+    uint64_t t_base; /* time frame 0 was due */
+    int started;     /* 0: the schedule starts at the next wait */
+} cdspd_pace;
+/* Wait until frame n is due (no wait when period is 0); *t is its due
+ * time. Returns 0 when timeout_ms passed or *stop was set first. */
+int cdspd_pace_wait(cdspd_pace *pc, uint64_t n, uint64_t period, int timeout_ms, int *stop,
+                    uint64_t *t);
+
 #endif

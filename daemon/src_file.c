@@ -24,8 +24,7 @@ typedef struct {
     cdsp_host_image *cache; /* g.gl_pathc images, or NULL */
     size_t next;            /* index of the next file */
     uint64_t n;             /* frames delivered */
-    uint64_t t_base;
-    int started;
+    cdspd_pace pace;
 } file_priv;
 
 static void free_cache(file_priv *p)
@@ -47,7 +46,7 @@ static int file_open(cdspd_source *s, char *err, size_t errlen)
     double bytes = 0;
 
     if (p->have_glob) { /* reopen: keep the list and the cache */
-        p->started = 0;
+        p->pace.started = 0;
         return CDSPD_OPEN_OK;
     }
     r = glob(s->arg, 0, NULL, &p->g);
@@ -64,7 +63,7 @@ static int file_open(cdspd_source *s, char *err, size_t errlen)
     }
     p->have_glob = 1;
     p->next = 0;
-    p->started = 0;
+    p->pace.started = 0;
     LOG_I(SOURCE, "file: %zu frame%s match '%s'", p->g.gl_pathc, p->g.gl_pathc > 1 ? "s" : "", s->arg);
     /* Decode everything now if it fits the cache budget (the frames'
      * calibrated size at 2 bytes per pixel is the estimate). */
@@ -117,20 +116,8 @@ static int file_grab(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *err,
             return CDSPD_GRAB_END;
         p->next = 0;
     }
-    if (!p->started) {
-        p->t_base = cdspd_now_us();
-        p->started = 1;
-    }
-    t = p->t_base + p->n * period;
-    if (period) {
-        uint64_t now = cdspd_now_us();
-        if (now > t + 2 * period) {
-            p->t_base = now - p->n * period;
-            t = now;
-        }
-        if (!cdspd_sleep_until(t, timeout_ms, s->stop))
-            return CDSPD_GRAB_TIMEOUT;
-    }
+    if (!cdspd_pace_wait(&p->pace, p->n, period, timeout_ms, s->stop, &t))
+        return CDSPD_GRAB_TIMEOUT;
     name = p->g.gl_pathv[p->next];
     if (p->cache) {
         if (!p->cache[p->next].data) {

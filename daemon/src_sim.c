@@ -25,8 +25,7 @@ typedef struct {
     size_t frame_bytes;
     int frames, width, height, bits;
     uint64_t n;             /* next frame number */
-    uint64_t t_base;        /* time of frame 0, us */
-    int started;
+    cdspd_pace pace;
     /* rendering */
     pthread_mutex_t mu;
     int next_slot, failed;
@@ -82,7 +81,7 @@ static int sim_open(cdspd_source *s, char *err, size_t errlen)
     uint64_t t0;
 
     if (p->ring) { /* rendered already (reopen) */
-        p->started = 0;
+        p->pace.started = 0;
         return CDSPD_OPEN_OK;
     }
     p->width = c->cam.width;
@@ -135,7 +134,7 @@ static int sim_open(cdspd_source *s, char *err, size_t errlen)
         return CDSPD_OPEN_FATAL;
     }
     LOG_I(SOURCE, "sim: %d frames rendered in %.1f s", p->frames, (double)(cdspd_now_us() - t0) * 1e-6);
-    p->started = 0;
+    p->pace.started = 0;
     return CDSPD_OPEN_OK;
 }
 
@@ -145,22 +144,8 @@ static int sim_grab(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *err, 
     const cdspd_config *c = s->cfg;
     uint64_t t, period = c->sim.rate > 0 ? (uint64_t)(1e6 / c->sim.rate + 0.5) : 0;
 
-    if (!p->started) {
-        p->t_base = cdspd_now_us();
-        p->started = 1;
-    }
-    t = p->t_base + p->n * period;
-    if (period) {
-        uint64_t now = cdspd_now_us();
-        /* A real camera does not catch up on frames it could not deliver:
-         * when far behind (a stalled machine), restart the schedule now. */
-        if (now > t + 2 * period) {
-            p->t_base = now - p->n * period;
-            t = now;
-        }
-        if (!cdspd_sleep_until(t, timeout_ms, s->stop))
-            return CDSPD_GRAB_TIMEOUT;
-    }
+    if (!cdspd_pace_wait(&p->pace, p->n, period, timeout_ms, s->stop, &t))
+        return CDSPD_GRAB_TIMEOUT;
     if (f->cap < p->frame_bytes) {
         snprintf(err, errlen, "sim: frame buffer of %zu bytes for a %zu-byte frame", f->cap,
                  p->frame_bytes);
