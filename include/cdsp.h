@@ -208,7 +208,10 @@ void cdsp_edge_params_default(cdsp_edge_params *p);
 
 /*
  * Subpixel edges by the partial area effect (Trujillo-Pino et al. 2013,
- * first-order variant: a straight edge through a 3 x (2h+1) window).
+ * first-order variant: a straight edge through a 3 x (2h+1) window), with a
+ * second pass that takes each side's intensity as its mean over its part of
+ * the window (sampled half way along it) rather than at the window's end,
+ * which removes most of the bias of a shaded pipe's limb (lib/edges.c).
  * Rows y = roi.y + k*step are scanned for near-vertical edges and columns
  * for near-horizontal ones; each edge is reported once, by the family whose
  * scan direction is closer to its gradient.
