@@ -366,14 +366,9 @@ int tool_bench_main(int argc, char **argv)
             {"quiet", 'q', OPT_FLAG, &B.quiet, 0, 0, NULL, "Print only the tables.", NULL, 0},
             {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
         };
-        pos = calloc((size_t)argc + 1, sizeof *pos);
-        if (!pos)
-            return tool_usage_error("bench", "out of memory");
-        rc = tool_parse(&doc, opts, argc, argv, pos, &npos);
-        if (rc) {
-            free(pos);
+        rc = tool_parse_alloc("bench", &doc, opts, argc, argv, &pos, &npos);
+        if (rc)
             return rc - 1;
-        }
     }
     rc = TOOL_EXIT_USAGE;
     if (npos > 0) {

@@ -187,6 +187,21 @@ static int set_value(const tool_doc *doc, const tool_opt *o, const char *v)
     return TOOL_EXIT_USAGE;
 }
 
+int tool_parse_alloc(const char *cmd, const tool_doc *doc, const tool_opt *opts, int argc,
+                     char **argv, char ***pos, int *npos)
+{
+    int rc;
+    *pos = calloc((size_t)argc + 1, sizeof **pos);
+    if (!*pos)
+        return tool_usage_error(cmd, "out of memory") + 1;
+    rc = tool_parse(doc, opts, argc, argv, *pos, npos);
+    if (rc) {
+        free(*pos);
+        *pos = NULL;
+    }
+    return rc;
+}
+
 int tool_parse(const tool_doc *doc, const tool_opt *opts, int argc, char **argv, char **pos,
                int *npos)
 {

@@ -470,14 +470,9 @@ int tool_export_main(int argc, char **argv)
              NULL, 0},
             {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
         };
-        pos = calloc((size_t)argc + 1, sizeof *pos);
-        if (!pos)
-            return tool_usage_error("export", "out of memory");
-        rc = tool_parse(&doc, opts, argc, argv, pos, &npos);
-        if (rc) {
-            free(pos);
+        rc = tool_parse_alloc("export", &doc, opts, argc, argv, &pos, &npos);
+        if (rc)
             return rc - 1;
-        }
     }
     rc = TOOL_EXIT_USAGE;
     if (npos == 0) {

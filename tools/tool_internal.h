@@ -67,6 +67,10 @@ typedef struct {
  * printed (1 -> exit 0) or a usage error reported (3 -> exit 2). */
 int tool_parse(const tool_doc *doc, const tool_opt *opts, int argc, char **argv, char **pos,
                int *npos);
+/* The same with the positional array allocated here (*pos, free it when
+ * done; NULL when parsing stops); cmd names the command in messages. */
+int tool_parse_alloc(const char *cmd, const tool_doc *doc, const tool_opt *opts, int argc,
+                     char **argv, char ***pos, int *npos);
 void tool_help(const tool_doc *doc, const tool_opt *opts);
 /* "cdsp_tool NAME: message" on stderr and TOOL_EXIT_USAGE. */
 int tool_usage_error(const char *cmd, const char *fmt, ...)

@@ -190,14 +190,9 @@ int tool_sim_main(int argc, char **argv)
             {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
         };
         o.bits = 8;
-        pos = calloc((size_t)argc + 1, sizeof *pos);
-        if (!pos)
-            return tool_usage_error("sim", "out of memory");
-        rc = tool_parse(&doc, opts, argc, argv, pos, &npos);
-        if (rc) {
-            free(pos);
+        rc = tool_parse_alloc("sim", &doc, opts, argc, argv, &pos, &npos);
+        if (rc)
             return rc - 1;
-        }
     }
     rc = TOOL_EXIT_USAGE;
     if (npos > 0) {

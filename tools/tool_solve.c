@@ -593,14 +593,9 @@ int tool_solve_main(int argc, char **argv)
              "No progress line on standard error (it only appears on a terminal).", NULL, 0},
             {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
         };
-        pos = calloc((size_t)argc + 1, sizeof *pos);
-        if (!pos)
-            return tool_usage_error(J.cmd, "out of memory");
-        rc = tool_parse(J.overlay ? &overlay_doc : &solve_doc, opts, argc, argv, pos, &npos);
-        if (rc) {
-            free(pos);
+        rc = tool_parse_alloc(J.cmd, J.overlay ? &overlay_doc : &solve_doc, opts, argc, argv, &pos, &npos);
+        if (rc)
             return rc - 1;
-        }
     }
     rc = TOOL_EXIT_USAGE;
     if (!J.calib_path) {
