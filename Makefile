@@ -71,7 +71,9 @@ $(eval $(call lib_variant,asan,$(CLANG),ASAN_CFLAGS))
 $(BUILD)/libcdsp.a: $(host_LIB)
 	cp $< $@
 
-ALL_TARGETS += $(BUILD)/libcdsp.a
+# build/float/libcdsp.a: the single-precision (CDSP_SINGLE) library the
+# README offers for FPUs without double; built by `make` too.
+ALL_TARGETS += $(BUILD)/libcdsp.a $(float_LIB)
 
 # Cortex-M4F float build of libcdsp.a, size printed by `make check`.
 M4F_CC     ?= arm-none-eabi-gcc

@@ -48,7 +48,8 @@ double tool_now_us(void)
     return (double)ts.tv_sec * 1e6 + (double)ts.tv_nsec * 1e-3;
 }
 
-int tool_mkdir(const char *path)
+/* One level: an existing directory is fine, an existing file is ENOTDIR. */
+static int mkdir_one(const char *path)
 {
     struct stat st;
     if (mkdir(path, 0777) == 0)
@@ -58,6 +59,27 @@ int tool_mkdir(const char *path)
     if (errno == EEXIST)
         errno = ENOTDIR;
     return -1;
+}
+
+int tool_mkdir(const char *path)
+{
+    char buf[4096];
+    size_t n = strlen(path), i;
+    if (n == 0 || n >= sizeof buf) {
+        errno = n ? ENAMETOOLONG : ENOENT;
+        return -1;
+    }
+    memcpy(buf, path, n + 1);
+    /* each parent in turn, as mkdir -p does ("a//b" and a trailing '/' too) */
+    for (i = 1; i < n; i++) {
+        if (buf[i] != '/' || buf[i - 1] == '/')
+            continue;
+        buf[i] = 0;
+        if (mkdir_one(buf) != 0)
+            return -1;
+        buf[i] = '/';
+    }
+    return mkdir_one(buf);
 }
 
 /* ---- option values ------------------------------------------------------- */

@@ -124,13 +124,17 @@ static void centred(const double p[3], const double d[3], double len, double a[3
     }
 }
 
+/* The complaint about input that is not what solve writes at all; the
+ * caller adds the line number. */
+#define NOT_A_RECORD "not a cdsp_tool JSON record"
+
 /* One solve record; 1 added, 0 skipped (error record), -1 malformed. */
 static int from_record(json_object *o, const export_opts *E, parts *ps, const char **why)
 {
     json_object *st;
     double seg[2][3], point[3], dir[3], r = E->radius, len;
     if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string)) {
-        *why = "no \"status\"";
+        *why = NOT_A_RECORD " (no \"status\")";
         return -1;
     }
     if (strcmp(json_object_get_string(st), "ok") != 0)
@@ -234,6 +238,9 @@ static int read_input(const char *path, const export_opts *E, parts *ps, int *pi
                 json_object_put(o);
                 json_tokener_free(tok);
                 free(buf);
+                if (k < 0 && strncmp(why, NOT_A_RECORD, strlen(NOT_A_RECORD)) == 0)
+                    return tool_usage_error("export", "%s: " NOT_A_RECORD " (line 1)%s", name,
+                                            why + strlen(NOT_A_RECORD));
                 if (k < 0)
                     return tool_usage_error("export", "%s: %s", name, why);
                 *pipes += k;
@@ -259,20 +266,30 @@ static int read_input(const char *path, const export_opts *E, parts *ps, int *pi
         o = json_tokener_parse_ex(tok, line, (int)strlen(line));
         if (!o || json_tokener_get_error(tok) != json_tokener_success ||
             !json_object_is_type(o, json_type_object)) {
-            const char *msg = json_tokener_get_error(tok) != json_tokener_success
-                                  ? json_tokener_error_desc(json_tokener_get_error(tok))
-                                  : "not a JSON object";
+            enum json_tokener_error e = json_tokener_get_error(tok);
+            /* what the line is instead, in words: a CSV header or row, JSON
+             * cut short (json-c says "continue"), or another JSON value */
+            const char *msg = e == json_tokener_continue ? "the JSON text ends mid-value"
+                              : e != json_tokener_success && strchr(line, ',') &&
+                                        line[strspn(line, " \t")] != '{'
+                                  ? "it looks like CSV; export reads JSON Lines (solve without --csv)"
+                              : e != json_tokener_success ? json_tokener_error_desc(e)
+                                                          : "a JSON value that is not an object";
             if (o)
                 json_object_put(o);
             json_tokener_free(tok);
             free(buf);
-            return tool_usage_error("export", "%s:%zu: %s", name, lineno, msg);
+            return tool_usage_error("export", "%s: " NOT_A_RECORD " (line %zu): %s", name, lineno,
+                                    msg);
         }
         k = from_record(o, E, ps, &why);
         json_object_put(o);
         if (k < 0) {
             json_tokener_free(tok);
             free(buf);
+            if (strncmp(why, NOT_A_RECORD, strlen(NOT_A_RECORD)) == 0)
+                return tool_usage_error("export", "%s: " NOT_A_RECORD " (line %zu)%s", name,
+                                        lineno, why + strlen(NOT_A_RECORD));
             return tool_usage_error("export", "%s:%zu: %s", name, lineno, why);
         }
         *pipes += k;

@@ -87,8 +87,8 @@ void tool_warn(const char *cmd, const char *fmt, ...)
 /* Monotonic clock, microseconds. */
 double tool_now_us(void);
 
-/* mkdir -p of one directory level (its parent must exist); 0 or -1 with
- * errno. An existing directory is fine. */
+/* mkdir -p: the directory and any missing parents; 0 or -1 with errno
+ * (ENOTDIR when a file is in the way). An existing directory is fine. */
 int tool_mkdir(const char *path);
 
 /* ------------------------------------------------------------------------

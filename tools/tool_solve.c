@@ -132,7 +132,8 @@ static void solve_frame(const job *J, slot *s, cdsp_frame_ws *ws, const cdsp_res
     s->time_us = tool_now_us() - t0;
     if (s->st != CDSP_OK) {
         s->error_token = cdsp_status_token(s->st);
-        snprintf(s->message, sizeof s->message, "%s", cdsp_strerror(s->st));
+        snprintf(s->message, sizeof s->message, "%s: %s", J->frames.path[s->index],
+                 cdsp_strerror(s->st));
     }
     if (J->overlay)
         draw(J, s, ws);

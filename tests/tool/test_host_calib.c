@@ -55,6 +55,26 @@ static void reads_ros_file(void **state)
     assert_true(cam.k3 == 0.0);
 }
 
+/* k1 k2 p1 p2 as OpenCV and some ROS drivers write them: k3 is zero. */
+static void reads_four_coefficients(void **state)
+{
+    static const char text[] =
+        "image_width: 640\nimage_height: 480\n"
+        "camera_matrix: {rows: 3, cols: 3, data: [800, 0, 319.5, 0, 800, 239.5, 0, 0, 1]}\n"
+        "distortion_model: plumb_bob\n"
+        "distortion_coefficients: {rows: 1, cols: 4, data: [-0.12, 0.03, 0.001, -0.002]}\n";
+    cdsp_camera cam;
+    cdsp_host_err err;
+    (void)state;
+    cam.k3 = 99;
+    assert_int_equal(cdsp_host_calib_parse(text, strlen(text), "four.yaml", &cam, &err), 0);
+    assert_true(cam.k1 == -0.12);
+    assert_true(cam.k2 == 0.03);
+    assert_true(cam.p1 == 0.001);
+    assert_true(cam.p2 == -0.002);
+    assert_true(cam.k3 == 0.0);
+}
+
 static void block_style_and_comments(void **state)
 {
     static const char text[] =
@@ -156,8 +176,17 @@ static void malformed_files(void **state)
         {"distortion_model:", NULL, "distortion_model: missing"},
         {"distortion_coefficients:", "distortion_coefficients: []\nunused:\n",
          "distortion_coefficients: expected a mapping"},
+        /* 4 numbers are k1 k2 p1 p2 (reads_four_coefficients), but then the
+         * declared cols: 5 disagrees */
         {"  data: [-0.091", "  data: [-0.091, 0.12, 0.0005, -0.0003]\n",
-         "distortion_coefficients.data: expected 5 numbers, got 4"},
+         "distortion_coefficients.cols: expected 4, got 5"},
+        {"  data: [-0.091", "  data: [-0.091, 0.12, 0.0005]\n",
+         "distortion_coefficients.data: expected 5 numbers, got 3"},
+        {"  data: [-0.091", "  data: [-0.091, 0.12, 0.0005, -0.0003, 0, 0.01, 0.002, 0.0003]\n",
+         "distortion_coefficients.data: 8 coefficients is OpenCV's rational model"},
+        {"distortion_model:", "distortion_model: rational_polynomial\n",
+         "distortion_model: \"rational_polynomial\" (OpenCV's rational model, 8 coefficients) "
+         "is not supported"},
         {"  data: [-0.091", "  data: [-0.091, 0.12, 0.0005, -0.0003, {k3: 0}]\n",
          "distortion_coefficients.data[4]: expected a number, got a mapping"},
         {"  cols: 5\n", "  cols: 4\n", "distortion_coefficients.cols: expected 5, got 4"},
@@ -271,6 +300,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(reads_ros_file),
+        cmocka_unit_test(reads_four_coefficients),
         cmocka_unit_test(block_style_and_comments),
         cmocka_unit_test(write_read_roundtrip),
         cmocka_unit_test(malformed_files),

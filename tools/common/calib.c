@@ -6,7 +6,8 @@
  * reported with the file name and the field's path, e.g.
  * "cam.yaml: camera_matrix.data: expected 9 numbers, got 8".
  * The library has no skew term, so a non-zero skew is refused rather than
- * silently dropped.
+ * silently dropped; likewise the rational model's k4..k6 (8 coefficients).
+ * plumb_bob may have 4 coefficients (k3 = 0) or 5.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "host_internal.h"
@@ -191,13 +192,42 @@ static int field_string(ctx *c, yaml_node_t *m, const char *key, char *out, size
     return CDSP_HOST_OK;
 }
 
+/* How many plumb_bob coefficients the file gives: 4 (k1 k2 p1 p2, as
+ * OpenCV and some ROS drivers write; k3 = 0) or 5. Eight is OpenCV's
+ * rational model (k1 k2 p1 p2 k3 k4 k5 k6), which the library's
+ * distortion model cannot represent: refused by name, not truncated. */
+static int coeff_count(ctx *c, yaml_node_t *root, int *count)
+{
+    yaml_node_t *m, *data;
+    int dup, n;
+    m = map_get(c, root, "distortion_coefficients", &dup);
+    if (!m || dup || m->type != YAML_MAPPING_NODE)
+        goto plain; /* field_matrix reports it */
+    data = map_get(c, m, "data", &dup);
+    if (!data || dup || data->type != YAML_SEQUENCE_NODE)
+        goto plain;
+    n = (int)(data->data.sequence.items.top - data->data.sequence.items.start);
+    if (n == 8)
+        return fail(c->err, CDSP_HOST_E_FORMAT, c->name,
+                    "distortion_coefficients.data: 8 coefficients is OpenCV's rational model "
+                    "(k4, k5, k6), which cdsp does not support: calibrate with plumb_bob "
+                    "(4 or 5 coefficients, k1 k2 p1 p2 [k3])");
+    if (n == 4) {
+        *count = 4;
+        return CDSP_HOST_OK;
+    }
+plain:
+    *count = 5;
+    return CDSP_HOST_OK;
+}
+
 static int from_document(ctx *c, cdsp_camera *cam)
 {
     yaml_node_t *root = yaml_document_get_root_node(c->doc);
     double K[9], D[5];
     long w, h;
     char model[64];
-    int rc;
+    int rc, nd = 5;
     if (!root)
         return fail(c->err, CDSP_HOST_E_FORMAT, c->name, "empty calibration file");
     if (root->type != YAML_MAPPING_NODE)
@@ -212,12 +242,20 @@ static int from_document(ctx *c, cdsp_camera *cam)
         rc = field_string(c, root, "distortion_model", model, sizeof model);
     if (rc)
         return rc;
+    if (strcmp(model, "rational_polynomial") == 0)
+        return fail(c->err, CDSP_HOST_E_FORMAT, c->name,
+                    "distortion_model: \"rational_polynomial\" (OpenCV's rational model, 8 "
+                    "coefficients) is not supported: calibrate with plumb_bob");
     if (strcmp(model, "plumb_bob") != 0)
         return fail(c->err, CDSP_HOST_E_FORMAT, c->name,
                     "distortion_model: \"%s\" is not supported (only plumb_bob)", model);
-    rc = field_matrix(c, root, "distortion_coefficients", 1, 5, D);
+    rc = coeff_count(c, root, &nd);
+    if (!rc)
+        rc = field_matrix(c, root, "distortion_coefficients", 1, nd, D);
     if (rc)
         return rc;
+    if (nd == 4)
+        D[4] = 0; /* k1 k2 p1 p2: the r^6 term is absent, i.e. zero */
     if (!(K[0] > 0) || !(K[4] > 0))
         return fail(c->err, CDSP_HOST_E_FORMAT, c->name,
                     "camera_matrix.data: focal lengths fx = %g, fy = %g must be positive", K[0],

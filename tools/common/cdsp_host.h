@@ -119,7 +119,8 @@ int cdsp_host_read_file(const char *path, size_t max_bytes, void **buf, size_t *
  * cdsp_calib). Required keys: image_width, image_height, camera_matrix
  * {rows: 3, cols: 3, data: [fx, 0, cx, 0, fy, cy, 0, 0, 1]},
  * distortion_model: plumb_bob, distortion_coefficients {rows: 1, cols: 5,
- * data: [k1, k2, p1, p2, k3]}. Other keys (camera_name,
+ * data: [k1, k2, p1, p2, k3]} (or cols: 4, data: [k1, k2, p1, p2], k3 = 0;
+ * 8 coefficients, OpenCV's rational model, are refused by name). Other keys (camera_name,
  * rectification_matrix, projection_matrix) are accepted and ignored.
  * ---------------------------------------------------------------------- */
 int cdsp_host_calib_parse(const char *text, size_t len, const char *name, cdsp_camera *cam,
