@@ -18,7 +18,7 @@ daemon_has = $(shell pkg-config --exists $(1) 2>/dev/null && echo yes)
 # System headers (GLib's are not -pedantic clean): -isystem.
 daemon_sys = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(1) 2>/dev/null))
 
-daemon_PKGS := yaml-0.1 spng json-c
+daemon_PKGS := yaml-0.1 spng json-c libjpeg libtiff-4
 daemon_DEFS :=
 daemon_SRC := config.c log.c proto.c sim_path.c source.c src_sim.c src_file.c pool.c stats.c \
               sender.c record.c notify.c pipeline.c
@@ -49,7 +49,7 @@ endif
 daemon_CFLAGS := $(HOST_CFLAGS) -Itools/common -Idaemon $(daemon_DEFS) $(call daemon_sys,$(daemon_PKGS))
 daemon_CXXFLAGS := -std=c++17 -Wall -Wextra -pedantic -Werror -Wshadow -O2 -g -MMD -MP \
                    -Iinclude -Idaemon $(daemon_DEFS) $(call daemon_sys,$(daemon_PKGS))
-daemon_LIBS = $(shell pkg-config --libs $(daemon_PKGS) 2>/dev/null || echo -lyaml -lspng -ljson-c) \
+daemon_LIBS = $(shell pkg-config --libs $(daemon_PKGS) 2>/dev/null || echo -lyaml -lspng -ljson-c -ljpeg -ltiff) \
               -lpthread -lm
 
 daemon_OBJ := $(patsubst %.c,$(daemon_DIR)/%.o,$(daemon_SRC)) \

@@ -2,9 +2,10 @@
 # records: shared by cdsp_tool and cdspd), build/cdsp_tool, and their checks.
 # Included by the top-level Makefile; variables and targets start with tool_.
 
-tool_PKGS     := yaml-0.1 spng json-c
+tool_PKGS     := yaml-0.1 spng json-c libjpeg libtiff-4 cairo
 tool_PKG_CFLAGS := $(shell pkg-config --cflags $(tool_PKGS) 2>/dev/null)
-tool_PKG_LIBS := $(shell pkg-config --libs $(tool_PKGS) 2>/dev/null || echo -lyaml -lspng -ljson-c)
+tool_PKG_LIBS := $(shell pkg-config --libs $(tool_PKGS) 2>/dev/null || \
+                   echo -lyaml -lspng -ljson-c -ljpeg -ltiff -lcairo)
 
 tool_HOST_SRC := $(sort $(wildcard tools/common/*.c))
 tool_HOST_HDR := tools/common/cdsp_host.h

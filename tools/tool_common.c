@@ -433,17 +433,26 @@ static int frames_push(tool_frames *f, const char *path)
     return 0;
 }
 
+/* A frame file by its extension (any case): .pgm .png .jpg .jpeg .tif .tiff */
 static int is_frame_name(const char *name)
 {
-    size_t n = strlen(name);
-    const char *ext;
-    if (n < 5 || name[0] == '.')
+    static const char *const ext[] = {".pgm", ".png", ".jpg", ".jpeg", ".tif", ".tiff"};
+    size_t n = strlen(name), i, k, e;
+    if (name[0] == '.')
         return 0;
-    ext = name + n - 4;
-    return (ext[0] == '.' && (ext[1] == 'p' || ext[1] == 'P') &&
-            ((ext[2] == 'g' || ext[2] == 'G') && (ext[3] == 'm' || ext[3] == 'M'))) ||
-           (ext[0] == '.' && (ext[1] == 'p' || ext[1] == 'P') &&
-            ((ext[2] == 'n' || ext[2] == 'N') && (ext[3] == 'g' || ext[3] == 'G')));
+    for (e = 0; e < sizeof ext / sizeof ext[0]; e++) {
+        k = strlen(ext[e]);
+        if (n <= k)
+            continue;
+        for (i = 0; i < k; i++) {
+            char c = name[n - k + i];
+            if ((c >= 'A' && c <= 'Z' ? (char)(c - 'A' + 'a') : c) != ext[e][i])
+                break;
+        }
+        if (i == k)
+            return 1;
+    }
+    return 0;
 }
 
 static int cmp_str(const void *a, const void *b)
@@ -477,7 +486,7 @@ int tool_frames_add(tool_frames *f, const char *cmd, const char *arg)
     }
     closedir(d);
     if (f->n == first)
-        tool_warn(cmd, "%s: no .pgm or .png files in this directory", arg);
+        tool_warn(cmd, "%s: no frame files (.pgm .png .jpg .tif) in this directory", arg);
     qsort(f->path + first, f->n - first, sizeof *f->path, cmp_str);
     return 0;
 }

@@ -92,8 +92,8 @@ double tool_now_us(void);
 int tool_mkdir(const char *path);
 
 /* ------------------------------------------------------------------------
- * Frame lists: paths as given; a directory stands for its *.pgm and *.png
- * files in name order; "--list FILE" adds one path per line ("-": stdin).
+ * Frame lists: paths as given; a directory stands for its frame files
+ * (.pgm .png .jpg .jpeg .tif .tiff, any case) in name order; "--list FILE" adds one path per line ("-": stdin).
  * ---------------------------------------------------------------------- */
 typedef struct {
     char **path;

@@ -440,15 +440,15 @@ static int run(job *J)
 /* ---- command line -------------------------------------------------------------- */
 
 static const char solve_description[] =
-    "    Reads each FRAME (PGM P5 or PNG, 8 or 16 bit; color PNGs are converted to\n"
-    "    gray), finds the two straight contours of the pipe in it and recovers the\n"
+    "    Reads each FRAME (PGM P5, PNG or TIFF, 8 or 16 bit, or JPEG; colour frames\n"
+    "    are converted to gray), finds the two straight contours of the pipe in it and recovers the\n"
     "    pipe's 3D axis in closed form from the contours and the known radius R\n"
     "    (Yao et al. 2024). The calibration is the ROS camera_info YAML that ROS's\n"
     "    camera_calibration, many camera drivers and cdsp_tool sim write; its\n"
     "    image size must equal every frame's.\n"
     "\n"
-    "    A FRAME that is a directory stands for the .pgm and .png files in it, in\n"
-    "    name order. One record per frame is written to standard output, in input\n"
+    "    A FRAME that is a directory stands for the .pgm, .png, .jpg, .jpeg, .tif\n"
+    "    and .tiff files in it, in name order. One record per frame is written to standard output, in input\n"
     "    order, whatever --threads is; a frame that cannot be read or holds no pipe\n"
     "    gets an error record and the run goes on.\n"
     "\n"

@@ -1,8 +1,10 @@
 /*
  * cdsp_host.h - host-side code shared by cdsp_tool and cdspd: frame files
- * (PGM P5 read by hand, PNG through libspng), the ROS camera_info YAML
+ * (PGM P5 read by hand, PNG through libspng, JPEG through libjpeg-turbo,
+ * TIFF through libtiff), the ROS camera_info YAML
  * calibration (libyaml), and the JSON record both programs emit for a pose.
- * Built as build/libcdsp_host.a; link it with -lspng -lyaml and libcdsp.
+ * Built as build/libcdsp_host.a; link it with -lspng -ljpeg -ltiff -lyaml
+ * and libcdsp.
  *
  * Conventions:
  * - Every call that can fail returns 0 on success or a negative
@@ -102,7 +104,23 @@ int cdsp_host_png_write(const char *path, const cdsp_host_image *im, cdsp_host_e
 int cdsp_host_png_write_rgb(const char *path, const uint8_t *rgb, int width, int height,
                             cdsp_host_err *err);
 
-/* Any supported frame, chosen by its first bytes (not its name). */
+/* JPEG through libjpeg-turbo: baseline or progressive, 8 bit, gray or
+ * colour (converted to gray: libjpeg keeps Y, Rec. 601 luma). Corrupt or
+ * truncated data is an error, not gray filler; a header claiming more
+ * pixels than the file can encode is refused before allocating. */
+int cdsp_host_jpeg_decode(const void *buf, size_t len, const char *name, cdsp_host_image *out,
+                          cdsp_host_err *err);
+/* TIFF through libtiff (first image only): gray 8/16 bit (min-is-black or
+ * min-is-white), RGB(A) 8/16 bit converted to gray with Rec. 601 luma, in
+ * strips or tiles, any compression libtiff decodes; other 8-bit layouts
+ * (palette, bilevel, separate planes, YCbCr) through libtiff's RGBA
+ * conversion. 16-bit files give bits = 16. Float and signed samples are
+ * refused by name. */
+int cdsp_host_tiff_decode(const void *buf, size_t len, const char *name, cdsp_host_image *out,
+                          cdsp_host_err *err);
+
+/* Any supported frame (PGM, PNG, JPEG, TIFF), chosen by its first bytes
+ * (not its name). */
 int cdsp_host_image_decode(const void *buf, size_t len, const char *name, cdsp_host_image *out,
                            cdsp_host_err *err);
 int cdsp_host_image_read(const char *path, cdsp_host_image *out, cdsp_host_err *err);

@@ -624,7 +624,13 @@ int cdsp_host_image_decode(const void *buf, size_t len, const char *name, cdsp_h
         return cdsp_host_png_decode(buf, len, name, out, err);
     if (p[0] == 'P')
         return cdsp_host_pgm_decode(buf, len, name, out, err);
-    return fail(err, CDSP_HOST_E_FORMAT, name, "neither a PGM (P5) nor a PNG file");
+    /* JPEG: SOI then a marker; TIFF: byte order "II" or "MM", then 42 */
+    if (len >= 3 && p[0] == 0xff && p[1] == 0xd8 && p[2] == 0xff)
+        return cdsp_host_jpeg_decode(buf, len, name, out, err);
+    if (len >= 4 && ((p[0] == 'I' && p[1] == 'I' && p[2] == 42 && p[3] == 0) ||
+                     (p[0] == 'M' && p[1] == 'M' && p[2] == 0 && p[3] == 42)))
+        return cdsp_host_tiff_decode(buf, len, name, out, err);
+    return fail(err, CDSP_HOST_E_FORMAT, name, "not a PGM (P5), PNG, JPEG or TIFF file");
 }
 
 int cdsp_host_image_read(const char *path, cdsp_host_image *out, cdsp_host_err *err)
