@@ -10,10 +10,13 @@ CALIB_CXX      ?= g++
 CALIB_CV_INC   := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags-only-I opencv4 2>/dev/null))
 CALIB_CV_INC   := $(if $(CALIB_CV_INC),$(CALIB_CV_INC),-isystem /usr/include/opencv4)
 CALIB_CV_LIBS  := -lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_core
+# cairo draws the printable board (--print-board): PDF, SVG, PNG
+CALIB_CAIRO_INC  := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags-only-I cairo 2>/dev/null))
+CALIB_CAIRO_LIBS := $(shell pkg-config --libs cairo 2>/dev/null || echo -lcairo)
 CALIB_CXXFLAGS := -std=c++17 -Wall -Wextra -pedantic -Werror -Wshadow -Wpointer-arith \
-                  -Wmissing-declarations $(OPT) -g -MMD -MP $(CALIB_CV_INC)
+                  -Wmissing-declarations $(OPT) -g -MMD -MP $(CALIB_CV_INC) $(CALIB_CAIRO_INC)
 
-CALIB_SRC := tools/cdsp_calib.cpp tools/calib_core.cpp tools/calib_output.cpp
+CALIB_SRC := tools/cdsp_calib.cpp tools/calib_core.cpp tools/calib_output.cpp tools/calib_board.cpp
 CALIB_OBJ := $(patsubst tools/%.cpp,$(BUILD)/calib/%.o,$(CALIB_SRC))
 
 $(BUILD)/calib/%.o: tools/%.cpp
@@ -21,7 +24,7 @@ $(BUILD)/calib/%.o: tools/%.cpp
 	$(CALIB_CXX) $(CALIB_CXXFLAGS) -c $< -o $@
 
 $(BUILD)/cdsp_calib: $(CALIB_OBJ)
-	$(CALIB_CXX) $(CALIB_OBJ) $(CALIB_CV_LIBS) -o $@
+	$(CALIB_CXX) $(CALIB_OBJ) $(CALIB_CV_LIBS) $(CALIB_CAIRO_LIBS) -o $@
 
 ALL_TARGETS += $(BUILD)/cdsp_calib
 

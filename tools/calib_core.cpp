@@ -235,7 +235,7 @@ void measure_view(View &v, const std::vector<cv::Point3f> &obj, const cv::Mat &K
 
 SolveStatus calibrate(std::vector<View> &views, cv::Size image_size,
                       cv::Size board, double square, bool full_model,
-                      Result &res, std::string &problem)
+                      const Rejection &rej, Result &res, std::string &problem)
 {
     // Board corners in the board's plane, in the order the detector
     // returns them (row by row, board.width per row).
@@ -277,6 +277,10 @@ SolveStatus calibrate(std::vector<View> &views, cv::Size image_size,
         for (double e : p.per_view)
             dev.push_back(std::fabs(e - m));
         res.reject_above_px = std::max(2.0 * m, m + 3.0 * 1.4826 * median(dev));
+        // ... and never at or below the absolute floor (calib_core.hpp).
+        res.reject_above_px = std::max(res.reject_above_px, rej.floor_px);
+        if (!rej.enabled)
+            res.reject_above_px = HUGE_VAL;
         std::vector<size_t> keep;
         for (size_t k = 0; k < used.size(); k++)
             if (p.per_view[k] <= res.reject_above_px)

@@ -4,6 +4,7 @@
 // outlier views, calibrates again, and writes the ROS camera_info YAML that
 // cdsp_tool and cdspd read. The pipeline is in calib_core.cpp, the files it
 // writes in calib_output.cpp; this file is the command line and the report.
+#include "calib_board.hpp"
 #include "calib_core.hpp"
 #include "calib_output.hpp"
 
@@ -62,6 +63,10 @@ enum OptKey {
     opt_overlay,
     opt_coverage,
     opt_camera_name,
+    opt_no_reject,
+    opt_outlier_floor,
+    opt_print_board,
+    opt_paper,
 };
 
 struct OptSpec {
@@ -98,6 +103,26 @@ const OptSpec opt_table[] = {
     {"camera-name", opt_camera_name, "NAME",
      "camera_name written in the YAML (letters, digits and '_',\n"
      "not starting with a digit). Default: camera."},
+    {"no-reject", opt_no_reject, nullptr,
+     "Keep every view with a board: no outlier rejection."},
+    {"outlier-floor", opt_outlier_floor, "PX",
+     "A view whose RMS reprojection error is at most PX is never\n"
+     "an outlier, however uniform the others are. Default: 0.1, the\n"
+     "RMS a good calibration reaches as a whole (corner noise of\n"
+     "0.07 px per coordinate); 0 leaves only the relative rule."},
+    {"print-board", opt_print_board, "FILE",
+     "Do not calibrate: write the board that --board and --square\n"
+     "describe, to print, to FILE (.pdf or .svg, by the name; .png\n"
+     "at 300 dpi for a screen or a test). --square is then in mm:\n"
+     "the squares come out exactly that size when printed at 100 %\n"
+     "(\"actual size\", no fit-to-page); a 100 mm scale bar and the\n"
+     "board's description are printed under it to check. The board\n"
+     "has one more square than inner corners along each side and a\n"
+     "white border of half a square (at least 10 mm)."},
+    {"paper", opt_paper, "a4|letter|a3|fit",
+     "Page size for --print-board (portrait or landscape, whichever\n"
+     "the board fits; fit: the board and its margins only). A board\n"
+     "that does not fit the page is refused. Default: a4."},
     {"help", opt_help, nullptr, "Print this help and exit."},
 };
 
@@ -110,7 +135,10 @@ void print_help(std::FILE *f)
         "SYNOPSIS\n"
         "    cdsp_calib --board COLSxROWS --square SIZE [--full-model]\n"
         "               [--overlay DIR] [--coverage FILE.png] [-o OUT.yaml]\n"
-        "               [--camera-name NAME] IMAGE_OR_GLOB...\n"
+        "               [--camera-name NAME] [--no-reject | --outlier-floor PX]\n"
+        "               IMAGE_OR_GLOB...\n"
+        "    cdsp_calib --board COLSxROWS --square MM --print-board FILE.pdf|svg\n"
+        "               [--paper a4|letter|a3|fit]\n"
         "\n"
         "DESCRIPTION\n"
         "    Finds the board's inner corners in each image (OpenCV's\n"
@@ -120,7 +148,9 @@ void print_help(std::FILE *f)
         "    distortion and every board pose: OpenCV's calibrateCamera),\n"
         "    drops the views whose RMS reprojection error is an outlier (above\n"
         "    both twice the median and the median plus 3 robust sigmas,\n"
-        "    1.4826 x MAD) and calibrates again without them.\n"
+        "    1.4826 x MAD, and above the absolute floor --outlier-floor) and\n"
+        "    calibrates again without them (--no-reject: keeps them all).\n"
+        "    The board itself can be printed with --print-board.\n"
         "\n"
         "    Images: files or glob patterns (quoted, so that cdsp_calib expands\n"
         "    them itself; a pattern must match at least one file), in any\n"
@@ -184,7 +214,8 @@ void print_help(std::FILE *f)
         "    0   the calibration was written.\n"
         "    1   calibration impossible: the board was found in fewer than %d\n"
         "        images (none at all usually means a wrong --board), or the\n"
-        "        optimisation failed; nothing is written.\n"
+        "        optimisation failed; nothing is written. The message says how\n"
+        "        many views were found and how many are needed.\n"
         "    2   usage error (bad option, no images, a pattern matching\n"
         "        nothing), an input that cannot be read or decoded (every\n"
         "        such file is named; nothing is written), or an output that\n"
@@ -193,7 +224,8 @@ void print_help(std::FILE *f)
         "EXAMPLES\n"
         "    cdsp_calib --board 9x6 --square 25 -o camera.yaml 'calib/*.png'\n"
         "    cdsp_calib -b 9x6 -s 25 --coverage cov.png --overlay check/ \\\n"
-        "               -o camera.yaml rec/frame_*.pgm\n",
+        "               -o camera.yaml rec/frame_*.pgm\n"
+        "    cdsp_calib -b 9x6 -s 25 --print-board board.pdf\n",
         warn_rms_px, 100.0 * warn_focal_rel_sigma, 100.0 * warn_reach,
         progress_min_images, calib::min_views);
 }
@@ -206,6 +238,10 @@ struct Options {
     std::string overlay;
     std::string coverage;
     std::string camera_name = "camera";
+    calib::Rejection rejection;
+    bool have_floor = false;
+    std::string print_board;
+    calib::Paper paper = calib::Paper::a4;
     std::vector<std::string> inputs;
 };
 
@@ -319,6 +355,27 @@ bool parse_args(int argc, char **argv, Options &o, bool &help)
                                    "not starting with a digit", arg.c_str());
             o.camera_name = arg;
             break;
+        case opt_no_reject: o.rejection.enabled = false; break;
+        case opt_outlier_floor: {
+            char *end = nullptr;
+            errno = 0;
+            o.rejection.floor_px = std::strtod(arg.c_str(), &end);
+            if (arg.empty() || *end || errno || !std::isfinite(o.rejection.floor_px) ||
+                o.rejection.floor_px < 0 || o.rejection.floor_px > 100)
+                return usage_error("--outlier-floor wants a number of pixels 0..100, not '%s'",
+                                   arg.c_str());
+            o.have_floor = true;
+            break;
+        }
+        case opt_print_board:
+            if (arg.empty())
+                return usage_error("--print-board wants a file name");
+            o.print_board = arg;
+            break;
+        case opt_paper:
+            if (!calib::parse_paper(arg, o.paper))
+                return usage_error("--paper wants a4, letter, a3 or fit, not '%s'", arg.c_str());
+            break;
         case opt_help: help = true; return true;
         case ':':
             return usage_error("option %s wants a value", argv[optind - 1]);
@@ -330,8 +387,15 @@ bool parse_args(int argc, char **argv, Options &o, bool &help)
         return usage_error("--board COLSxROWS is required");
     if (!have_square)
         return usage_error("--square SIZE is required");
+    if (!o.rejection.enabled && o.have_floor)
+        return usage_error("--no-reject and --outlier-floor exclude each other");
     for (int i = optind; i < argc; i++)
         o.inputs.push_back(argv[i]);
+    if (!o.print_board.empty()) {
+        if (!o.inputs.empty())
+            return usage_error("--print-board takes no images ('%s')", o.inputs[0].c_str());
+        return true;
+    }
     if (o.inputs.empty())
         return usage_error("no images given");
     return true;
@@ -488,7 +552,9 @@ const char *status_text(const View &v)
     return "";
 }
 
-void print_table(std::FILE *f, const std::vector<View> &views)
+// calibrated: the views' errors and poses were measured (false when there
+// were too few views to calibrate: boards found are shown as "board found").
+void print_table(std::FILE *f, const std::vector<View> &views, bool calibrated = true)
 {
     int w = 5;
     for (const View &v : views)
@@ -498,7 +564,10 @@ void print_table(std::FILE *f, const std::vector<View> &views)
     int i = 0;
     for (const View &v : views) {
         i++;
-        if (v.state == ViewState::used || v.state == ViewState::rejected)
+        if (!calibrated && v.state == ViewState::used)
+            std::fprintf(f, "%4d  %-*s %7zu %8s %8s %9s %6s  %s\n", i, w, v.path.c_str(),
+                         v.corners.size(), "-", "-", "-", "-", "board found");
+        else if (v.state == ViewState::used || v.state == ViewState::rejected)
             std::fprintf(f, "%4d  %-*s %7zu %8.4f %8.4f %9.4g %6.1f  %s\n", i, w,
                          v.path.c_str(), v.corners.size(), v.rms_px, v.max_px, v.distance,
                          v.tilt_deg, status_text(v));
@@ -623,7 +692,7 @@ int run(const Options &o)
     int n_board = (int)std::count_if(views.begin(), views.end(),
                                      [](const View &v) { return v.state == ViewState::used; });
     if (n_board < calib::min_views) {
-        print_table(rep, views);
+        print_table(rep, views, false);
         if (n_board == 0)
             std::fprintf(stderr, "%s: the %dx%d board was found in none of the %zu images: "
                          "check --board (it counts inner corners: squares - 1 along each "
@@ -631,7 +700,8 @@ int run(const Options &o)
                          prog, o.board.width, o.board.height, views.size());
         else
             std::fprintf(stderr, "%s: the %dx%d board was found in only %d of the %zu "
-                         "images; at least %d usable views are needed\n", prog,
+                         "images; at least %d usable views are needed (10-20 give a good "
+                         "calibration): nothing calibrated, nothing written\n", prog,
                          o.board.width, o.board.height, n_board, views.size(),
                          calib::min_views);
         return exit_calib;
@@ -640,7 +710,7 @@ int run(const Options &o)
     calib::Result res;
     std::string problem;
     calib::SolveStatus st = calib::calibrate(views, size, o.board, o.square, o.full_model,
-                                             res, problem);
+                                             o.rejection, res, problem);
     if (st != calib::SolveStatus::ok) {
         print_table(rep, views);
         std::fprintf(stderr, "%s: calibration failed: %s\n", prog, problem.c_str());
@@ -714,6 +784,19 @@ int main(int argc, char **argv)
         return std::fflush(stdout) == 0 ? exit_ok : exit_usage;
     }
     try {
+        if (!o.print_board.empty()) {
+            std::string problem;
+            if (!writable_dir(dir_of(o.print_board), "--print-board"))
+                return exit_usage;
+            if (!calib::write_board(o.print_board, o.board, o.square, o.paper, problem)) {
+                std::fprintf(stderr, "%s: --print-board %s: %s\n", prog,
+                             o.print_board.c_str(), problem.c_str());
+                return exit_usage;
+            }
+            std::printf("wrote %s: %dx%d inner corners, %g mm squares (print at 100 %%)\n",
+                        o.print_board.c_str(), o.board.width, o.board.height, o.square);
+            return exit_ok;
+        }
         return run(o);
     } catch (const cv::Exception &e) {
         std::fprintf(stderr, "%s: OpenCV error: %s\n", prog, e.what());
