@@ -20,6 +20,8 @@ static const struct {
     {"sim", tool_sim_main, "simulated frames of a known pipe, calibration, ground truth"},
     {"export", tool_export_main, "solved pipes as a PLY or OBJ mesh of cylinders"},
     {"bench", tool_bench_main, "the paper's accuracy study on simulated data"},
+    {"plot", tool_plot_main, "distance, offset and direction of a run over time, as a PNG"},
+    {"compare", tool_compare_main, "errors of solved records against a ground truth"},
     {"listen", cdsp_tool_listen, "decode and print the poses cdspd streams over UDP"},
 };
 

@@ -4,8 +4,9 @@
 
 tool_PKGS     := yaml-0.1 spng json-c libjpeg libtiff-4 cairo
 tool_PKG_CFLAGS := $(shell pkg-config --cflags $(tool_PKGS) 2>/dev/null)
+# libcsv (reading solve's CSV back in plot and compare) has no .pc file
 tool_PKG_LIBS := $(shell pkg-config --libs $(tool_PKGS) 2>/dev/null || \
-                   echo -lyaml -lspng -ljson-c -ljpeg -ltiff -lcairo)
+                   echo -lyaml -lspng -ljson-c -ljpeg -ltiff -lcairo) -lcsv
 
 tool_HOST_SRC := $(sort $(wildcard tools/common/*.c))
 tool_HOST_HDR := tools/common/cdsp_host.h

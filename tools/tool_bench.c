@@ -139,8 +139,8 @@ static int make_case(const cdsp_camera *cam, int k, double r, int per_line, pipe
  * reconstructed visible segment to the true axis (d = 0). */
 static double axis_rmse(const cdsp_result *res, const pipe_case *pc, int samples)
 {
-    double a[3], b[3], sum = 0;
-    int i, j;
+    double a[3], b[3];
+    int j;
     for (j = 0; j < 3; j++) {
         a[j] = (double)res->segment[0][j];
         b[j] = (double)res->segment[1][j];
@@ -150,14 +150,7 @@ static double axis_rmse(const cdsp_result *res, const pipe_case *pc, int samples
             a[j] = (double)res->point[j] - pc->half * (double)res->direction[j];
             b[j] = (double)res->point[j] + pc->half * (double)res->direction[j];
         }
-    for (i = 0; i < samples; i++) {
-        double f = samples > 1 ? (double)i / (samples - 1) : 0.5, X[3], d;
-        for (j = 0; j < 3; j++)
-            X[j] = a[j] + f * (b[j] - a[j]);
-        d = tool_line_distance(X, pc->A, pc->v);
-        sum += d * d;
-    }
-    return sqrt(sum / samples);
+    return tool_segment_rmse(a, b, pc->A, pc->v, samples);
 }
 
 /* ---- output helpers ------------------------------------------------------ */

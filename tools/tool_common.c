@@ -642,3 +642,18 @@ double tool_line_distance(const double X[3], const double q[3], const double v[3
     cross3(d, v, c);
     return sqrt(dot3(c, c)) / sqrt(dot3(v, v));
 }
+
+double tool_segment_rmse(const double a[3], const double b[3], const double q[3],
+                         const double v[3], int samples)
+{
+    double sum = 0;
+    int i, j;
+    for (i = 0; i < samples; i++) {
+        double f = samples > 1 ? (double)i / (samples - 1) : 0.5, X[3], d;
+        for (j = 0; j < 3; j++)
+            X[j] = a[j] + f * (b[j] - a[j]);
+        d = tool_line_distance(X, q, v);
+        sum += d * d;
+    }
+    return samples > 0 ? sqrt(sum / samples) : NAN;
+}

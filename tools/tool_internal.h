@@ -138,11 +138,71 @@ void tool_axis_truth(const double point[3], const double dir[3], double foot[3],
 /* Distance of X from the line through q with unit direction v. */
 double tool_line_distance(const double X[3], const double q[3], const double v[3]);
 
+/* Paper Eq. 17-21 (METHOD.md, accuracy metric): RMS distance of `samples`
+ * points evenly spaced on the segment a-b (both ends included) from the
+ * line through q with direction v; the midpoint alone when samples is 1. */
+double tool_segment_rmse(const double a[3], const double b[3], const double q[3],
+                         const double v[3], int samples);
+
+/* ------------------------------------------------------------------------
+ * Records read back (tool_records.c): solve's JSON Lines or CSV, cdspd's
+ * JSON, for plot and compare; sim's truth.json.
+ * ---------------------------------------------------------------------- */
+typedef struct {
+    char *frame;        /* the "frame" field as text (a path, or cdspd's number); may be NULL */
+    int ok;             /* status "ok" with a pose */
+    char error[40];     /* error token when not ok */
+    double t_us;        /* t_camera_us, else t_host_us; NAN when absent */
+    double point[3], direction[3], distance;
+    double sigma_point[3], sigma_direction[3], sigma_distance; /* NAN when absent */
+    double segment[2][3];
+    int have_segment;
+    double confidence;  /* NAN when absent */
+} tool_record;
+
+typedef struct {
+    tool_record *r;
+    size_t n, cap;
+} tool_records;
+
+/* All records of FILE ("-": standard input), JSON Lines or CSV by the first
+ * line. 0, or TOOL_EXIT_USAGE after "FILE: not a cdsp_tool JSON record
+ * (line N): why" (or another message naming the file) on stderr. */
+int tool_records_read(const char *cmd, const char *path, tool_records *rs);
+void tool_records_free(tool_records *rs);
+
+typedef struct {
+    char *frame;        /* file name in sim's directory; may be NULL */
+    double point[3], direction[3], distance, half_length;
+} tool_truth_frame;
+
+typedef struct {
+    tool_truth_frame *f;
+    size_t n;
+    double radius;      /* NAN when absent */
+} tool_truth;
+
+int tool_truth_read(const char *cmd, const char *path, tool_truth *t);
+void tool_truth_free(tool_truth *t);
+/* The truth of record r (the index-th): by the frame's file name, else by
+ * position; NULL when there is none. */
+const tool_truth_frame *tool_truth_match(const tool_truth *t, const tool_record *r,
+                                         size_t index);
+/* The errors of an ok record against its truth: the paper's axis RMSE over
+ * `samples` points of the visible segment (tool_segment_rmse; the true
+ * half length around P_C when the record has no extent), the angle between
+ * the directions (degrees, sign-free) and the distance error (found -
+ * true). */
+void tool_record_errors(const tool_record *r, const tool_truth_frame *tf, int samples,
+                        double *rmse, double *angle_deg, double *ddist);
+
 /* Subcommands. */
 int tool_solve_main(int argc, char **argv);   /* also "overlay" */
 int tool_sim_main(int argc, char **argv);
 int tool_export_main(int argc, char **argv);
 int tool_bench_main(int argc, char **argv);
+int tool_plot_main(int argc, char **argv);
+int tool_compare_main(int argc, char **argv);
 
 /* overlay drawing (tool_overlay.c): the frame in gray with the edge points
  * (distorted positions; label per point: 0 other, 1 / 2 contour inliers),

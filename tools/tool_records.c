@@ -1,0 +1,495 @@
+/*
+ * tool_records.c - reading back what `solve` (JSON Lines or CSV) and
+ * `cdspd --format json` wrote, and what `sim` wrote as truth.json, for
+ * `cdsp_tool plot` and `cdsp_tool compare`. JSON through json-c, CSV
+ * through libcsv (RFC 4180 quoting), columns found by their header names,
+ * so the reader follows the field list rather than column positions. Input
+ * that is not such a record says so with the file and line, as export does.
+ */
+#define _POSIX_C_SOURCE 200809L
+#include "tool_internal.h"
+
+#include <csv.h>
+#include <json-c/json.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Records files up to 1 GiB (a day of 30 Hz records is about 100 MiB). */
+#define RECORDS_MAX_BYTES ((size_t)1 << 30)
+
+static int push(tool_records *rs, tool_record **r)
+{
+    if (rs->n == rs->cap) {
+        size_t cap = rs->cap ? 2 * rs->cap : 256;
+        tool_record *nr = realloc(rs->r, cap * sizeof *nr);
+        if (!nr)
+            return -1;
+        rs->r = nr;
+        rs->cap = cap;
+    }
+    *r = &rs->r[rs->n++];
+    memset(*r, 0, sizeof **r);
+    (*r)->t_us = (*r)->distance = (*r)->sigma_distance = (*r)->confidence = NAN;
+    {
+        int i;
+        for (i = 0; i < 3; i++)
+            (*r)->sigma_point[i] = (*r)->sigma_direction[i] = NAN;
+    }
+    return 0;
+}
+
+void tool_records_free(tool_records *rs)
+{
+    size_t i;
+    for (i = 0; i < rs->n; i++)
+        free(rs->r[i].frame);
+    free(rs->r);
+    rs->r = NULL;
+    rs->n = rs->cap = 0;
+}
+
+static char *dup_str(const char *s)
+{
+    char *d = malloc(strlen(s) + 1);
+    if (d)
+        strcpy(d, s);
+    return d;
+}
+
+/* ---- JSON -------------------------------------------------------------------- */
+
+static int jnum(json_object *o, const char *key, double *v)
+{
+    json_object *e;
+    if (!o || !json_object_object_get_ex(o, key, &e) ||
+        (!json_object_is_type(e, json_type_double) && !json_object_is_type(e, json_type_int)))
+        return -1;
+    *v = json_object_get_double(e);
+    return isfinite(*v) ? 0 : -1;
+}
+
+static int jvec(json_object *o, const char *key, double *v, int n)
+{
+    json_object *a;
+    int i;
+    if (!o || !json_object_object_get_ex(o, key, &a) || !json_object_is_type(a, json_type_array) ||
+        (int)json_object_array_length(a) != n)
+        return -1;
+    for (i = 0; i < n; i++) {
+        json_object *e = json_object_array_get_idx(a, (size_t)i);
+        if (!json_object_is_type(e, json_type_double) && !json_object_is_type(e, json_type_int))
+            return -1;
+        v[i] = json_object_get_double(e);
+        if (!isfinite(v[i]))
+            return -1;
+    }
+    return 0;
+}
+
+/* One record object; NULL or the reason it is not one. */
+static const char *from_json(json_object *o, tool_record *r)
+{
+    json_object *st, *fr, *sig, *seg;
+    const char *status;
+    if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string))
+        return "no \"status\"";
+    status = json_object_get_string(st);
+    if (json_object_object_get_ex(o, "frame", &fr)) {
+        r->frame = dup_str(json_object_get_string(fr));
+        if (!r->frame)
+            return "out of memory";
+    }
+    if (jnum(o, "t_camera_us", &r->t_us) != 0 && jnum(o, "t_host_us", &r->t_us) != 0)
+        r->t_us = NAN;
+    if (strcmp(status, "ok") != 0) {
+        json_object *e;
+        snprintf(r->error, sizeof r->error, "%s",
+                 json_object_object_get_ex(o, "error", &e) ? json_object_get_string(e) : status);
+        return NULL;
+    }
+    if (jvec(o, "point", r->point, 3) || jvec(o, "direction", r->direction, 3) ||
+        jnum(o, "distance", &r->distance))
+        return "an \"ok\" record without point, direction and distance";
+    r->ok = 1;
+    if (json_object_object_get_ex(o, "sigma", &sig)) {
+        if (jvec(sig, "point", r->sigma_point, 3))
+            r->sigma_point[0] = r->sigma_point[1] = r->sigma_point[2] = NAN;
+        if (jvec(sig, "direction", r->sigma_direction, 3))
+            r->sigma_direction[0] = r->sigma_direction[1] = r->sigma_direction[2] = NAN;
+        if (jnum(sig, "distance", &r->sigma_distance))
+            r->sigma_distance = NAN;
+    }
+    if (json_object_object_get_ex(o, "segment", &seg) && json_object_is_type(seg, json_type_array) &&
+        json_object_array_length(seg) == 2) {
+        json_object *pair = json_object_new_object();
+        if (pair) {
+            json_object_object_add(pair, "a", json_object_get(json_object_array_get_idx(seg, 0)));
+            json_object_object_add(pair, "b", json_object_get(json_object_array_get_idx(seg, 1)));
+            r->have_segment = jvec(pair, "a", r->segment[0], 3) == 0 &&
+                              jvec(pair, "b", r->segment[1], 3) == 0;
+            json_object_put(pair);
+        }
+    }
+    if (jnum(o, "confidence", &r->confidence))
+        r->confidence = NAN;
+    return NULL;
+}
+
+static int read_jsonl(const char *cmd, const char *name, char *text, tool_records *rs)
+{
+    json_tokener *tok = json_tokener_new();
+    char *line, *next;
+    size_t lineno = 0;
+    if (!tok)
+        return tool_usage_error(cmd, "out of memory");
+    for (line = text; line && *line; line = next) {
+        json_object *o;
+        tool_record *r;
+        const char *why;
+        next = strchr(line, '\n');
+        if (next)
+            *next++ = 0;
+        lineno++;
+        if (strspn(line, " \t\r") == strlen(line))
+            continue;
+        json_tokener_reset(tok);
+        o = json_tokener_parse_ex(tok, line, (int)strlen(line));
+        if (!o || json_tokener_get_error(tok) != json_tokener_success ||
+            !json_object_is_type(o, json_type_object)) {
+            enum json_tokener_error e = json_tokener_get_error(tok);
+            if (o)
+                json_object_put(o);
+            json_tokener_free(tok);
+            return tool_usage_error(cmd, "%s: not a cdsp_tool JSON record (line %zu): %s", name,
+                                    lineno,
+                                    e == json_tokener_continue ? "the JSON text ends mid-value"
+                                    : e != json_tokener_success ? json_tokener_error_desc(e)
+                                                                : "not a JSON object");
+        }
+        if (push(rs, &r) != 0) {
+            json_object_put(o);
+            json_tokener_free(tok);
+            return tool_usage_error(cmd, "out of memory");
+        }
+        why = from_json(o, r);
+        json_object_put(o);
+        if (why) {
+            json_tokener_free(tok);
+            return tool_usage_error(cmd, "%s: not a cdsp_tool JSON record (line %zu): %s", name,
+                                    lineno, why);
+        }
+    }
+    json_tokener_free(tok);
+    return 0;
+}
+
+/* ---- CSV ------------------------------------------------------------------------ */
+
+/* The columns used, by their header names (solve --csv). */
+enum {
+    C_FRAME, C_STATUS, C_ERROR, C_PX, C_PY, C_PZ, C_DX, C_DY, C_DZ, C_DIST,
+    C_S0X, C_S0Y, C_S0Z, C_S1X, C_S1Y, C_S1Z, C_SPX, C_SPY, C_SPZ, C_SDX, C_SDY, C_SDZ, C_SDIST,
+    C_CONF, C_TCAM, C_THOST, C_N
+};
+static const char *const col_name[C_N][2] = {
+    {"frame", NULL}, {"status", NULL}, {"error", NULL},
+    {"point_x", NULL}, {"point_y", NULL}, {"point_z", NULL},
+    {"direction_x", NULL}, {"direction_y", NULL}, {"direction_z", NULL}, {"distance", NULL},
+    /* segment ends: either numbering of the field list */
+    {"segment_0_x", "segment_1_x"}, {"segment_0_y", "segment_1_y"}, {"segment_0_z", "segment_1_z"},
+    {"segment_1_x", "segment_2_x"}, {"segment_1_y", "segment_2_y"}, {"segment_1_z", "segment_2_z"},
+    {"sigma_point_x", NULL}, {"sigma_point_y", NULL}, {"sigma_point_z", NULL},
+    {"sigma_direction_x", NULL}, {"sigma_direction_y", NULL}, {"sigma_direction_z", NULL},
+    {"sigma_distance", NULL}, {"confidence", NULL}, {"t_camera_us", NULL}, {"t_host_us", NULL},
+};
+
+typedef struct {
+    const char *cmd, *name;
+    tool_records *rs;
+    int col[C_N];        /* column index of each, -1 if absent */
+    int have_header, failed, ncols;
+    size_t row;          /* 1-based line of the row being read */
+    char *field[128];    /* this row's fields */
+    int nfield;
+} csv_state;
+
+static void csv_field(void *s, size_t len, void *data)
+{
+    csv_state *c = data;
+    char *f;
+    if (c->failed || c->nfield >= 128)
+        return;
+    f = malloc(len + 1);
+    if (!f) {
+        c->failed = 1;
+        return;
+    }
+    memcpy(f, s, len);
+    f[len] = 0;
+    c->field[c->nfield++] = f;
+}
+
+static double csv_num(const csv_state *c, int which)
+{
+    char *end;
+    double v;
+    int k = c->col[which];
+    if (k < 0 || k >= c->nfield || !c->field[k][0])
+        return NAN;
+    v = strtod(c->field[k], &end);
+    return *end ? NAN : v;
+}
+
+static void csv_row(int term, void *data)
+{
+    csv_state *c = data;
+    int i;
+    (void)term;
+    c->row++;
+    if (c->failed)
+        goto out;
+    if (!c->have_header) {
+        int j;
+        for (j = 0; j < C_N; j++) {
+            c->col[j] = -1;
+            for (i = 0; i < c->nfield && c->col[j] < 0; i++)
+                if (strcmp(c->field[i], col_name[j][0]) == 0 ||
+                    (col_name[j][1] && strcmp(c->field[i], col_name[j][1]) == 0 &&
+                     j >= C_S0X && j <= C_S0Z))
+                    c->col[j] = i;
+        }
+        /* segment ends numbered 1 and 2: the second end is segment_2_* */
+        if (c->col[C_S0X] >= 0 && strcmp(c->field[c->col[C_S0X]], "segment_1_x") == 0)
+            for (j = C_S1X; j <= C_S1Z; j++)
+                for (c->col[j] = -1, i = 0; i < c->nfield; i++)
+                    if (strcmp(c->field[i], col_name[j][1]) == 0)
+                        c->col[j] = i;
+        if (c->col[C_STATUS] < 0 || c->col[C_PX] < 0 || c->col[C_DIST] < 0) {
+            tool_usage_error(c->cmd, "%s: not a cdsp_tool CSV record file (line 1): no "
+                             "status, point_x or distance column", c->name);
+            c->failed = 2;
+            goto out;
+        }
+        c->have_header = 1;
+        c->ncols = c->nfield;
+    } else {
+        tool_record *r;
+        const char *status;
+        if (c->nfield != c->ncols) {
+            tool_usage_error(c->cmd, "%s: not a cdsp_tool CSV record (line %zu): %d fields, "
+                             "the header has %d", c->name, c->row, c->nfield, c->ncols);
+            c->failed = 2;
+            goto out;
+        }
+        if (push(c->rs, &r) != 0) {
+            c->failed = 1;
+            goto out;
+        }
+        if (c->col[C_FRAME] >= 0)
+            r->frame = dup_str(c->field[c->col[C_FRAME]]);
+        status = c->field[c->col[C_STATUS]];
+        r->t_us = csv_num(c, C_TCAM);
+        if (isnan(r->t_us))
+            r->t_us = csv_num(c, C_THOST);
+        if (strcmp(status, "ok") != 0) {
+            snprintf(r->error, sizeof r->error, "%s",
+                     c->col[C_ERROR] >= 0 ? c->field[c->col[C_ERROR]] : status);
+            goto out;
+        }
+        for (i = 0; i < 3; i++) {
+            r->point[i] = csv_num(c, C_PX + i);
+            r->direction[i] = csv_num(c, C_DX + i);
+            r->sigma_point[i] = csv_num(c, C_SPX + i);
+            r->sigma_direction[i] = csv_num(c, C_SDX + i);
+            r->segment[0][i] = csv_num(c, C_S0X + i);
+            r->segment[1][i] = csv_num(c, C_S1X + i);
+        }
+        r->distance = csv_num(c, C_DIST);
+        r->sigma_distance = csv_num(c, C_SDIST);
+        r->confidence = csv_num(c, C_CONF);
+        r->have_segment = 1;
+        for (i = 0; i < 3; i++)
+            r->have_segment &= isfinite(r->segment[0][i]) && isfinite(r->segment[1][i]);
+        r->ok = isfinite(r->point[0]) && isfinite(r->point[1]) && isfinite(r->point[2]) &&
+                isfinite(r->direction[0]) && isfinite(r->direction[1]) &&
+                isfinite(r->direction[2]) && isfinite(r->distance);
+        if (!r->ok) {
+            tool_usage_error(c->cmd, "%s: not a cdsp_tool CSV record (line %zu): an \"ok\" row "
+                             "without point, direction and distance", c->name, c->row);
+            c->failed = 2;
+        }
+    }
+out:
+    for (i = 0; i < c->nfield; i++)
+        free(c->field[i]);
+    c->nfield = 0;
+}
+
+static int read_csv(const char *cmd, const char *name, const char *text, size_t len,
+                    tool_records *rs)
+{
+    struct csv_parser p;
+    csv_state c;
+    memset(&c, 0, sizeof c);
+    c.cmd = cmd;
+    c.name = name;
+    c.rs = rs;
+    if (csv_init(&p, CSV_STRICT | CSV_STRICT_FINI | CSV_APPEND_NULL) != 0)
+        return tool_usage_error(cmd, "out of memory");
+    if (csv_parse(&p, text, len, csv_field, csv_row, &c) != len ||
+        csv_fini(&p, csv_field, csv_row, &c) != 0) {
+        if (!c.failed)
+            tool_usage_error(cmd, "%s: not a cdsp_tool CSV record (line %zu): %s", name,
+                             c.row + 1, csv_strerror(csv_error(&p)));
+        c.failed = c.failed ? c.failed : 2;
+    }
+    csv_free(&p);
+    {
+        int i;
+        for (i = 0; i < c.nfield; i++)
+            free(c.field[i]);
+    }
+    if (c.failed == 1)
+        return tool_usage_error(cmd, "out of memory");
+    return c.failed ? TOOL_EXIT_USAGE : 0;
+}
+
+/* ---- either --------------------------------------------------------------------- */
+
+int tool_records_read(const char *cmd, const char *path, tool_records *rs)
+{
+    void *buf;
+    size_t len;
+    cdsp_host_err err;
+    const char *name = strcmp(path, "-") == 0 ? "(stdin)" : path;
+    char *text;
+    size_t lead;
+    int rc;
+    memset(rs, 0, sizeof *rs);
+    if (cdsp_host_read_file(strcmp(path, "-") == 0 ? "/dev/stdin" : path, RECORDS_MAX_BYTES, &buf,
+                            &len, &err) != 0)
+        return tool_usage_error(cmd, "%s", err.msg);
+    text = buf;
+    lead = strspn(text, " \t\r\n");
+    if (text[lead] == '{')
+        rc = read_jsonl(cmd, name, text, rs);
+    else if (strncmp(text + lead, "frame,", 6) == 0 || strstr(text, ",status,"))
+        rc = read_csv(cmd, name, text, len, rs);
+    else if (lead == len)
+        rc = tool_usage_error(cmd, "%s: no records (empty file)", name);
+    else
+        rc = tool_usage_error(cmd, "%s: not a cdsp_tool JSON record (line 1): neither JSON "
+                              "Lines nor solve's CSV", name);
+    free(buf);
+    if (rc)
+        tool_records_free(rs);
+    return rc;
+}
+
+/* ---- truth.json ------------------------------------------------------------------ */
+
+void tool_truth_free(tool_truth *t)
+{
+    size_t i;
+    for (i = 0; i < t->n; i++)
+        free(t->f[i].frame);
+    free(t->f);
+    t->f = NULL;
+    t->n = 0;
+}
+
+int tool_truth_read(const char *cmd, const char *path, tool_truth *t)
+{
+    void *buf;
+    size_t len, i;
+    cdsp_host_err err;
+    json_object *o, *frames;
+    memset(t, 0, sizeof *t);
+    if (cdsp_host_read_file(path, RECORDS_MAX_BYTES, &buf, &len, &err) != 0)
+        return tool_usage_error(cmd, "%s", err.msg);
+    o = json_tokener_parse(buf);
+    free(buf);
+    if (!o || !json_object_object_get_ex(o, "frames", &frames) ||
+        !json_object_is_type(frames, json_type_array)) {
+        if (o)
+            json_object_put(o);
+        return tool_usage_error(cmd, "%s: not a truth.json of cdsp_tool sim (no \"frames\" list)",
+                                path);
+    }
+    if (jnum(o, "radius", &t->radius))
+        t->radius = NAN;
+    t->n = json_object_array_length(frames);
+    t->f = calloc(t->n ? t->n : 1, sizeof *t->f);
+    if (!t->f) {
+        json_object_put(o);
+        return tool_usage_error(cmd, "out of memory");
+    }
+    for (i = 0; i < t->n; i++) {
+        json_object *f = json_object_array_get_idx(frames, i), *name;
+        tool_truth_frame *tf = &t->f[i];
+        if (json_object_object_get_ex(f, "frame", &name))
+            tf->frame = dup_str(json_object_get_string(name));
+        if (jvec(f, "point", tf->point, 3) || jvec(f, "direction", tf->direction, 3) ||
+            jnum(f, "distance", &tf->distance)) {
+            json_object_put(o);
+            tool_truth_free(t);
+            return tool_usage_error(cmd, "%s: frame %zu of \"frames\" has no point, direction "
+                                    "and distance", path, i);
+        }
+        if (jnum(f, "half_length", &tf->half_length))
+            tf->half_length = 0;
+    }
+    json_object_put(o);
+    return 0;
+}
+
+static const char *base_name(const char *p)
+{
+    const char *s = p ? strrchr(p, '/') : NULL;
+    return s ? s + 1 : p ? p : "";
+}
+
+const tool_truth_frame *tool_truth_match(const tool_truth *t, const tool_record *r, size_t index)
+{
+    size_t i;
+    /* by file name (solve's records name the frame as given, truth.json
+     * by its name in the directory), else by position */
+    if (r->frame)
+        for (i = 0; i < t->n; i++)
+            if (t->f[i].frame && strcmp(base_name(r->frame), t->f[i].frame) == 0)
+                return &t->f[i];
+    return index < t->n ? &t->f[index] : NULL;
+}
+
+/* ---- errors against the truth ---------------------------------------------------- */
+
+void tool_record_errors(const tool_record *r, const tool_truth_frame *tf, int samples,
+                        double *rmse, double *angle_deg, double *ddist)
+{
+    double a[3], b[3], c;
+    int i;
+    for (i = 0; i < 3; i++) {
+        a[i] = r->segment[0][i];
+        b[i] = r->segment[1][i];
+    }
+    if (!r->have_segment ||
+        hypot(hypot(b[0] - a[0], b[1] - a[1]), b[2] - a[2]) < 1e-9 * (1 + r->distance)) {
+        /* no visible extent: the true half length, else the point only */
+        double h = tf->half_length > 0 ? tf->half_length : 0;
+        for (i = 0; i < 3; i++) {
+            a[i] = r->point[i] - h * r->direction[i];
+            b[i] = r->point[i] + h * r->direction[i];
+        }
+    }
+    *rmse = tool_segment_rmse(a, b, tf->point, tf->direction, samples);
+    c = fabs(r->direction[0] * tf->direction[0] + r->direction[1] * tf->direction[1] +
+             r->direction[2] * tf->direction[2]) /
+        (sqrt(r->direction[0] * r->direction[0] + r->direction[1] * r->direction[1] +
+              r->direction[2] * r->direction[2]) *
+         sqrt(tf->direction[0] * tf->direction[0] + tf->direction[1] * tf->direction[1] +
+              tf->direction[2] * tf->direction[2]));
+    *angle_deg = acos(c > 1 ? 1 : c) * 180.0 / 3.14159265358979323846;
+    *ddist = r->distance - tf->distance;
+}
