@@ -526,11 +526,15 @@ void tool_frames_free(tool_frames *f)
 
 /* ---- progress ----------------------------------------------------------- */
 
+/* A run shorter than this shows no progress: the line would only flash. */
+#define PROGRESS_AFTER_US 2e6
+
 void tool_progress_start(tool_progress *p, const char *what, size_t total, int quiet)
 {
     p->what = what;
     p->total = total;
-    p->enabled = !quiet && total >= 8 && isatty(STDERR_FILENO);
+    p->enabled = !quiet && total >= 2 && isatty(STDERR_FILENO);
+    p->shown = 0;
     p->t0 = p->last = tool_now_us();
 }
 
@@ -540,8 +544,9 @@ void tool_progress_update(tool_progress *p, size_t done)
     if (!p->enabled)
         return;
     now = tool_now_us();
-    if (now - p->last < 200e3 && done < p->total)
+    if (now - p->t0 < PROGRESS_AFTER_US || (now - p->last < 200e3 && done < p->total))
         return;
+    p->shown = 1;
     p->last = now;
     fprintf(stderr, "\r%s: %zu/%zu frames, %.1f frames/s   ", p->what, done, p->total,
             now > p->t0 ? (double)done * 1e6 / (now - p->t0) : 0.0);
@@ -550,7 +555,7 @@ void tool_progress_update(tool_progress *p, size_t done)
 
 void tool_progress_end(tool_progress *p)
 {
-    if (!p->enabled)
+    if (!p->enabled || !p->shown)
         return;
     fprintf(stderr, "\r%*s\r", 60, "");
     fflush(stderr);

@@ -104,11 +104,12 @@ int tool_frames_add(tool_frames *f, const char *cmd, const char *arg);
 int tool_frames_add_list(tool_frames *f, const char *cmd, const char *listfile);
 void tool_frames_free(tool_frames *f);
 
-/* Progress on stderr, only when it is a terminal and there is a lot to do. */
+/* Progress on stderr, only when it is a terminal and the run has lasted
+ * 2 s (a shorter one would only flash a line). */
 typedef struct {
     const char *what;
     size_t total;
-    int enabled;
+    int enabled, shown;
     double t0, last;
 } tool_progress;
 
@@ -206,10 +207,20 @@ int tool_compare_main(int argc, char **argv);
 
 /* overlay drawing (tool_overlay.c): the frame in gray with the edge points
  * (distorted positions; label per point: 0 other, 1 / 2 contour inliers),
- * the two contours and the projected visible axis when r != NULL.
+ * the two contours and the projected visible axis when r != NULL, the ROI
+ * (when roi->w > 0) and ncaption lines of caption (tool_caption.c).
  * Writes an RGB PNG. */
 int tool_overlay_write(const char *path, const cdsp_host_image *img, const cdsp_camera *cam,
                        const cdsp_edge *edges, const uint8_t *label, size_t n,
-                       const cdsp_result *r, cdsp_host_err *err);
+                       const cdsp_result *r, const cdsp_roi *roi, const char *const *caption,
+                       int ncaption, cdsp_host_err *err);
+
+/* tool_caption.c: the size of the overlay's marks and text relative to a
+ * 1000 px frame (1 below that), and the ROI (dashed cyan) and a caption
+ * band (gray 32, white text) drawn with cairo over an RGB picture; 0, or
+ * -1 when cairo cannot allocate the picture. */
+double tool_overlay_scale(int width, int height);
+int tool_overlay_annotate(uint8_t *rgb, int w, int h, const cdsp_roi *roi,
+                          const char *const *lines, int nlines);
 
 #endif

@@ -120,7 +120,8 @@ static void draw_axis(canvas *c, const cdsp_camera *cam, const cdsp_result *r, i
 
 int tool_overlay_write(const char *path, const cdsp_host_image *img, const cdsp_camera *cam,
                        const cdsp_edge *edges, const uint8_t *label, size_t n,
-                       const cdsp_result *r, cdsp_host_err *err)
+                       const cdsp_result *r, const cdsp_roi *roi, const char *const *caption,
+                       int ncaption, cdsp_host_err *err)
 {
     static const uint8_t blue[3] = {40, 120, 255}, green[3] = {0, 230, 0},
                          magenta[3] = {255, 0, 255}, yellow[3] = {255, 230, 0},
@@ -151,6 +152,12 @@ int tool_overlay_write(const char *path, const cdsp_host_image *img, const cdsp_
              label[i] == 1 ? green : label[i] == 2 ? magenta : blue);
     if (r)
         draw_axis(&c, cam, r, rad, red);
+    /* the ROI and the caption, in words (cairo: tool_caption.c) */
+    if (tool_overlay_annotate(c.rgb, c.w, c.h, roi, caption, ncaption) != 0) {
+        free(c.rgb);
+        snprintf(err->msg, sizeof err->msg, "%s: out of memory for the overlay's caption", path);
+        return CDSP_HOST_E_NOMEM;
+    }
     rc = cdsp_host_png_write_rgb(path, c.rgb, c.w, c.h, err);
     free(c.rgb);
     return rc;

@@ -109,6 +109,7 @@ int tool_sim_main(int argc, char **argv)
     size_t scratch_len;
     int npos = 0, rc, k, n_frames, failed = 0;
     cdsp_host_json j;
+    tool_progress prog;
     FILE *f;
     static const tool_doc doc = {
         "sim", "simulated frames of a known pipe, calibration, ground truth",
@@ -282,6 +283,7 @@ int tool_sim_main(int argc, char **argv)
     scene.ambient = (cdsp_real)o.ambient;
     scene.texture_seed = (uint32_t)(o.seed * 2654435761u + 1u);
 
+    tool_progress_start(&prog, "sim", (size_t)n_frames, 0);
     for (k = 0; k < n_frames; k++) {
         double point[3], dir[3], half, foot[3], unit[3], dist;
         cdsp_real l[2][3], p_in[2];
@@ -316,6 +318,7 @@ int tool_sim_main(int argc, char **argv)
         }
         snprintf(path, sizeof path, "%s/%s", o.out, name);
         if (cdsp_host_image_write(path, &img, &err) != 0) {
+            tool_progress_end(&prog);
             tool_usage_error("sim", "%s", err.msg);
             cdsp_host_image_free(&img);
             goto out;
@@ -351,7 +354,9 @@ int tool_sim_main(int argc, char **argv)
             failed = 1;
         }
         cdsp_host_json_end_object(&j);
+        tool_progress_update(&prog, (size_t)k + 1);
     }
+    tool_progress_end(&prog);
     cdsp_host_image_free(&img);
     cdsp_host_json_end_array(&j);
     cdsp_host_json_end_object(&j);

@@ -108,11 +108,37 @@ static void draw(const job *J, slot *s, cdsp_frame_ws *ws)
         memset(label, 0, n);
     }
     overlay_name(J, J->frames.path[s->index], s->overlay_path, sizeof s->overlay_path);
-    if (tool_overlay_write(s->overlay_path, &s->img, &J->cam, ws->edge, label, n,
-                           s->st == CDSP_OK ? &s->res : NULL, &err) != 0) {
-        s->output_failed = 1;
-        s->overlay_path[0] = 0;
-        tool_warn(J->cmd, "%s", err.msg);
+    {
+        /* the caption: the frame, its status and the pose in numbers, or
+         * why it failed and what the detector saw */
+        char l0[700], l1[400];
+        const char *lines[2] = {l0, l1};
+        const char *base = strrchr(J->frames.path[s->index], '/');
+        const cdsp_result *r = &s->res;
+        base = base ? base + 1 : J->frames.path[s->index];
+        if (s->st == CDSP_OK) {
+            snprintf(l0, sizeof l0, "%s   ok   distance %.3f \xc2\xb1 %.3f   P_C (%.2f, %.2f, %.2f)",
+                     base, (double)r->distance, (double)r->sigma_distance, (double)r->point[0],
+                     (double)r->point[1], (double)r->point[2]);
+            snprintf(l1, sizeof l1,
+                     "direction (%.4f, %.4f, %.4f)   inliers %u + %u of %u edge points, "
+                     "rms %.3f / %.3f px%s",
+                     (double)r->direction[0], (double)r->direction[1], (double)r->direction[2],
+                     (unsigned)r->inliers[0], (unsigned)r->inliers[1], (unsigned)r->n_edges,
+                     (double)r->rms[0], (double)r->rms[1],
+                     (r->flags & CDSP_FLAG_TRACKED) ? "   tracked" : "");
+        } else {
+            snprintf(l0, sizeof l0, "%s   %s: %s", base, cdsp_status_token(s->st),
+                     cdsp_strerror(s->st));
+            snprintf(l1, sizeof l1, "%zu edge points found (blue)%s", n,
+                     J->roi.w > 0 ? " inside the region of interest (cyan)" : "");
+        }
+        if (tool_overlay_write(s->overlay_path, &s->img, &J->cam, ws->edge, label, n,
+                               s->st == CDSP_OK ? &s->res : NULL, &J->roi, lines, 2, &err) != 0) {
+            s->output_failed = 1;
+            s->overlay_path[0] = 0;
+            tool_warn(J->cmd, "%s", err.msg);
+        }
     }
     free(label);
 }
@@ -334,6 +360,7 @@ static int run(job *J)
     cdsp_frame_ws *ws = malloc(sizeof *ws);
     cdsp_result prior;
     int have_prior = 0, failed = 0;
+    size_t n_failed = 0;
     size_t i;
     tool_progress prog;
     if (!ws)
@@ -358,7 +385,7 @@ static int run(job *J)
                     prior = s->res;
             }
             format_record(J, s);
-            failed |= emit(J, s);
+            n_failed += (size_t)emit(J, s);
             tool_progress_update(&prog, i + 1);
         }
         free(s);
@@ -411,7 +438,7 @@ static int run(job *J)
                     prior = s->res;
                 format_record(J, s);
             }
-            failed |= emit(J, s);
+            n_failed += (size_t)emit(J, s);
             tool_progress_update(&prog, i + 1);
             pthread_mutex_lock(&S.mu);
             S.done[i % S.window] = 0;
@@ -430,6 +457,11 @@ static int run(job *J)
     }
     tool_progress_end(&prog);
     free(ws);
+    failed = n_failed > 0;
+    /* one line for the person at the terminal (never in a pipeline's log) */
+    if (!J->quiet && isatty(STDERR_FILENO))
+        fprintf(stderr, "%s: %zu frames, %zu solved, %zu failed, %.2f s\n", J->cmd, J->frames.n,
+                J->frames.n - n_failed, n_failed, (tool_now_us() - prog.t0) * 1e-6);
     if (fflush(stdout) != 0 || ferror(stdout)) {
         tool_warn(J->cmd, "writing the output failed: %s", strerror(errno));
         return TOOL_EXIT_PARTIAL;
@@ -440,17 +472,17 @@ static int run(job *J)
 /* ---- command line -------------------------------------------------------------- */
 
 static const char solve_description[] =
-    "    Reads each FRAME (PGM P5, PNG or TIFF, 8 or 16 bit, or JPEG; colour frames\n"
-    "    are converted to gray), finds the two straight contours of the pipe in it and recovers the\n"
-    "    pipe's 3D axis in closed form from the contours and the known radius R\n"
-    "    (Yao et al. 2024). The calibration is the ROS camera_info YAML that ROS's\n"
-    "    camera_calibration, many camera drivers and cdsp_tool sim write; its\n"
-    "    image size must equal every frame's.\n"
+    "    Reads each FRAME (PGM P5, PNG or TIFF, 8 or 16 bit, or JPEG; colour\n"
+    "    frames are converted to gray), finds the two straight contours of the\n"
+    "    pipe in it and recovers the pipe's 3D axis in closed form from the\n"
+    "    contours and the known radius R (Yao et al. 2024). The calibration is the\n"
+    "    ROS camera_info YAML that ROS's camera_calibration, many camera drivers\n"
+    "    and cdsp_tool sim write; its image size must equal every frame's.\n"
     "\n"
     "    A FRAME that is a directory stands for the .pgm, .png, .jpg, .jpeg, .tif\n"
-    "    and .tiff files in it, in name order. One record per frame is written to standard output, in input\n"
-    "    order, whatever --threads is; a frame that cannot be read or holds no pipe\n"
-    "    gets an error record and the run goes on.\n"
+    "    and .tiff files in it, in name order. One record per frame is written to\n"
+    "    standard output, in input order, whatever --threads is; a frame that\n"
+    "    cannot be read or holds no pipe gets an error record and the run goes on.\n"
     "\n"
     "    Lengths are in the unit of R (mm in all examples); coordinates are the\n"
     "    camera's: origin at the optical centre, X right, Y down, Z forward.\n\n";
@@ -462,8 +494,12 @@ static const char overlay_description[] =
     "    the detected edge points (blue), the inliers of the two contours (green\n"
     "    and magenta), the two fitted contour lines (yellow, curved as the lens\n"
     "    distortion bends them) and the visible axis segment projected into the\n"
-    "    frame (red). When no pipe is found the picture shows all edge points the\n"
-    "    detector found, which usually tells why.\n\n";
+    "    frame (red); the --roi rectangle (dashed cyan) and a caption across the\n"
+    "    top: the frame, its status, the distance +- sigma, P_C, the direction and\n"
+    "    the inliers, or the error and why. Lines, marks and text grow with the\n"
+    "    frame (text 16 px high per 1000 px), so a 5 MP frame viewed whole reads.\n"
+    "    When no pipe is found the picture shows all edge points the detector\n"
+    "    found, which usually tells why.\n\n";
 
 static const char solve_after[] =
     "OUTPUT\n"
@@ -591,7 +627,9 @@ int tool_solve_main(int argc, char **argv)
             {"max-distance", 0, OPT_REAL, &J.max_distance, 0, 1e12, "D",
              "Reject pipes farther than D (unit of R); 0: no bound.", NULL, 0},
             {"quiet", 'q', OPT_FLAG, &J.quiet, 0, 0, NULL,
-             "No progress line on standard error (it only appears on a terminal).", NULL, 0},
+             "No progress line and no closing summary (frames, solved, failed, time) on "
+             "standard error; both only appear when it is a terminal, the progress line "
+             "once the run has lasted 2 s.", NULL, 0},
             {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
         };
         rc = tool_parse_alloc(J.cmd, J.overlay ? &overlay_doc : &solve_doc, opts, argc, argv, &pos, &npos);

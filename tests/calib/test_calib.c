@@ -535,9 +535,10 @@ static int render_view(const br_camera *cam, const br_pose *p, const char *file,
 
 /* Views 12 and 13 of the outlier-floor test: good views of the true camera
  * (poses of views 5 and 7) through three times the noise, as from a
- * darker part of the room: their corners are noisier (about 0.06 px RMS
- * against the others' 0.02), but they fit the true camera. */
-#define NOISY_FACTOR 3.0
+ * darker part of the room: their corners are noisier (0.05-0.07 px RMS
+ * against the others' 0.02, the issue's case), but they fit the true
+ * camera. */
+#define NOISY_FACTOR 4.0
 
 static int make_dir(const char *p)
 {
@@ -1043,9 +1044,10 @@ static void test_too_few_views(void **state)
     run_free(&r);
 }
 
-/* The largest number in column `col` (0-based, blank-separated) of the
- * table lines (naming a .pgm) that contain `what`; their count in *n. */
-static double column_max(const char *text, const char *what, int col, int *n)
+/* The numbers in column `col` (0-based, blank-separated) of the table
+ * lines (naming a .pgm) that contain `what`, into v (at most 64); their
+ * count in *n; the largest returned. */
+static double column_values(const char *text, const char *what, int col, double *v, int *n)
 {
     const char *line = text;
     double mx = 0;
@@ -1062,9 +1064,9 @@ static double column_max(const char *text, const char *what, int col, int *n)
                 int c;
                 for (c = 0; tok && c < col; c++)
                     tok = strtok(NULL, " ");
-                if (tok) {
-                    double v = atof(tok);
-                    mx = v > mx ? v : mx;
+                if (tok && *n < 64) {
+                    v[*n] = atof(tok);
+                    mx = v[*n] > mx ? v[*n] : mx;
                     (*n)++;
                 }
             }
@@ -1082,8 +1084,8 @@ static double column_max(const char *text, const char *what, int col, int *n)
 static void test_outlier_floor_and_no_reject(void **state)
 {
     run_result r;
-    int n;
-    double worst;
+    int n, i, below;
+    double worst, v[64], good[64], median;
     (void)state;
     r = run_calib("-b 9x6 -s 30 -o %s '%s' '%s'", path("out/floor.yaml"), path("views/*.pgm"),
                   path("noisy/*.pgm"));
@@ -1092,11 +1094,21 @@ static void test_outlier_floor_and_no_reject(void **state)
     assert_int_equal(count_lines_with(r.out, ".pgm", " used"), N_VIEWS + 2);
     assert_int_equal(count_lines_with(r.out, ".pgm", "REJECTED"), 0);
     /* the noisy views are what the issue saw: above twice the others'
-     * median (the old threshold), below the floor */
-    worst = column_max(r.out, "noisy/", 3, &n);
+     * median (the relative threshold's lower bound), below the floor */
+    column_values(r.out, "views/", 3, good, &n);
+    assert_int_equal(n, N_VIEWS);
+    for (i = 0, median = 0; i < n; i++) { /* the median: as many below as above */
+        int j;
+        for (j = 0, below = 0; j < n; j++)
+            below += good[j] < good[i];
+        if (below == n / 2 - 1 || below == n / 2)
+            median += good[i] / 2;
+    }
+    worst = column_values(r.out, "noisy/", 3, v, &n);
     assert_int_equal(n, 2);
-    printf("noisy views: RMS up to %.4f px (floor 0.1 px)\n", worst);
-    assert_true(worst > 0.04 && worst < 0.1);
+    printf("good views' median RMS %.4f px; noisy views %.4f and %.4f px (floor 0.1 px)\n",
+           median, v[0], v[1]);
+    assert_true(v[0] > 2 * median && v[1] > 2 * median && worst < 0.1);
     run_free(&r);
 
     r = run_calib("-b 9x6 -s 30 --outlier-floor 0 -o %s '%s' '%s'", path("out/nofloor.yaml"),
@@ -1154,7 +1166,16 @@ static void test_print_board(void **state)
     pdf = slurp(path("out/board.pdf"));
     assert_non_null(pdf);
     assert_int_equal(memcmp(pdf, "%PDF-", 5), 0);
-    assert_non_null(strstr(pdf, "/MediaBox [ 0 0 841.889764 595.275591 ]"));
+    {
+        /* binary streams hold NUL bytes: search the whole file */
+        static const char box[] = "/MediaBox [ 0 0 841.889764 595.275591 ]";
+        struct stat st;
+        size_t k, found = 0;
+        assert_int_equal(stat(path("out/board.pdf"), &st), 0);
+        for (k = 0; k + sizeof box - 1 <= (size_t)st.st_size && !found; k++)
+            found = memcmp(pdf + k, box, sizeof box - 1) == 0;
+        assert_true(found);
+    }
     free(pdf);
     r = run_calib("-b 9x6 -s 24 --print-board %s --paper letter", path("out/board.svg"));
     assert_int_equal(r.status, 0);
@@ -1168,35 +1189,38 @@ static void test_print_board(void **state)
      * is 24 mm = 68.0315 pt within 2/256 pt (two roundings), and every
      * square sits on the grid of the first one. */
     {
-        const char *d = strstr(svg, " Z M ");
-        int n = 0;
-        double first[2] = {0, 0}, side = 24.0 * 72.0 / 25.4;
-        assert_non_null(d);
-        while (d > svg && strncmp(d, "d=\"", 3) != 0)
-            d--;
-        d += 3;
-        for (;;) {
-            double x0, y0, x1, y1, x2, y2, x3, y3, gx, gy;
-            int used = 0;
-            if (sscanf(d, " M %lf %lf L %lf %lf L %lf %lf L %lf %lf Z%n", &x0, &y0, &x1, &y1,
-                       &x2, &y2, &x3, &y3, &used) != 8 || used == 0)
-                break;
-            assert_true(fabs(x1 - x0 - side) <= 2.0 / 256 && fabs(y2 - y1 - side) <= 2.0 / 256);
-            assert_true(y1 == y0 && x2 == x1 && x3 == x0 && y3 == y2);
-            if (n == 0) {
-                first[0] = x0;
-                first[1] = y0;
+        /* the squares' path among the glyphs' (each path tried in turn) */
+        const char *d = svg;
+        int found = 0;
+        double side = 24.0 * 72.0 / 25.4;
+        while (!found && (d = strstr(d, "d=\"")) != NULL) {
+            double first[2] = {0, 0};
+            int n = 0, bad = 0;
+            d += 3;
+            for (;;) {
+                double x0, y0, x1, y1, x2, y2, x3, y3, gx, gy;
+                int used = 0;
+                if (sscanf(d, " M %lf %lf L %lf %lf L %lf %lf L %lf %lf Z%n", &x0, &y0, &x1,
+                           &y1, &x2, &y2, &x3, &y3, &used) != 8 || used == 0)
+                    break;
+                d += used;
+                if (n == 0) {
+                    first[0] = x0;
+                    first[1] = y0;
+                }
+                gx = (x0 - first[0]) / side;
+                gy = (y0 - first[1]) / side;
+                bad |= fabs(x1 - x0 - side) > 2.0 / 256 || fabs(y2 - y1 - side) > 2.0 / 256 ||
+                       y1 != y0 || x2 != x1 || x3 != x0 || y3 != y2 ||
+                       fabs(gx - floor(gx + 0.5)) * side > 2.0 / 256 ||
+                       fabs(gy - floor(gy + 0.5)) * side > 2.0 / 256 ||
+                       /* black squares alternate: (i + j) even from the first */
+                       ((long)floor(gx + 0.5) + (long)floor(gy + 0.5)) % 2 != 0;
+                n++;
             }
-            gx = (x0 - first[0]) / side;
-            gy = (y0 - first[1]) / side;
-            assert_true(fabs(gx - floor(gx + 0.5)) * side <= 2.0 / 256);
-            assert_true(fabs(gy - floor(gy + 0.5)) * side <= 2.0 / 256);
-            /* black squares alternate: (i + j) even from the first */
-            assert_int_equal(((long)floor(gx + 0.5) + (long)floor(gy + 0.5)) % 2, 0);
-            n++;
-            d += used;
+            found = n == 35 && !bad;
         }
-        assert_int_equal(n, 35);
+        assert_true(found);
     }
     free(svg);
 

@@ -25,7 +25,10 @@
 #include <fcntl.h>
 #include <json-c/json.h>
 #include <math.h>
+#include <jpeglib.h>
 #include <spng.h>
+#include <tiffio.h>
+#include <time.h>
 #include <stdint.h>
 #include <sys/stat.h>
 #include <sys/types.h>
@@ -950,7 +953,8 @@ static void usage_errors_exit_2(void **state)
 
 static void help_pages(void **state)
 {
-    static const char *const cmds[] = {"solve", "overlay", "sim", "export", "bench"};
+    static const char *const cmds[] = {"solve", "overlay", "sim", "export", "bench", "plot",
+                                       "compare"};
     static const char *const sections[] = {"NAME\n", "SYNOPSIS\n", "DESCRIPTION\n", "OPTIONS\n",
                                            "EXIT STATUS\n", "    -h, --help\n"};
     size_t i, k;
@@ -994,7 +998,8 @@ static void help_pages(void **state)
  * (tests/tool/update_docs.sh refreshes them). */
 static void docs_match_help(void **state)
 {
-    static const char *const cmds[] = {"solve", "overlay", "sim", "export", "bench"};
+    static const char *const cmds[] = {"solve", "overlay", "sim", "export", "bench", "plot",
+                                       "compare"};
     const char *env = getenv("CDSP_DOCS");
     char *doc = slurp(env && *env ? env : "docs/cdsp_tool.md", NULL);
     size_t i;
@@ -1155,7 +1160,7 @@ static void export_meshes(void **state)
     tt_write_str(tt_path("bad.jsonl"), "{\"status\":\"error\",\"error\":\"no-pipe\"}\n{oops\n");
     r = RUN("export", tt_path("bad.jsonl"));
     expect_status(&r, 2);
-    tt_assert_contains(r.err, "bad.jsonl:2: ");
+    tt_assert_contains(r.err, "bad.jsonl: not a cdsp_tool JSON record (line 2): ");
     run_free(&r);
     tt_write_str(tt_path("none.jsonl"), "{\"status\":\"error\",\"error\":\"no-pipe\"}\n");
     r = RUN("export", "--out", tt_path("none.ply"), tt_path("none.jsonl"));
@@ -1206,6 +1211,695 @@ static void bench_files(void **state)
 
 /* An 8192 x 8192 frame: a bright vertical band of a known width, its edges
  * exactly between two pixel columns. */
+/* ---- tests: issue 15 (directories, export's messages, JPEG/TIFF, plot,
+ * compare, overlay caption, terminal lines, the manual's examples) ------------ */
+
+static int is_dir(const char *p)
+{
+    struct stat st;
+    return stat(p, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+/* --out A/B/C: created with its parents, as the help says. */
+static void out_dirs_created_with_parents(void **state)
+{
+    char d[800], f[900];
+    run_result r;
+    (void)state;
+    snprintf(d, sizeof d, "%s/sim/a/b", tt_tmpdir());
+    r = RUN("sim", "--out", d, "--width", "64", "--height", "48", "--point", "0,0,200");
+    expect_status(&r, 0);
+    snprintf(f, sizeof f, "%s/frame_0000.pgm", d);
+    assert_true(access(f, R_OK) == 0);
+    run_free(&r);
+    snprintf(f, sizeof f, "%s/ov/x/y/", tt_tmpdir());
+    r = RUN("overlay", "--calib", calib_of(dist_dir), "--radius", "8", "--out", f, dist_dir);
+    expect_status(&r, 0);
+    assert_true(is_dir(f));
+    run_free(&r);
+    snprintf(f, sizeof f, "%s/bench/p/q", tt_tmpdir());
+    r = RUN("bench", "--out", f, "--levels", "0", "--trials", "1", "--no-frames", "-q");
+    expect_status(&r, 0);
+    assert_true(is_dir(f));
+    run_free(&r);
+    /* a file in the way: exit 2 naming it */
+    snprintf(f, sizeof f, "%s/frame_0000.pgm/sub", d);
+    r = RUN("sim", "--out", f);
+    expect_status(&r, 2);
+    tt_assert_contains(r.err, "cannot create the directory");
+    run_free(&r);
+}
+
+/* Input that is not solve's records: "FILE: not a cdsp_tool JSON record
+ * (line N)", exit 2, for export, plot and compare alike. */
+static void not_a_record_named(void **state)
+{
+    static const struct {
+        const char *name, *text, *line;
+    } cases[] = {
+        {"p.csv", "frame,status,error\nf.pgm,ok,\n", "(line 1)"},
+        {"other.jsonl", "{\"a\": 1}\n", "(line 1)"},
+        {"cut.jsonl", "{\"frame\":\"a\",\"status\":\"ok\"", "(line 1)"},
+        {"third.jsonl", "{\"frame\":\"a\",\"status\":\"error\",\"error\":\"no-pipe\"}\n\n"
+                        "[1, 2]\n", "(line 3)"},
+    };
+    static const char *const cmds[] = {"export", "plot", "compare"};
+    size_t i, c;
+    char seq_truth[800];
+    (void)state;
+    snprintf(seq_truth, sizeof seq_truth, "%s/truth.json", seq_dir);
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char path[800], want[900];
+        /* (tt_path's buffers rotate: a path kept across runs is copied) */
+        snprintf(path, sizeof path, "%s", tt_path(cases[i].name));
+        tt_write_str(path, cases[i].text);
+        snprintf(want, sizeof want, "%s: not a cdsp_tool JSON record %s", path, cases[i].line);
+        for (c = 0; c < 3; c++) {
+            run_result r;
+            if (c == 0)
+                r = RUN("export", "--out", tt_path("x.ply"), path);
+            else if (c == 1)
+                r = RUN("plot", "--out", tt_path("x.png"), path);
+            else
+                r = RUN("compare", path, seq_truth);
+            /* plot and compare read solve's CSV too: a CSV without the pose
+             * columns is refused with its own wording */
+            if (c > 0 && i == 0) {
+                expect_status(&r, 2);
+                tt_assert_contains(r.err, "p.csv: not a cdsp_tool CSV record file (line 1)");
+            } else {
+                if (r.status != 2 || !strstr(r.err, want))
+                    fail_msg("%s %s: status %d, \"%s\", wanted \"%s\"", cmds[c], cases[i].name,
+                             r.status, r.err, want);
+            }
+            run_free(&r);
+        }
+    }
+}
+
+/* JPEG and TIFF frames through solve: a 16-bit TIFF and an 8-bit TIFF of a
+ * PGM frame solve to the very same pose (lossless), a JPEG (quality 100)
+ * within its tolerance of the truth. */
+static void write_tiff(const char *path, const cdsp_host_image *im)
+{
+    TIFF *t = TIFFOpen(path, "w");
+    int y;
+    assert_non_null(t);
+    TIFFSetField(t, TIFFTAG_IMAGEWIDTH, (uint32_t)im->width);
+    TIFFSetField(t, TIFFTAG_IMAGELENGTH, (uint32_t)im->height);
+    TIFFSetField(t, TIFFTAG_BITSPERSAMPLE, (uint16_t)(im->bits > 8 ? 16 : 8));
+    TIFFSetField(t, TIFFTAG_SAMPLESPERPIXEL, (uint16_t)1);
+    TIFFSetField(t, TIFFTAG_PHOTOMETRIC, (uint16_t)PHOTOMETRIC_MINISBLACK);
+    TIFFSetField(t, TIFFTAG_COMPRESSION, (uint16_t)COMPRESSION_ADOBE_DEFLATE);
+    TIFFSetField(t, TIFFTAG_ROWSPERSTRIP, 16u);
+    for (y = 0; y < im->height; y++)
+        assert_int_equal(TIFFWriteScanline(t, (unsigned char *)im->data + (size_t)y * im->stride,
+                                           (uint32_t)y, 0), 1);
+    TIFFClose(t);
+}
+
+static void write_jpeg(const char *path, const cdsp_host_image *im)
+{
+    struct jpeg_compress_struct c;
+    struct jpeg_error_mgr e;
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    c.err = jpeg_std_error(&e);
+    jpeg_create_compress(&c);
+    jpeg_stdio_dest(&c, f);
+    c.image_width = (JDIMENSION)im->width;
+    c.image_height = (JDIMENSION)im->height;
+    c.input_components = 1;
+    c.in_color_space = JCS_GRAYSCALE;
+    jpeg_set_defaults(&c);
+    jpeg_set_quality(&c, 100, TRUE);
+    jpeg_start_compress(&c, TRUE);
+    while (c.next_scanline < c.image_height) {
+        JSAMPROW row = (unsigned char *)im->data + (size_t)c.next_scanline * im->stride;
+        jpeg_write_scanlines(&c, &row, 1);
+    }
+    jpeg_finish_compress(&c);
+    jpeg_destroy_compress(&c);
+    fclose(f);
+}
+
+static void jpeg_and_tiff_frames(void **state)
+{
+    char dir[600], pgm[800], tif[800], tif16[800], jpg[800];
+    cdsp_host_image im;
+    cdsp_host_err err;
+    run_result a, b;
+    json_object *ra[2], *rb[2];
+    truth t;
+    (void)state;
+    snprintf(dir, sizeof dir, "%s", tt_path("jt"));
+    assert_int_equal(mkdir(dir, 0777), 0);
+    snprintf(pgm, sizeof pgm, "%s/frame_0000.pgm", seq_dir);
+    snprintf(tif, sizeof tif, "%s/frame_0000.tif", dir);
+    snprintf(tif16, sizeof tif16, "%s/frame_0000.tiff", png_dir);
+    snprintf(jpg, sizeof jpg, "%s/frame_0000.jpg", dir);
+    if (cdsp_host_image_read(pgm, &im, &err) != 0)
+        fail_msg("%s", err.msg);
+    write_tiff(tif, &im);
+    write_jpeg(jpg, &im);
+    cdsp_host_image_free(&im);
+    /* lossless: the same record as the PGM's, but for the frame's name */
+    a = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--no-time", pgm);
+    b = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--no-time", tif);
+    expect_status(&a, 0);
+    expect_status(&b, 0);
+    assert_string_equal(strstr(a.out, "\"status\""), strstr(b.out, "\"status\""));
+    run_free(&a);
+    run_free(&b);
+    /* 16 bit */
+    snprintf(pgm, sizeof pgm, "%s/frame_0000.png", png_dir);
+    if (cdsp_host_image_read(pgm, &im, &err) != 0)
+        fail_msg("%s", err.msg);
+    assert_int_equal(im.bits, 16);
+    write_tiff(tif16, &im);
+    cdsp_host_image_free(&im);
+    a = RUN("solve", "--calib", calib_of(png_dir), "--radius", "8", "--no-time", pgm);
+    b = RUN("solve", "--calib", calib_of(png_dir), "--radius", "8", "--no-time", tif16);
+    expect_status(&a, 0);
+    expect_status(&b, 0);
+    assert_string_equal(strstr(a.out, "\"status\""), strstr(b.out, "\"status\""));
+    run_free(&a);
+    run_free(&b);
+    /* the directory lists the .jpg and the .tif; the JPEG's pose is within
+     * the usual tolerance of the truth (quality 100: at most 1 grey level
+     * off per pixel, test_host_jpeg_tiff) */
+    truth_load(&t, seq_dir);
+    a = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", dir);
+    expect_status(&a, 0);
+    assert_int_equal(parse_lines(a.out, ra, 2), 2);
+    assert_non_null(strstr(str(key(ra[0], "frame")), "frame_0000.jpg"));
+    check_pose(&t, truth_frame(&t, 0), ra[0]);
+    check_pose(&t, truth_frame(&t, 0), ra[1]);
+    put_all(ra, 2);
+    run_free(&a);
+    /* a truncated TIFF is a bad-frame record naming the file */
+    {
+        size_t len;
+        char *data = slurp(tif, &len), cut[800];
+        snprintf(cut, sizeof cut, "%s/cut.tif", tt_tmpdir());
+        tt_write(cut, data, len / 3);
+        free(data);
+        b = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", cut);
+        expect_status(&b, 1);
+        assert_int_equal(parse_lines(b.out, rb, 2), 1);
+        assert_string_equal(str(key(rb[0], "error")), "bad-frame");
+        tt_assert_contains(str(key(rb[0], "message")), cut);
+        put_all(rb, 1);
+        run_free(&b);
+    }
+    json_object_put(t.doc);
+}
+
+/* compare against sim's truth: every frame of the sequence solved, the
+ * table's errors equal to the ones recomputed here from the records and
+ * the truth, and within the pose tolerance of each frame (check_pose);
+ * a failed record and a missing truth give status 1. */
+static void compare_against_sim(void **state)
+{
+    char recs_path[800], truth_path[800];
+    truth t;
+    run_result r, c;
+    json_object *recs[8], *rows[10];
+    int n, i;
+    (void)state;
+    snprintf(recs_path, sizeof recs_path, "%s", tt_path("cmp.jsonl"));
+    snprintf(truth_path, sizeof truth_path, "%s/truth.json", seq_dir);
+    truth_load(&t, seq_dir);
+    r = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--track", seq_dir);
+    expect_status(&r, 0);
+    tt_write_str(recs_path, r.out);
+    n = parse_lines(r.out, recs, 8);
+    assert_int_equal(n, 8);
+    c = RUN("compare", "--json", recs_path, truth_path);
+    expect_status(&c, 0);
+    assert_int_equal(parse_lines(c.out, rows, 10), 9);
+    for (i = 0; i < n; i++) {
+        json_object *tf = truth_frame(&t, (size_t)i);
+        double seg[2][3], P[3], v[3], tv[3], s2 = 0, d;
+        int k, j;
+        check_pose(&t, tf, recs[i]);
+        assert_string_equal(str(key(rows[i], "status")), "ok");
+        for (j = 0; j < 2; j++)
+            vec(json_object_array_get_idx(key(recs[i], "segment"), (size_t)j), seg[j], 3);
+        vec(key(tf, "point"), P, 3);
+        vec(key(tf, "direction"), tv, 3);
+        for (k = 0; k < 100; k++) { /* the paper's metric, 100 points */
+            double X[3], f = k / 99.0;
+            for (j = 0; j < 3; j++)
+                X[j] = seg[0][j] + f * (seg[1][j] - seg[0][j]);
+            d = line_dist(X, P, tv);
+            s2 += d * d;
+        }
+        assert_true(fabs(num(key(rows[i], "rmse")) - sqrt(s2 / 100)) <= 1e-12 * (1 + sqrt(s2)));
+        vec(key(recs[i], "direction"), v, 3);
+        assert_true(fabs(num(key(rows[i], "angle_deg")) - angle_between(v, tv) * 180 /
+                                                                3.14159265358979323846) < 1e-6);
+        assert_true(fabs(num(key(rows[i], "d_error")) -
+                         (num(key(recs[i], "distance")) - num(key(tf, "distance")))) < 1e-9);
+    }
+    {
+        json_object *sum = key(rows[8], "summary");
+        assert_int_equal((int)num(key(sum, "frames")), 8);
+        assert_int_equal((int)num(key(sum, "solved")), 8);
+        assert_int_equal((int)num(key(sum, "failed")), 0);
+    }
+    put_all(rows, 9);
+    run_free(&c);
+    /* the table form, and --max-rmse below the largest error: status 1 */
+    c = RUN("compare", recs_path, truth_path);
+    expect_status(&c, 0);
+    tt_assert_contains(c.out, "summary: 8 frames, 8 solved, 0 failed; axis RMSE ");
+    run_free(&c);
+    c = RUN("compare", "--max-rmse", "1e-9", recs_path, truth_path);
+    expect_status(&c, 1);
+    run_free(&c);
+    /* an error record and a record without truth */
+    {
+        char *more = malloc(strlen(r.out) + 400);
+        sprintf(more, "%s{\"frame\":\"x/frame_0003.pgm\",\"status\":\"error\",\"error\":\"no-pipe\"}\n"
+                      "{\"frame\":\"x/other.pgm\",\"status\":\"error\",\"error\":\"no-pipe\"}\n",
+                r.out);
+        /* (the second: no truth by name, and none at its position 9 of 8) */
+        tt_write_str(recs_path, more);
+        free(more);
+        c = RUN("compare", recs_path, truth_path);
+        expect_status(&c, 1);
+        tt_assert_contains(c.out, "x/frame_0003.pgm  no-pipe");
+        tt_assert_contains(c.out, "x/other.pgm       no-truth");
+        tt_assert_contains(c.out, "summary: 10 frames, 8 solved, 1 failed, 1 without truth");
+        run_free(&c);
+    }
+    c = RUN("compare", recs_path);
+    expect_status(&c, 2);
+    run_free(&c);
+    c = RUN("compare", recs_path, tt_path("nothere.json"));
+    expect_status(&c, 2);
+    tt_assert_contains(c.err, "nothere.json");
+    run_free(&c);
+    put_all(recs, n);
+    json_object_put(t.doc);
+    run_free(&r);
+}
+
+/* ---- plot -------------------------------------------------------------------- */
+
+typedef struct {
+    unsigned char *rgb;
+    unsigned w, h;
+} picture;
+
+static picture read_png(const char *path)
+{
+    picture p;
+    size_t len, size;
+    char *buf = slurp(path, &len);
+    struct spng_ihdr ihdr;
+    spng_ctx *ctx = spng_ctx_new(0);
+    assert_int_equal(spng_set_png_buffer(ctx, buf, len), 0);
+    assert_int_equal(spng_get_ihdr(ctx, &ihdr), 0);
+    assert_int_equal(spng_decoded_image_size(ctx, SPNG_FMT_RGB8, &size), 0);
+    p.rgb = malloc(size);
+    p.w = ihdr.width;
+    p.h = ihdr.height;
+    assert_int_equal(spng_decode_image(ctx, p.rgb, size, SPNG_FMT_RGB8, 0), 0);
+    spng_ctx_free(ctx);
+    free(buf);
+    return p;
+}
+
+static int is_rgb(const picture *p, unsigned x, unsigned y, int r, int g, int b)
+{
+    const unsigned char *q = p->rgb + 3 * ((size_t)y * p->w + x);
+    return q[0] == r && q[1] == g && q[2] == b;
+}
+
+/* A known record set drawn and measured back from the pixels: distance
+ * 400 + k mm for record k = 0..20 (a straight line), sigma 0.5 mm, record
+ * 10 without a pipe. In the top panel the curve's pixels (its exact colour)
+ * must lie on one straight line (within 1 px: the 2 px stroke's centre),
+ * be absent between records 9 and 11 (the break), the red band must be
+ * centred on record 10 and one record wide, and the sigma band must span
+ * +-0.5 mm at the curve's own scale (px per mm from its slope), within 2 px
+ * (antialiased edges). Then the other forms: CSV, --truth, error cases. */
+static void plot_pixels_where_they_belong(void **state)
+{
+    char recs[800], png[800], truth_path[800];
+    char *text = malloc(21 * 400), *t = text;
+    run_result r;
+    picture p;
+    unsigned x, y, top, bottom;
+    int k, first_x = -1, last_x = -1, n_col = 0, gap_lo = -1, gap_hi = -1, curve_in_gap = 0;
+    double sx = 0, sy = 0, sxx = 0, sxy = 0, slope, icpt, worst = 0;
+    (void)state;
+    snprintf(recs, sizeof recs, "%s", tt_path("plot.jsonl"));
+    snprintf(png, sizeof png, "%s", tt_path("plot.png"));
+    snprintf(truth_path, sizeof truth_path, "%s/truth.json", seq_dir);
+    for (k = 0; k <= 20; k++) {
+        if (k == 10)
+            t += sprintf(t, "{\"frame\":\"f%02d.pgm\",\"status\":\"error\",\"error\":\"no-pipe\"}\n", k);
+        else
+            t += sprintf(t, "{\"frame\":\"f%02d.pgm\",\"status\":\"ok\",\"point\":[%d,%d,400],"
+                            "\"direction\":[1,0.5,0.1],\"distance\":%d,"
+                            "\"sigma\":{\"point\":[0.2,0.2,0.2],\"direction\":[0.001,0.001,0.001],"
+                            "\"distance\":0.5}}\n", k, k, -k, 400 + k);
+    }
+    tt_write_str(recs, text);
+    free(text);
+    r = RUN("plot", "--out", png, "--width", "800", "--height", "700", recs);
+    expect_status(&r, 0);
+    run_free(&r);
+    p = read_png(png);
+    assert_int_equal(p.w, 800);
+    assert_int_equal(p.h, 700);
+    /* the top panel's plot area: between the black top and bottom lines of
+     * its frame, found in a column just inside its right side (the title
+     * and the legend do not reach there) */
+    for (top = 0; top < p.h && !is_rgb(&p, p.w - 18, top, 0, 0, 0); top++)
+        ;
+    for (bottom = top + 1; bottom < p.h && !is_rgb(&p, p.w - 18, bottom, 0, 0, 0); bottom++)
+        ;
+    assert_true(bottom < p.h / 2 && bottom > top + 100);
+    for (x = 0; x < p.w; x++) {
+        int n = 0, gapc = 0;
+        double ysum = 0;
+        for (y = top; y < bottom; y++) {
+            if (is_rgb(&p, x, y, 0, 90, 200)) {
+                ysum += y;
+                n++;
+            }
+            gapc += is_rgb(&p, x, y, 255, 215, 215);
+        }
+        if (gapc > 50) {
+            if (gap_lo < 0)
+                gap_lo = (int)x;
+            gap_hi = (int)x;
+            curve_in_gap += n > 0;
+        }
+        if (n == 0 || gapc > 50)
+            continue;
+        if (first_x < 0)
+            first_x = (int)x;
+        last_x = (int)x;
+        ysum /= n;
+        sx += x;
+        sy += ysum;
+        sxx += (double)x * x;
+        sxy += x * ysum;
+        n_col++;
+    }
+    assert_true(n_col > 300);
+    slope = (n_col * sxy - sx * sy) / (n_col * sxx - sx * sx);
+    icpt = (sy - slope * sx) / n_col;
+    for (x = (unsigned)first_x; x <= (unsigned)last_x; x++) {
+        int n = 0;
+        double ysum = 0;
+        if ((int)x >= gap_lo && (int)x <= gap_hi)
+            continue;
+        for (y = top; y < bottom; y++)
+            if (is_rgb(&p, x, y, 0, 90, 200)) {
+                ysum += y;
+                n++;
+            }
+        if (n)
+            worst = fmax(worst, fabs(ysum / n - (slope * x + icpt)));
+    }
+    printf("plot: curve from x %d to %d, slope %.4f px/px, worst %.2f px off the line; "
+           "gap %d..%d\n", first_x, last_x, slope, worst, gap_lo, gap_hi);
+    assert_true(worst <= 1.0);
+    assert_true(slope < 0); /* distance grows upward */
+    assert_int_equal(curve_in_gap, 0);
+    {
+        /* records 0 and 20 at first_x and last_x: record 10 at the middle,
+         * the band one record (1/20 of the run) wide */
+        double per_rec = (last_x - first_x) / 20.0, mid = first_x + 10 * per_rec;
+        assert_true(fabs(0.5 * (gap_lo + gap_hi) - mid) <= 1.5);
+        assert_true(fabs((gap_hi - gap_lo + 1) - per_rec) <= 2.0);
+        /* px per mm: the curve rises 20 mm over the run */
+        {
+            double px_mm = -slope * (last_x - first_x) / 20.0;
+            unsigned cx = (unsigned)(first_x + 3 * per_rec); /* record 3 */
+            int lo = -1, hi = -1;
+            for (y = top; y < bottom; y++)
+                if (is_rgb(&p, cx, y, 200, 220, 245) || is_rgb(&p, cx, y, 0, 90, 200)) {
+                    if (lo < 0)
+                        lo = (int)y;
+                    hi = (int)y;
+                }
+            printf("plot: %.2f px per mm, sigma band %d px tall (expected %.2f)\n", px_mm,
+                   hi - lo + 1, 2 * 0.5 * px_mm);
+            assert_true(fabs((hi - lo + 1) - 2 * 0.5 * px_mm) <= 2.0);
+        }
+    }
+    free(p.rgb);
+
+    /* solve's CSV plots the same picture as its JSON */
+    {
+        run_result j, c;
+        char pj[800], pc[800], sj[800], scsv[800];
+        char *a, *b;
+        size_t la, lb;
+        snprintf(pj, sizeof pj, "%s", tt_path("pj.png"));
+        snprintf(pc, sizeof pc, "%s", tt_path("pc.png"));
+        snprintf(sj, sizeof sj, "%s", tt_path("s.jsonl"));
+        snprintf(scsv, sizeof scsv, "%s", tt_path("s.csv"));
+        j = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--no-time", seq_dir);
+        c = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", "--no-time", "--csv",
+                seq_dir);
+        tt_write_str(sj, j.out);
+        tt_write_str(scsv, c.out);
+        run_free(&j);
+        run_free(&c);
+        j = RUN("plot", "--out", pj, "--title", "t", "--truth", truth_path, sj);
+        c = RUN("plot", "--out", pc, "--title", "t", "--truth", truth_path, scsv);
+        expect_status(&j, 0);
+        expect_status(&c, 0);
+        a = slurp(pj, &la);
+        b = slurp(pc, &lb);
+        /* (the CSV rounds nothing: its numbers read back exactly) */
+        assert_int_equal(la, lb);
+        assert_memory_equal(a, b, la);
+        free(a);
+        free(b);
+        p = read_png(pj);
+        assert_int_equal(p.h, 240 * 5 + 70); /* five panels with --truth */
+        free(p.rgb);
+        run_free(&j);
+        run_free(&c);
+    }
+    /* error cases */
+    r = RUN("plot", recs);
+    expect_status(&r, 2);
+    tt_assert_contains(r.err, "--out FILE.png is required");
+    run_free(&r);
+    r = RUN("plot", "--out", png, "--x", "time", recs);
+    expect_status(&r, 2);
+    tt_assert_contains(r.err, "has no time");
+    run_free(&r);
+    r = RUN("plot", "--out", tt_path("nodir/x.png"), recs);
+    expect_status(&r, 2);
+    tt_assert_contains(r.err, "cannot write the picture");
+    run_free(&r);
+    tt_write_str(tt_path("allbad.jsonl"), "{\"frame\":\"a\",\"status\":\"error\",\"error\":\"no-pipe\"}\n");
+    r = RUN("plot", "--out", png, tt_path("allbad.jsonl"));
+    expect_status(&r, 1);
+    run_free(&r);
+}
+
+/* The overlay of a 5 MP frame (the paper's camera) says what it found:
+ * a caption band across the top whose height follows the frame (two lines
+ * of 16 px text per 1000 px: 2448 px wide gives 39 px text), white text in
+ * it, and the --roi rectangle in cyan where it was asked. */
+static void overlay_caption_and_roi(void **state)
+{
+    char dir[600], pdir[600], png[800], calib[800], frame[800];
+    run_result r;
+    picture p;
+    unsigned x, y, band = 0, white = 0, cyan_left = 0;
+    double font = 16.0 * 2448 / 1000, want;
+    (void)state;
+    snprintf(dir, sizeof dir, "%s", tt_path("ov5"));
+    snprintf(pdir, sizeof pdir, "%s", tt_path("paper5"));
+    snprintf(calib, sizeof calib, "%s/camera.yaml", pdir);
+    snprintf(frame, sizeof frame, "%s/frame_0000.pgm", pdir);
+    /* one frame of a 5 MP camera (the paper's: 2448 x 2048, f = 3478 px) */
+    r = RUN("sim", "--out", pdir, "--width", "2448", "--height", "2048", "--fx", "3478.26",
+            "--fy", "3478.26", "--ambient", "1");
+    expect_status(&r, 0);
+    run_free(&r);
+    r = RUN("overlay", "--calib", calib, "--radius", "8", "--out", dir,
+            "--roi", "200,300,2000,1500", frame);
+    expect_status(&r, 0);
+    run_free(&r);
+    snprintf(png, sizeof png, "%s/frame_0000_overlay.png", dir);
+    p = read_png(png);
+    assert_int_equal(p.w, 2448);
+    assert_int_equal(p.h, 2048);
+    /* the band: rows of gray 32 at the right edge (no text reaches it) */
+    for (y = 0; y < 400 && is_rgb(&p, p.w - 1, y, 32, 32, 32); y++)
+        band++;
+    for (y = 0; y < band; y++)
+        for (x = 0; x < p.w; x++)
+            white += is_rgb(&p, x, y, 255, 255, 255);
+    want = 2 * 1.3 * font + 2 * 0.4 * font;
+    printf("overlay: caption band %u px (expected %.1f), %u white text pixels\n", band, want,
+           white);
+    assert_true(fabs(band - want) <= 1.0);
+    assert_true(white > 2000);
+    /* the ROI's left side: x = 200 within the line width (1.5 x 2.448 px) */
+    for (y = 1000; y < 1500; y++)
+        for (x = 195; x <= 205; x++)
+            cyan_left += is_rgb(&p, x, y, 0, 255, 255);
+    assert_true(cyan_left > 100); /* dashed: 6 on, 4 off */
+    for (y = 1000; y < 1500; y++)
+        for (x = 600; x <= 610; x++)
+            assert_false(is_rgb(&p, x, y, 0, 255, 255));
+    free(p.rgb);
+}
+
+/* On a terminal (script(1) gives the tool one), solve ends with a summary
+ * line; in a pipe, neither it nor any progress appears. Progress shows only
+ * after 2 s: a run that took longer shows it, a quicker one must not (the
+ * test times the run rather than assume the machine's speed). */
+static void terminal_lines(void **state)
+{
+    char cmd[3000], *tty;
+    double t0, secs;
+    struct timespec ts;
+    run_result r;
+    (void)state;
+    snprintf(cmd, sizeof cmd,
+             "script -qec \"%s solve --calib %s --radius 8 %s >/dev/null\" /dev/null >%s 2>&1",
+             tool_path(), calib_of(seq_dir), seq_dir, tt_path("tty.txt"));
+    assert_int_equal(system(cmd), 0);
+    tty = slurp(tt_path("tty.txt"), NULL);
+    tt_assert_contains(tty, "solve: 8 frames, 8 solved, 0 failed, ");
+    free(tty);
+    r = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", seq_dir);
+    expect_status(&r, 0);
+    assert_string_equal(r.err, "");
+    run_free(&r);
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    t0 = ts.tv_sec + 1e-9 * ts.tv_nsec;
+    snprintf(cmd, sizeof cmd,
+             "script -qec \"%s sim --out %s --frames 20 --width 320 --height 240 >/dev/null\" "
+             "/dev/null >%s 2>&1", tool_path(), tt_path("ttysim"), tt_path("ttysim.txt"));
+    assert_int_equal(system(cmd), 0);
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    secs = ts.tv_sec + 1e-9 * ts.tv_nsec - t0;
+    tty = slurp(tt_path("ttysim.txt"), NULL);
+    printf("sim on a terminal: %.2f s, progress %s\n", secs, strstr(tty, "/20 frames") ? "shown" : "not shown");
+    if (secs > 3.0) /* 2 s plus the terminal's start */
+        tt_assert_contains(tty, "sim: ");
+    else if (secs < 2.0)
+        assert_null(strstr(tty, "/20 frames"));
+    free(tty);
+}
+
+/* Every fenced block after a "<!-- checked -->" line in the manual is run:
+ * "$ " lines are commands (build/cdsp_tool meaning the tool under test,
+ * /tmp/ this suite's scratch directory), the lines up to the next command
+ * their output (standard output and error), compared with what they print
+ * with all white space removed (the manual wraps long JSON lines). */
+static char *squeeze(const char *s)
+{
+    char *o = malloc(strlen(s) + 1), *q = o;
+    for (; *s; s++)
+        if (*s != ' ' && *s != '\n' && *s != '\t' && *s != '\r')
+            *q++ = *s;
+    *q = 0;
+    return o;
+}
+
+static char *replace_all(const char *s, const char *from, const char *to)
+{
+    size_t n = 0, lf = strlen(from), lt = strlen(to);
+    const char *p;
+    char *o, *q;
+    for (p = s; (p = strstr(p, from)); p += lf)
+        n++;
+    o = malloc(strlen(s) + n * lt + 1);
+    for (q = o, p = s;;) {
+        const char *h = strstr(p, from);
+        if (!h) {
+            strcpy(q, p);
+            break;
+        }
+        memcpy(q, p, (size_t)(h - p));
+        q += h - p;
+        memcpy(q, to, lt);
+        q += lt;
+        p = h + lf;
+    }
+    return o;
+}
+
+static void check_example(const char *cmd, const char *expected, int block)
+{
+    char tmp[700], sh[8192], *c1, *c2, *e1, *got, *a, *b;
+    int st;
+    snprintf(tmp, sizeof tmp, "%s/", tt_tmpdir());
+    c1 = replace_all(cmd, "build/cdsp_tool", tool_path());
+    c2 = replace_all(c1, "/tmp/", tmp);
+    e1 = replace_all(expected, "/tmp/", tmp);
+    snprintf(sh, sizeof sh, "(%s) >%s 2>&1", c2, tt_path("example.out"));
+    st = system(sh);
+    assert_true(st != -1);
+    got = slurp(tt_path("example.out"), NULL);
+    a = squeeze(got);
+    b = squeeze(e1);
+    if (strcmp(a, b) != 0)
+        fail_msg("docs/cdsp_tool.md, checked example %d:\n$ %s\nprints:\n%swhere the manual "
+                 "says:\n%s", block, cmd, got, expected);
+    free(a);
+    free(b);
+    free(got);
+    free(c1);
+    free(c2);
+    free(e1);
+}
+
+static void docs_examples_run(void **state)
+{
+    const char *env = getenv("CDSP_DOCS");
+    char *doc = slurp(env && *env ? env : "docs/cdsp_tool.md", NULL), *p = doc;
+    int blocks = 0;
+    (void)state;
+    while ((p = strstr(p, "<!-- checked -->\n```sh\n")) != NULL) {
+        char *end, *line, cmd[4096] = "", out[16384] = "";
+        p += strlen("<!-- checked -->\n```sh\n");
+        end = strstr(p, "\n```\n");
+        assert_non_null(end);
+        *end = 0;
+        blocks++;
+        for (line = p; line && *line;) {
+            char *nl = strchr(line, '\n');
+            if (nl)
+                *nl = 0;
+            if (strncmp(line, "$ ", 2) == 0) {
+                if (cmd[0])
+                    check_example(cmd, out, blocks);
+                snprintf(cmd, sizeof cmd, "%s", line + 2);
+                out[0] = 0;
+            } else {
+                size_t k = strlen(out);
+                snprintf(out + k, sizeof out - k, "%s\n", line);
+            }
+            line = nl ? nl + 1 : NULL;
+        }
+        if (cmd[0])
+            check_example(cmd, out, blocks);
+        p = end + 1;
+    }
+    /* the walkthrough's solve, compare and bad-frame examples */
+    assert_true(blocks >= 3);
+    free(doc);
+}
+
 static void frame_of_8192_squared(void **state)
 {
     const int W = 8192, H = 8192, u0 = 4000, u1 = 4120;
@@ -1265,6 +1959,14 @@ int main(void)
         cmocka_unit_test(overlay_draws_the_pipe),
         cmocka_unit_test(export_meshes),
         cmocka_unit_test(bench_files),
+        cmocka_unit_test(out_dirs_created_with_parents),
+        cmocka_unit_test(not_a_record_named),
+        cmocka_unit_test(jpeg_and_tiff_frames),
+        cmocka_unit_test(compare_against_sim),
+        cmocka_unit_test(plot_pixels_where_they_belong),
+        cmocka_unit_test(overlay_caption_and_roi),
+        cmocka_unit_test(terminal_lines),
+        cmocka_unit_test(docs_examples_run),
         cmocka_unit_test(frame_of_8192_squared),
     };
     return cmocka_run_group_tests_name("tool_cli", tests, setup, teardown);
