@@ -37,6 +37,7 @@ if ! command -v debootstrap >/dev/null 2>&1; then
 fi
 
 root=$(mktemp -d "${FRESH_DIR:-/var/tmp}/cdsp-fresh.XXXXXX") || exit 2
+chmod 755 "$root" # mktemp's 0700 would keep the unprivileged step out of /
 mounts=()
 cleanup() {
     local i
