@@ -1,10 +1,10 @@
 /*
  * tool_compare.c - `cdsp_tool compare`: solved records against a ground
  * truth (sim's truth.json, or any file of that shape a user makes from a
- * reference): per frame the paper's axis RMSE (METHOD.md, Eq. 17-21: RMS
- * distance of points of the found visible axis segment from the true
- * axis), the angle between the directions and the distance error, then a
- * summary over the frames.
+ * reference): per frame the paper's axis RMSE (docs/method.md section 8,
+ * Eq. 17-21: RMS distance of points of the found visible axis segment from
+ * the true axis), the angle between the directions and the distance error,
+ * then a summary over the frames.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tool_internal.h"

@@ -139,7 +139,7 @@ void tool_axis_truth(const double point[3], const double dir[3], double foot[3],
 /* Distance of X from the line through q with unit direction v. */
 double tool_line_distance(const double X[3], const double q[3], const double v[3]);
 
-/* Paper Eq. 17-21 (METHOD.md, accuracy metric): RMS distance of `samples`
+/* The paper's Eq. 17-21 (docs/method.md section 8): RMS distance of `samples`
  * points evenly spaced on the segment a-b (both ends included) from the
  * line through q with direction v; the midpoint alone when samples is 1. */
 double tool_segment_rmse(const double a[3], const double b[3], const double q[3],
