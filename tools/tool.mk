@@ -2,11 +2,11 @@
 # records: shared by cdsp_tool and cdspd), build/cdsp_tool, and their checks.
 # Included by the top-level Makefile; variables and targets start with tool_.
 
-tool_PKGS     := yaml-0.1 spng json-c libjpeg libtiff-4 cairo
+tool_PKGS     := yaml-0.1 spng json-c libjpeg libtiff-4 cairo fontconfig
 tool_PKG_CFLAGS := $(shell pkg-config --cflags $(tool_PKGS) 2>/dev/null)
 # libcsv (reading solve's CSV back in plot and compare) has no .pc file
 tool_PKG_LIBS := $(shell pkg-config --libs $(tool_PKGS) 2>/dev/null || \
-                   echo -lyaml -lspng -ljson-c -ljpeg -ltiff -lcairo) -lcsv
+                   echo -lyaml -lspng -ljson-c -ljpeg -ltiff -lcairo -lfontconfig) -lcsv
 
 tool_HOST_SRC := $(sort $(wildcard tools/common/*.c))
 tool_HOST_HDR := tools/common/cdsp_host.h

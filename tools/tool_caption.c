@@ -11,12 +11,22 @@
 #include "tool_internal.h"
 
 #include <cairo.h>
+#include <fontconfig/fontconfig.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 /* The caption band's colour, opaque so that the text reads on any frame. */
 #define BAND_GRAY 32
+
+void tool_cairo_done(void)
+{
+    /* cairo keeps its font faces, and through them fontconfig's patterns,
+     * until told to let go: released here so that a leak checker sees
+     * only real leaks; then fontconfig's own configuration */
+    cairo_debug_reset_static_data();
+    FcFini();
+}
 
 double tool_overlay_scale(int width, int height)
 {

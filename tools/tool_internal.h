@@ -220,6 +220,9 @@ int tool_overlay_write(const char *path, const cdsp_host_image *img, const cdsp_
  * band (gray 32, white text) drawn with cairo over an RGB picture; 0, or
  * -1 when cairo cannot allocate the picture. */
 double tool_overlay_scale(int width, int height);
+/* Releases cairo's and fontconfig's caches once nothing is drawing any
+ * more (the end of overlay and plot), so that leak checkers see only ours. */
+void tool_cairo_done(void);
 int tool_overlay_annotate(uint8_t *rgb, int w, int h, const cdsp_roi *roi,
                           const char *const *lines, int nlines);
 

@@ -433,6 +433,7 @@ int tool_plot_main(int argc, char **argv)
     cairo_destroy(cr);
     st = cairo_surface_write_to_png(surf, out);
     cairo_surface_destroy(surf);
+    tool_cairo_done();
     if (st != CAIRO_STATUS_SUCCESS) {
         tool_usage_error("plot", "%s: cannot write the picture: %s", out,
                          cairo_status_to_string(st));

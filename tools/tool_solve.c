@@ -699,6 +699,8 @@ int tool_solve_main(int argc, char **argv)
     J.params.pair.max_distance = (cdsp_real)J.max_distance;
     J.params.track_band_px = (cdsp_real)J.band;
     rc = run(&J);
+    if (J.overlay)
+        tool_cairo_done(); /* every worker has finished drawing */
 out:
     tool_frames_free(&J.frames);
     free(pos);
