@@ -306,6 +306,14 @@ int main(int argc, char **argv)
         goto out;
     }
     if (o.check) {
+        const char *arg;
+        if (cdspd_source_kind_parse(cfg->source, &arg) == CDSPD_SRC_FILE &&
+            cdspd_src_file_matches(arg) == 0) {
+            /* a run would retry for open_timeout and exit 3: say it now */
+            fprintf(stderr, "cdspd: key 'source': '%s': no file matches '%s'\n", cfg->source, arg);
+            rc = EXIT_CONFIG;
+            goto out;
+        }
         printf("# cdspd: configuration OK: source %s, calibration %s (%dx%d), %d destination%s\n",
                cfg->source, cfg->calib, cfg->cam.width, cfg->cam.height, cfg->n_dest,
                cfg->n_dest > 1 ? "s" : "");

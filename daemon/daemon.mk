@@ -123,7 +123,12 @@ check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_TOOL) $(daemon_MCOUNT)
 check-daemon-errors: $(daemon_BIN) $(daemon_RX) $(daemon_NOTIFY)
 	@$(daemon_ENV) NOTIFY_RX=$(daemon_NOTIFY) $(RUN) "daemon/errors" tests/daemon/errors.sh
 
-daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors
+# issue 15's new-user behaviour (replay, bad frames, counters, listen, truth)
+.PHONY: check-daemon-ux
+check-daemon-ux: $(daemon_BIN) $(daemon_RX) $(daemon_TOOL)
+	@$(daemon_ENV) CDSP_TOOL=$(daemon_TOOL) $(RUN) "daemon/ux" tests/daemon/ux.sh
+
+daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors check-daemon-ux
 
 ifneq ($(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),)
 .PHONY: check-daemon-aravis

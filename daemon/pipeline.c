@@ -133,6 +133,8 @@ static void *capture_main(void *arg)
             continue;
         }
         f = cdspd_pool_back(&p->pool);
+        f->frame_id = f->t_camera_us = 0;
+        f->bad = 0;
         err[0] = 0;
         r = p->src->ops->grab(p->src, f, GRAB_TIMEOUT_MS, err, sizeof err);
         switch (r) {
@@ -146,6 +148,11 @@ static void *capture_main(void *arg)
         case CDSPD_GRAB_BAD: {
             uint64_t now = cdspd_now_us();
             cdspd_stats_add(p->stats, CDSPD_STAT(frames_bad), 1);
+            /* handed on as a marker: receivers get a bad-frame datagram for it
+             * (docs/protocol.md), not silence */
+            f->bad = 1;
+            if (cdspd_pool_publish(&p->pool))
+                cdspd_stats_add(p->stats, CDSPD_STAT(frames_dropped), 1);
             bad_since_log++;
             if (now - last_bad_log >= 10000000u) {
                 LOG_W(SOURCE, "frame skipped: %s (%llu skipped since the last such message)",
@@ -277,7 +284,11 @@ static void *proc_main(void *arg)
         rec.frame_id = f->frame_id;
         rec.t_camera_us = f->t_camera_us;
         rec.t_host_us = f->t_ready_us;
-        if (f->width != c->cam.width || f->height != c->cam.height || f->bits < 1 || f->bits > 16) {
+        if (f->bad) { /* counted and logged by the capture thread */
+            rec.status = CDSPD_ST_BAD_FRAME;
+            have_prev = 0;
+        } else if (f->width != c->cam.width || f->height != c->cam.height || f->bits < 1 ||
+                   f->bits > 16) {
             rec.status = CDSPD_ST_BAD_FRAME;
             have_prev = 0;
             cdspd_stats_add(p->stats, CDSPD_STAT(frames_bad), 1);
@@ -310,7 +321,8 @@ static void *proc_main(void *arg)
             }
         }
         cdspd_stats_add(p->stats, CDSPD_STAT(processed), 1);
-        if (cdspd_recorder_wants(&p->rec, processed) && cdspd_recorder_ready(&p->rec))
+        if (rec.status != CDSPD_ST_BAD_FRAME && cdspd_recorder_wants(&p->rec, processed) &&
+            cdspd_recorder_ready(&p->rec))
             rec.flags |= CDSPD_FLAG_RECORDED;
         fill_counters(p, &rec);
         rec.latency_us = (uint32_t)(cdspd_now_us() - f->t_ready_us);
@@ -361,6 +373,7 @@ int cdspd_pipeline_start(cdspd_pipeline **out, const cdspd_config *cfg, cdspd_st
         snprintf(err, errlen, "out of memory for the frame buffers (3 x %zu bytes)", bytes);
         goto fail;
     }
+    cdspd_pool_set_lossless(&p->pool, p->src->replay);
     if (cdspd_sender_open(&p->sender, &p->cfg, err, errlen))
         goto fail;
     if (cdspd_recorder_start(&p->rec, &p->cfg, bytes, stats, err, errlen)) {
@@ -425,9 +438,9 @@ void cdspd_pipeline_stop(cdspd_pipeline *p)
     if (!p)
         return;
     CDSPD_SET(p->stop, 1);
+    cdspd_pool_wake(&p->pool); /* first: a replay's capture thread may wait in publish */
     if (p->have_capture)
         pthread_join(p->capture, NULL);
-    cdspd_pool_wake(&p->pool);
     if (p->have_proc)
         pthread_join(p->proc, NULL);
     cdspd_recorder_stop(&p->rec);
