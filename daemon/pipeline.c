@@ -216,10 +216,11 @@ static void send_record(cdspd_pipeline *p, cdspd_record *rec, uint8_t *buf, size
         LOG_E(PROC, "record %lu did not fit its buffer", (unsigned long)rec->seq);
         return;
     }
-    if (cdspd_sender_send(&p->sender, buf, n))
-        cdspd_stats_add(p->stats, CDSPD_STAT(send_errors), 1);
-    else
-        cdspd_stats_add(p->stats, CDSPD_STAT(sent), 1);
+    {
+        uint32_t failed;
+        cdspd_sender_send(&p->sender, buf, n, &failed);
+        cdspd_stats_sent(p->stats, p->sender.n, failed);
+    }
 }
 
 static void *proc_main(void *arg)
@@ -376,6 +377,7 @@ int cdspd_pipeline_start(cdspd_pipeline **out, const cdspd_config *cfg, cdspd_st
     cdspd_pool_set_lossless(&p->pool, p->src->replay);
     if (cdspd_sender_open(&p->sender, &p->cfg, err, errlen))
         goto fail;
+    cdspd_stats_set_dests(stats, &p->cfg);
     if (cdspd_recorder_start(&p->rec, &p->cfg, bytes, stats, err, errlen)) {
         cdspd_sender_close(&p->sender);
         goto fail;

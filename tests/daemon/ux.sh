@@ -6,7 +6,7 @@
 #      bad-frame datagrams in their place, not silence;
 #   3. --check-config refuses a file: glob that matches nothing (exit 2);
 #   4. two `cdsp_tool listen` on one port: the second fails with exit 2;
-#   5. per-destination counters: a closed port next to an open one;
+#   (per-destination counters: tests/daemon/netns.sh, which needs root)
 #   6. the sim's ground truth in JSON datagrams (sim.truth), and --record
 #      saving the calibration so a replay needs no --calib.
 # Needs CDSP_TOOL (cdsp_tool) besides lib.sh's variables.
@@ -75,5 +75,15 @@ expect_rc 2 emptyglob "$CDSPD" --calib "$CALIB" --radius 10 --dest 127.0.0.1:9 \
 expect_msg emptyglob "no file matches '$work/none/*.pgm'"
 expect_rc 0 fullglob "$CDSPD" --calib "$CALIB" --radius 10 --dest 127.0.0.1:9 \
     --source "file:$frames/*.pgm" --check-config
+
+echo "--- 4. two cdsp_tool listen on one port: the second fails (exit 2)"
+port=$(free_port)
+listen_json l3 "$port" 30
+kill -0 "$l3_pid" 2>/dev/null || fail "the first listener did not start"
+expect_rc 2 listen2 "$CDSP_TOOL" listen "127.0.0.1:$port" --duration 1
+expect_msg listen2 "cannot listen on 127.0.0.1:$port: Address already in use"
+expect_msg listen2 "a unicast port has one listener"
+kill -0 "$l3_pid" 2>/dev/null || fail "the first listener died"
+kill -TERM "$l3_pid"; wait "$l3_pid" 2>/dev/null
 
 echo "PASS: new-user behaviour of cdspd"
