@@ -373,6 +373,7 @@ int main(int argc, char **argv)
         }
         if (st == CDSPD_PIPE_RUNNING && !ready) {
             ready = 1;
+            t_stats = now; /* the first window starts with the stream */
             if (!t_running)
                 t_running = now; /* a reload does not restart --duration */
             snprintf(status, sizeof status, "READY=1\nSTATUS=streaming poses from %s", cfg->source);
@@ -414,7 +415,8 @@ int main(int argc, char **argv)
             cdspd_stats_log(&w, "SIGUSR1: ");
             t_stats = now;
         }
-        if (cfg->stats_interval > 0 && (double)(now - t_stats) * 1e-6 >= cfg->stats_interval) {
+        if (ready && cfg->stats_interval > 0 &&
+            (double)(now - t_stats) * 1e-6 >= cfg->stats_interval) {
             cdspd_stats_window_take(stats, &w);
             cdspd_stats_log(&w, "");
             t_stats = now;

@@ -245,10 +245,11 @@ static void *proc_main(void *arg)
     while (!CDSPD_GET(p->stop)) {
         cdspd_frame *f;
         cdspd_record rec;
-        int done;
+        int done, starting;
 
         pthread_mutex_lock(&p->mu);
         done = p->capture_done;
+        starting = p->state == CDSPD_PIPE_STARTING;
         p->heartbeat++;
         pthread_mutex_unlock(&p->mu);
         f = cdspd_pool_take(&p->pool, done ? 1000 : wait_us);
@@ -261,7 +262,10 @@ static void *proc_main(void *arg)
                 set_state(p, CDSPD_PIPE_ENDED);
                 break;
             }
-            if (cdspd_now_us() - last < status_us)
+            /* Nothing is streamed before the source's first opening (a sim
+             * pre-rendering, a camera being found): cdspd's log says what it
+             * waits for, and status datagrams start once it ran. */
+            if (starting || cdspd_now_us() - last < status_us)
                 continue;
             last = cdspd_now_us();
             rec.kind = CDSPD_KIND_STATUS;
