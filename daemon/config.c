@@ -23,6 +23,7 @@
 #include <yaml.h>
 
 #include "cdsp_host.h"
+#include "source.h"
 
 typedef enum {
     K_STR,    /* char[CDSPD_STR] */
@@ -149,6 +150,8 @@ static const key_def keys[] = {
     {"sim.blur", K_REAL, O(sim.blur), 0, 10, NULL, "0.7", "optical blur sigma, px"},
     {"sim.texture", K_REAL, O(sim.texture), 0, 1, NULL, "0.03", "background texture amplitude"},
     {"sim.seed", K_U64, O(sim.seed), 0, 0, NULL, "7", "seed of the rendered noise"},
+    {"sim.truth", K_BOOL, O(sim.truth), 0, 1, NULL, "false",
+     "JSON datagrams carry the frame's ground truth (\"truth\": point, direction, distance)"},
     /* ---- file source ------------------------------------------------------ */
     {"file.rate", K_REAL, O(file.rate), 0, 100000, NULL, "25", "frames per second, 0 = as fast as possible"},
     {"file.loop", K_BOOL, O(file.loop), 0, 1, NULL, "false",
@@ -747,8 +750,13 @@ int cdspd_config_finish(cdspd_config *c, char *err, size_t errlen)
              c->source);
         return -1;
     }
+    /* a replay of a recording needs no --calib: --record saved it beside */
+    if (!*c->calib && kind == CDSPD_SRC_FILE)
+        cdspd_src_file_find_calib(arg, c->calib, sizeof c->calib);
     if (!*c->calib) {
-        errf(err, errlen, "key 'calib': required: the camera calibration (--calib CAM.yaml)");
+        errf(err, errlen, "key 'calib': required: the camera calibration (--calib CAM.yaml%s)",
+             kind == CDSPD_SRC_FILE ? "; none beside the frames either: DIR/RUN.yaml as --record "
+                                      "saves it, or DIR/camera.yaml" : "");
         return -1;
     }
     if (!(c->radius > 0)) {

@@ -16,6 +16,7 @@
 #include "proto.h"
 #include "record.h"
 #include "sender.h"
+#include "sim_path.h"
 #include "source.h"
 
 /* The capture thread's longest wait inside the source, ms: how quickly it
@@ -234,6 +235,9 @@ static void *proc_main(void *arg)
     /* wake at least every 100 ms (the watchdog follows the heartbeat) */
     uint64_t wait_us = status_us < 100000u ? status_us : 100000u, last = cdspd_now_us();
     static const size_t cap = 4096;
+    const char *src_arg;
+    int sim_truth = c->sim.truth && c->format == CDSPD_FORMAT_JSON &&
+                    cdspd_source_kind_parse(c->source, &src_arg) == CDSPD_SRC_SIM;
     uint8_t *buf = malloc(cap);
 
     if (!buf) {
@@ -287,6 +291,11 @@ static void *proc_main(void *arg)
         last = cdspd_now_us();
         rec.kind = CDSPD_KIND_FRAME;
         rec.frame_id = f->frame_id;
+        if (sim_truth) {
+            rec.has_truth = 1;
+            rec.truth_in_view = cdspd_sim_truth(c, f->frame_id, rec.truth_point,
+                                                rec.truth_direction, &rec.truth_distance);
+        }
         rec.t_camera_us = f->t_camera_us;
         rec.t_host_us = f->t_ready_us;
         if (f->bad) { /* counted and logged by the capture thread */

@@ -80,6 +80,13 @@ void cdspd_source_free(cdspd_source *s);
  * be listed): --check-config refuses a replay of nothing. */
 size_t cdspd_src_file_matches(const char *glob_pattern);
 
+/* The calibration saved beside a recording, for a file: source given no
+ * calib: for the first file GLOB matches, DIR/NAME.pgm, the first that
+ * exists of DIR/RUN.yaml (RUN: NAME up to its last '-', as --record names
+ * frames RUN-SEQ.pgm and saves RUN.yaml) and DIR/camera.yaml (cdsp_tool
+ * sim's). Returns 1 with the path in out, else 0. */
+int cdspd_src_file_find_calib(const char *glob_pattern, char *out, size_t cap);
+
 /* Whether a kind was built in; the error text when not. */
 int cdspd_source_available(int kind, const char **why);
 

@@ -176,6 +176,46 @@ size_t cdspd_src_file_matches(const char *glob_pattern)
     return n;
 }
 
+static int readable(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;
+    fclose(f);
+    return 1;
+}
+
+int cdspd_src_file_find_calib(const char *glob_pattern, char *out, size_t cap)
+{
+    glob_t g;
+    char dir[4096], name[4096], *slash, *dash;
+    int found = 0;
+    memset(&g, 0, sizeof g);
+    if (glob(glob_pattern, 0, NULL, &g) != 0 || g.gl_pathc == 0) {
+        globfree(&g);
+        return 0;
+    }
+    snprintf(dir, sizeof dir, "%s", g.gl_pathv[0]);
+    globfree(&g);
+    slash = strrchr(dir, '/');
+    snprintf(name, sizeof name, "%s", slash ? slash + 1 : dir);
+    if (slash)
+        slash[1] = 0;
+    else
+        dir[0] = 0;
+    dash = strrchr(name, '-');
+    if (dash) {
+        *dash = 0;
+        if ((size_t)snprintf(out, cap, "%s%s.yaml", dir, name) < cap && readable(out))
+            found = 1;
+    }
+    if (!found && (size_t)snprintf(out, cap, "%scamera.yaml", dir) < cap && readable(out))
+        found = 1;
+    if (!found && cap)
+        out[0] = 0;
+    return found;
+}
+
 int cdspd_src_file_init(cdspd_source *s, char *err, size_t errlen)
 {
     file_priv *p = calloc(1, sizeof *p);

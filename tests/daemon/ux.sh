@@ -86,4 +86,63 @@ expect_msg listen2 "a unicast port has one listener"
 kill -0 "$l3_pid" 2>/dev/null || fail "the first listener died"
 kill -TERM "$l3_pid"; wait "$l3_pid" 2>/dev/null
 
+echo "--- 5. sim.truth: the ground truth in JSON datagrams"
+# Flat light (sim.ambient=1): the detector's shading bias is 0, so a pose
+# lies within 6 of its own sigmas of the truth (cdspd_rx's derivation with
+# delta = 0; measured here: at most 2.8 sigma, 0.65 mm). Neighbouring
+# frames of a 16-frame path are about 12 mm apart, so the truth of the
+# wrong frame fails the same bound: the check sees the plumbing.
+port=$(free_port)
+listen_json l4 "$port" 60
+start_cdspd t1 --calib "$CALIB" --radius 10 --set sim.truth=true --set sim.frames=16 \
+    --set sim.rate=50 --set sim.ambient=1 --dest "127.0.0.1:$port" --format json --duration 1 \
+    --set stats_interval=0
+wait_for "$t1_pid" 90 || fail "cdspd sim.truth: exit status $?"
+sleep 0.3; kill -TERM "$l4_pid"; wait "$l4_pid" 2>/dev/null
+frames_json='select(.kind == "frame")'
+[ "$(jq -c "$frames_json" "$work/l4.out" | wc -l)" -ge 40 ] || fail "sim.truth: too few frames"
+[ "$(jq -c "$frames_json | select(.truth == null)" "$work/l4.out" | wc -l)" -eq 0 ] ||
+    fail "sim.truth: a frame datagram without truth"
+[ "$(jq -c "$frames_json | select((.status == \"ok\") != .truth.in_view)" "$work/l4.out" | wc -l)" -eq 0 ] ||
+    fail "sim.truth: a pose where the truth says out of view, or none where in view"
+# ratio |P_C - truth| / (6 |sigma_point|), per pose: its own truth, and the next frame's
+ratios='def err(a; b): [a, b] | transpose | map((.[0] - .[1]) * (.[0] - .[1])) | add | sqrt;
+        def six_sigma: .sigma.point | map(. * .) | add | sqrt * 6;'
+own=$(jq -s "$ratios [.[] | select(.kind == \"frame\" and .status == \"ok\") |
+        err(.point; .truth.point) / six_sigma] | max" "$work/l4.out")
+wrong=$(jq -s "$ratios [.[] | select(.kind == \"frame\")] as \$f |
+        [range(0; (\$f | length) - 1) | select(\$f[.].status == \"ok\" and \$f[. + 1].truth.in_view) |
+         (err(\$f[.].point; \$f[. + 1].truth.point) / (\$f[.] | six_sigma))] | min" "$work/l4.out")
+echo "worst pose / (6 sigma) against its own truth: $own; best against the next frame's: $wrong"
+awk -v r="$own" 'BEGIN { exit !(r <= 1) }' || fail "sim.truth: a pose beyond 6 sigma of its truth"
+awk -v r="$wrong" 'BEGIN { exit !(r > 1) }' || fail "sim.truth: the next frame's truth fits as well"
+expect_rc 0 truthbin "$CDSPD" --calib "$CALIB" --radius 10 --dest 127.0.0.1:9 --set sim.truth=true \
+    --check-config
+grep -q '^  truth: true' "$work/truthbin.out" || fail "--check-config does not show sim.truth"
+
+echo "--- 6. --record saves the calibration: the replay needs no --calib"
+rec=$work/rec
+port=$(free_port)
+start_cdspd rec1 --calib "$frames/camera.yaml" --radius 10 --source "file:$frames/*.pgm" \
+    --set file.rate=0 --dest "127.0.0.1:$port" --record "$rec" --set record_every=5 \
+    --set stats_interval=0
+wait_for "$rec1_pid" 60 || fail "cdspd --record: exit status $?"
+run=$(basename "$(ls "$rec"/*.jsonl)" .jsonl)
+[ -s "$rec/$run.yaml" ] || fail "--record did not save $run.yaml"
+n_rec=$(ls "$rec"/*.pgm | wc -l)
+[ "$n_rec" -eq 10 ] || fail "--record every 5th of 50 frames saved $n_rec" # a replay never skips
+# the saved calibration is the one recorded with: frame k of the replay gives
+# line k's result (within 6 of its sigmas: the replay tracks from frame k-1
+# of the recording, 5 frames back, the recording from the frame before)
+start_rx rx6 --compare-jsonl "$rec/$run.jsonl" --duration 60 --idle 2 --max-dropped 0 --min-poses 0
+start_cdspd rep --radius 10 --source "file:$rec/$run-*.pgm" --set file.rate=0 \
+    --dest "127.0.0.1:$RX_PORT" --set stats_interval=0
+wait_for "$rep_pid" 60 || fail "replay without --calib: exit status $?"
+grep -F "calibration $rec/$run.yaml" "$work/rep.log" | head -1
+grep -qF "processed 10 " "$work/rep.log" || fail "replay without --calib: not 10 frames processed"
+wait_for "$rx6_pid" 10 || fail "the replay with the saved calibration differs from the recording"
+cat "$work/rx6.out"
+expect_rc 2 nocalib "$CDSPD" --radius 10 --dest 127.0.0.1:9 --source "file:$frames/*.none"
+expect_msg nocalib "none beside the frames either"
+
 echo "PASS: new-user behaviour of cdspd"

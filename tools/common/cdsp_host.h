@@ -184,6 +184,13 @@ const char *cdsp_host_fmt_real(char buf[32], double v);
 void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_token,
                          const cdsp_result *r, cdsp_real radius);
 
+/* Ground truth of an axis through point with direction dir (any length):
+ * the foot of the perpendicular from the optical centre (P_C), the unit
+ * direction with cdsp_result's sign rule (largest-magnitude component
+ * positive) and |P_C|. */
+void cdsp_host_axis_truth(const double point[3], const double dir[3], double foot[3],
+                          double unit[3], double *distance);
+
 /* Bytes the pose fields take at most (every number at its longest); size
  * a record buffer as this plus the caller's own fields. */
 #define CDSP_HOST_JSON_POSE_MAX 2048
