@@ -59,7 +59,7 @@ static void *signal_thread(void *arg)
 /* ------------------------------------------------------------------------
  * Command line.
  * ---------------------------------------------------------------------- */
-enum { OPT_CALIB = 256, OPT_DURATION, OPT_RECORD, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION };
+enum { OPT_CALIB = 256, OPT_DURATION, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION };
 
 static const struct {
     struct option opt;
@@ -75,9 +75,10 @@ static const struct {
     {{"format", required_argument, NULL, 'f'}, "binary|json", "datagram format (key format)"},
     {{"duration", required_argument, NULL, OPT_DURATION}, "SECONDS",
      "stop after this long, counted from the source's opening (key duration)"},
-    {{"record", required_argument, NULL, OPT_RECORD}, "DIR",
-     "save every record_every-th frame and its result there (key record)"},
-    {{"set", required_argument, NULL, 'o'}, "KEY=VALUE", "set any key (repeatable)"},
+    {{"record", required_argument, NULL, 'o'}, "DIR",
+     "save every record_every-th frame, its result and the calibration there (key record; "
+     "-o is the output directory, as in cdsp_tool)"},
+    {{"set", required_argument, NULL, 'k'}, "KEY=VALUE", "set any key (repeatable)"},
     {{"verbose", no_argument, NULL, 'v'}, NULL, "log.level debug"},
     {{"quiet", no_argument, NULL, 'q'}, NULL, "log.level warn (twice: error)"},
     {{"check-config", no_argument, NULL, OPT_CHECK}, NULL,
@@ -87,7 +88,7 @@ static const struct {
     {{"help", no_argument, NULL, 'h'}, NULL, "this help"},
 };
 #define N_OPTIONS (sizeof option_table / sizeof option_table[0])
-static const char short_opts[] = "+c:s:r:d:f:o:vqh";
+static const char short_opts[] = "+c:s:r:d:f:o:k:vqh";
 
 static void usage(FILE *f)
 {
@@ -95,7 +96,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: cdspd [--config FILE] --source SRC --calib CAM.yaml --radius R\n"
             "             --dest HOST:PORT [--dest HOST:PORT ...] [--format binary|json]\n"
-            "             [--duration SECONDS] [--record DIR] [--set KEY=VALUE] [-v|-q]\n"
+            "             [--duration SECONDS] [-o|--record DIR] [-k|--set KEY=VALUE] [-v|-q]\n"
             "Capture frames, solve the pipe's axis in each (libcdsp %d.%d.%d), stream the poses "
             "over UDP.\n\n",
             CDSP_VERSION_MAJOR, CDSP_VERSION_MINOR, CDSP_VERSION_PATCH);
@@ -180,7 +181,14 @@ static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
         case 'r': key = "radius"; break;
         case 'f': key = "format"; break;
         case OPT_DURATION: key = "duration"; break;
-        case OPT_RECORD: key = "record"; break;
+        case 'o':
+            if (strchr(optarg, '=')) { /* -o KEY=VALUE was --set before 0.2: say so, do it */
+                fprintf(stderr, "cdspd: warning: -o %s: -o is --record DIR now (as cdsp_tool's "
+                        "--out); use -k/--set KEY=VALUE\n", optarg);
+                goto set;
+            }
+            key = "record";
+            break;
         case 'v': r = cdspd_config_set(c, "log.level", "debug", "-v", err, errlen); break;
         case 'q':
             quiet++;
@@ -201,7 +209,8 @@ static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
             strcpy(c->dest[c->n_dest++].text, optarg);
             ndest_cli++;
             break;
-        case 'o': {
+        case 'k':
+        set: {
             char kv[CDSPD_STR + 256], *eq;
             snprintf(kv, sizeof kv, "%s", optarg);
             eq = strchr(kv, '=');

@@ -76,6 +76,17 @@ expect_msg emptyglob "no file matches '$work/none/*.pgm'"
 expect_rc 0 fullglob "$CDSPD" --calib "$CALIB" --radius 10 --dest 127.0.0.1:9 \
     --source "file:$frames/*.pgm" --check-config
 
+echo "--- 3b. one vocabulary: -o is the output directory, polarity in words"
+expect_rc 0 vocab "$CDSPD" --calib "$CALIB" --radius 10 --dest 127.0.0.1:9 -o "$work/out" \
+    -k solver.polarity=dark -o sim.rate=5 --check-config
+grep -qx "record: \"$work/out\"" "$work/vocab.out" || fail "-o DIR is not --record DIR"
+grep -qx "  polarity: dark" "$work/vocab.out" || fail "-k solver.polarity=dark not applied"
+grep -qx "  rate: 5" "$work/vocab.out" || fail "the deprecated -o KEY=VALUE was not applied"
+expect_msg vocab "-o sim.rate=5: -o is --record DIR now"
+expect_rc 2 badpol "$CDSPD" --calib "$CALIB" --radius 10 --dest 127.0.0.1:9 \
+    --set solver.polarity=up --check-config
+expect_msg badpol "expected any, bright or dark (or 0, 1, -1), got 'up'"
+
 echo "--- 4. two cdsp_tool listen on one port: the second fails (exit 2)"
 port=$(free_port)
 listen_json l3 "$port" 30
