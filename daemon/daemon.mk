@@ -124,9 +124,11 @@ check-daemon-errors: $(daemon_BIN) $(daemon_RX) $(daemon_NOTIFY)
 	@$(daemon_ENV) NOTIFY_RX=$(daemon_NOTIFY) $(RUN) "daemon/errors" tests/daemon/errors.sh
 
 # issue 15's new-user behaviour (replay, bad frames, counters, listen, truth)
+# and the one field list (JSON, CSV, docs/protocol.md, docs/cdsp_tool.md)
 .PHONY: check-daemon-ux
 check-daemon-ux: $(daemon_BIN) $(daemon_RX) $(daemon_TOOL)
 	@$(daemon_ENV) CDSP_TOOL=$(daemon_TOOL) $(RUN) "daemon/ux" tests/daemon/ux.sh
+	@$(daemon_ENV) CDSP_TOOL=$(daemon_TOOL) $(RUN) "daemon/fields" tests/daemon/fields.sh
 
 daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors check-daemon-ux
 

@@ -312,8 +312,6 @@ size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
         /* the token names the status; st only has to be an error */
         cdsp_host_json_pose(&j, CDSP_E_ARG, cdspd_status_token(r->status), NULL,
                             (cdsp_real)r->radius);
-        cdsp_host_json_key(&j, "radius");
-        cdsp_host_json_number(&j, r->radius);
     }
     cdsp_host_json_key(&j, "source_down");
     cdsp_host_json_bool(&j, (r->flags & CDSPD_FLAG_SOURCE_DOWN) != 0);
@@ -460,7 +458,7 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
         }
         if (jbool(o, "tracked"))
             r->flags |= CDSPD_FLAG_TRACKED;
-        else
+        if (jbool(o, "full_search"))
             r->flags |= CDSPD_FLAG_FULL_SEARCH;
         if (jbool(o, "truncated"))
             r->flags |= CDSPD_FLAG_TRUNCATED;
