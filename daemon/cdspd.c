@@ -59,7 +59,7 @@ static void *signal_thread(void *arg)
 /* ------------------------------------------------------------------------
  * Command line.
  * ---------------------------------------------------------------------- */
-enum { OPT_CALIB = 256, OPT_DURATION, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION };
+enum { OPT_CALIB = 256, OPT_DURATION, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION, OPT_LIST };
 
 static const struct {
     struct option opt;
@@ -84,6 +84,8 @@ static const struct {
     {{"check-config", no_argument, NULL, OPT_CHECK}, NULL,
      "check the configuration, print it as YAML, exit (0 valid, 2 not)"},
     {{"help-keys", no_argument, NULL, OPT_HELP_KEYS}, NULL, "list every configuration key"},
+    {{"list-cameras", no_argument, NULL, OPT_LIST}, NULL,
+     "list the cameras Aravis, V4L2 and libcamera see, as --source values, exit"},
     {{"version", no_argument, NULL, OPT_VERSION}, NULL, "print the version"},
     {{"help", no_argument, NULL, 'h'}, NULL, "this help"},
 };
@@ -121,7 +123,7 @@ typedef struct {
     int argc;
     char **argv;
     const char *config_path;
-    int check, help, help_keys, version;
+    int check, help, help_keys, version, list;
 } cli;
 
 /* Pass 1: what decides the run (help, --config) and usage errors. */
@@ -145,6 +147,7 @@ static int cli_scan(cli *o, int argc, char **argv)
         case 'h': o->help = 1; break;
         case OPT_HELP_KEYS: o->help_keys = 1; break;
         case OPT_VERSION: o->version = 1; break;
+        case OPT_LIST: o->list = 1; break;
         case '?': return -1;
         default: break;
         }
@@ -243,6 +246,52 @@ static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
     return 0;
 }
 
+/* --list-cameras: one line per camera, "KIND:ID  description", to paste
+ * into --source; a comment line per source kind that found none or is not
+ * built in. Exit status 0 (none found is an answer, not an error). */
+static int list_cameras(void)
+{
+    static const struct {
+        int kind;
+        const char *name;
+        int (*list)(FILE *, char *, size_t);
+    } kinds[] = {
+#ifdef CDSPD_HAVE_ARAVIS
+        {CDSPD_SRC_ARAVIS, "aravis", cdspd_src_aravis_list},
+#else
+        {CDSPD_SRC_ARAVIS, "aravis", NULL},
+#endif
+#ifdef CDSPD_HAVE_V4L2
+        {CDSPD_SRC_V4L2, "v4l2", cdspd_src_v4l2_list},
+#else
+        {CDSPD_SRC_V4L2, "v4l2", NULL},
+#endif
+#ifdef CDSPD_HAVE_LIBCAMERA
+        {CDSPD_SRC_LIBCAMERA, "libcamera", cdspd_src_libcamera_list},
+#else
+        {CDSPD_SRC_LIBCAMERA, "libcamera", NULL},
+#endif
+    };
+    size_t i;
+    for (i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
+        char err[512] = "";
+        const char *why;
+        int n;
+        if (!kinds[i].list || !cdspd_source_available(kinds[i].kind, &why)) {
+            printf("# %s: %s\n", kinds[i].name,
+                   kinds[i].list ? why : "not built in (cdspd --version lists the sources)");
+            continue;
+        }
+        fflush(stdout);
+        n = kinds[i].list(stdout, err, sizeof err);
+        if (n < 0)
+            printf("# %s: %s\n", kinds[i].name, err);
+        else if (n == 0)
+            printf("# %s: no camera found\n", kinds[i].name);
+    }
+    return fflush(stdout) ? EXIT_RUNTIME : EXIT_OK;
+}
+
 static void apply_log_levels(const cdspd_config *c)
 {
     int i;
@@ -301,6 +350,10 @@ int main(int argc, char **argv)
                "no"
 #endif
         );
+        goto out;
+    }
+    if (o.list) {
+        rc = list_cameras();
         goto out;
     }
     if (o.help_keys) {

@@ -13,6 +13,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "config.h"
 
@@ -86,6 +87,13 @@ size_t cdspd_src_file_matches(const char *glob_pattern);
  * frames RUN-SEQ.pgm and saves RUN.yaml) and DIR/camera.yaml (cdsp_tool
  * sim's). Returns 1 with the path in out, else 0. */
 int cdspd_src_file_find_calib(const char *glob_pattern, char *out, size_t cap);
+
+/* cdspd --list-cameras: the cameras a built-in camera source sees, one line
+ * each on out, "KIND:ID" (what --source takes) then a description; returns
+ * how many (0: none), or -1 with one line in err when it could not look. */
+int cdspd_src_aravis_list(FILE *out, char *err, size_t errlen);
+int cdspd_src_v4l2_list(FILE *out, char *err, size_t errlen);
+int cdspd_src_libcamera_list(FILE *out, char *err, size_t errlen);
 
 /* Whether a kind was built in; the error text when not. */
 int cdspd_source_available(int kind, const char **why);

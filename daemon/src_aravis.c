@@ -350,3 +350,21 @@ int cdspd_src_aravis_init(cdspd_source *s, char *err, size_t errlen)
     s->ops = &aravis_ops;
     return 0;
 }
+
+int cdspd_src_aravis_list(FILE *out, char *err, size_t errlen)
+{
+    unsigned i, n;
+    (void)err;
+    (void)errlen;
+    /* GigE Vision discovery (a broadcast on every interface) and USB3 Vision */
+    arv_update_device_list();
+    n = arv_get_n_devices();
+    for (i = 0; i < n; i++) {
+        const char *id = arv_get_device_id(i), *vendor = arv_get_device_vendor(i),
+                   *model = arv_get_device_model(i), *serial = arv_get_device_serial_nbr(i),
+                   *addr = arv_get_device_address(i), *proto = arv_get_device_protocol(i);
+        fprintf(out, "aravis:%-30s %s %s, serial %s, %s %s\n", id ? id : "?", vendor ? vendor : "?",
+                model ? model : "?", serial ? serial : "?", proto ? proto : "?", addr ? addr : "");
+    }
+    return (int)n;
+}

@@ -8,7 +8,10 @@
 #   4. two `cdsp_tool listen` on one port: the second fails with exit 2;
 #   (per-destination counters: tests/daemon/netns.sh, which needs root)
 #   6. the sim's ground truth in JSON datagrams (sim.truth), and --record
-#      saving the calibration so a replay needs no --calib.
+#      saving the calibration so a replay needs no --calib;
+#   7. --list-cameras, with no camera and with the fake GigE camera
+#      (tests/daemon/list_cameras.sh, in a network namespace; FAKECAM names
+#      the fake camera when Aravis is built in).
 # Needs CDSP_TOOL (cdsp_tool) besides lib.sh's variables.
 . "$(dirname "$0")/lib.sh"
 [ -x "${CDSP_TOOL:-}" ] || { echo "$0: \$CDSP_TOOL must name cdsp_tool" >&2; exit 2; }
@@ -155,5 +158,12 @@ wait_for "$rx6_pid" 10 || fail "the replay with the saved calibration differs fr
 cat "$work/rx6.out"
 expect_rc 2 nocalib "$CDSPD" --radius 10 --dest 127.0.0.1:9 --source "file:$frames/*.none"
 expect_msg nocalib "none beside the frames either"
+
+echo "--- 7. --list-cameras (in a network namespace: discovery broadcasts)"
+if [ "$(id -u)" -ne 0 ] || ! unshare -n true 2>/dev/null; then
+    echo "SKIP: a network namespace needs root (unshare -n)"
+else
+    unshare -n -- bash "$(dirname "$0")/list_cameras.sh" "${FAKECAM:-}" || fail "--list-cameras"
+fi
 
 echo "PASS: new-user behaviour of cdspd"
