@@ -289,6 +289,9 @@ static int aravis_grab(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *er
     }
     p->last_buffer_us = cdspd_now_us();
     st = arv_buffer_get_status(b);
+    /* also for a bad frame: its bad-frame datagram carries the camera's number */
+    f->frame_id = arv_buffer_get_frame_id(b);
+    f->t_camera_us = arv_buffer_get_timestamp(b) / 1000u;
     if (st != ARV_BUFFER_STATUS_SUCCESS) {
         snprintf(err, errlen, "aravis: frame %llu incomplete (buffer status %d%s)",
                  (unsigned long long)arv_buffer_get_frame_id(b), (int)st,
@@ -313,8 +316,6 @@ static int aravis_grab(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *er
             f->height = h;
             f->bits = bits;
             f->stride = row;
-            f->frame_id = arv_buffer_get_frame_id(b);
-            f->t_camera_us = arv_buffer_get_timestamp(b) / 1000u;
         }
     }
     arv_stream_push_buffer(p->stream, b);
