@@ -1,7 +1,9 @@
 /*
  * cdsp_host.h - host-side code shared by cdsp_tool and cdspd: frame files
  * (PGM P5 read by hand, PNG through libspng), the ROS camera_info YAML
- * calibration (libyaml), and the JSON record both programs emit for a pose.
+ * calibration (libyaml), the JSON record both programs emit for a pose and
+ * its field table (fields.c: JSON, CSV and the manuals' field lists), and
+ * the ground truth of an axis as the solver reports it (truth.c).
  * Built as build/libcdsp_host.a; link it with -lspng -lyaml and libcdsp.
  *
  * Conventions:
