@@ -150,7 +150,7 @@ double tool_segment_rmse(const double a[3], const double b[3], const double q[3]
  * JSON, for plot and compare; sim's truth.json.
  * ---------------------------------------------------------------------- */
 typedef struct {
-    char *frame;        /* the "frame" field as text (a path, or cdspd's number); may be NULL */
+    char *frame;        /* "file" (the path), else the "frame" number; may be NULL */
     int ok;             /* status "ok" with a pose */
     char error[40];     /* error token when not ok */
     double t_us;        /* t_camera_us, else t_host_us; NAN when absent */

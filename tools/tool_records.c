@@ -96,7 +96,9 @@ static const char *from_json(json_object *o, tool_record *r)
     if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string))
         return "no \"status\"";
     status = json_object_get_string(st);
-    if (json_object_object_get_ex(o, "frame", &fr)) {
+    /* the frame's file when the record names one (solve: "file"), else
+     * its number ("frame") */
+    if (json_object_object_get_ex(o, "file", &fr) || json_object_object_get_ex(o, "frame", &fr)) {
         r->frame = dup_str(json_object_get_string(fr));
         if (!r->frame)
             return "out of memory";
@@ -189,12 +191,12 @@ static int read_jsonl(const char *cmd, const char *name, char *text, tool_record
 
 /* The columns used, by their header names (solve --csv). */
 enum {
-    C_FRAME, C_STATUS, C_ERROR, C_PX, C_PY, C_PZ, C_DX, C_DY, C_DZ, C_DIST,
+    C_FILE, C_FRAME, C_STATUS, C_ERROR, C_PX, C_PY, C_PZ, C_DX, C_DY, C_DZ, C_DIST,
     C_S0X, C_S0Y, C_S0Z, C_S1X, C_S1Y, C_S1Z, C_SPX, C_SPY, C_SPZ, C_SDX, C_SDY, C_SDZ, C_SDIST,
     C_CONF, C_TCAM, C_THOST, C_N
 };
 static const char *const col_name[C_N][2] = {
-    {"frame", NULL}, {"status", NULL}, {"error", NULL},
+    {"file", NULL}, {"frame", NULL}, {"status", NULL}, {"error", NULL},
     {"point_x", NULL}, {"point_y", NULL}, {"point_z", NULL},
     {"direction_x", NULL}, {"direction_y", NULL}, {"direction_z", NULL}, {"distance", NULL},
     /* segment ends: either numbering of the field list */
@@ -287,8 +289,8 @@ static void csv_row(int term, void *data)
             c->failed = 1;
             goto out;
         }
-        if (c->col[C_FRAME] >= 0)
-            r->frame = dup_str(c->field[c->col[C_FRAME]]);
+        if (c->col[C_FILE] >= 0 || c->col[C_FRAME] >= 0) /* the file, else the number */
+            r->frame = dup_str(c->field[c->col[c->col[C_FILE] >= 0 ? C_FILE : C_FRAME]]);
         status = c->field[c->col[C_STATUS]];
         r->t_us = csv_num(c, C_TCAM);
         if (isnan(r->t_us))
