@@ -18,10 +18,10 @@ static const char compare_description[] =
     "    Reads the records of `cdsp_tool solve` (JSON Lines or --csv; \"-\" is\n"
     "    standard input) or of `cdspd --format json`, and the ground truth TRUTH:\n"
     "    the truth.json that `cdsp_tool sim` writes beside its frames, or a file\n"
-    "    of the same shape ({\"frames\": [{\"frame\", \"point\", \"direction\",\n"
+    "    of the same shape ({\"frames\": [{\"file\", \"point\", \"direction\",\n"
     "    \"distance\", \"half_length\"}, ...]}) made from a reference measurement.\n"
-    "    A record is matched to the truth frame of the same file name, else to\n"
-    "    the truth frame at the same position.\n"
+    "    A record is matched to the truth frame of the same file name (\"file\"),\n"
+    "    else to the truth frame at the same position.\n"
     "\n"
     "    For each record it prints the paper's accuracy metric (Yao et al. 2024,\n"
     "    Eq. 17-21): the RMS distance of --samples points evenly spaced along the\n"
@@ -36,7 +36,7 @@ static const char compare_description[] =
 static const char compare_after[] =
     "OUTPUT\n"
     "    A table on standard output, one line per record, then the summary:\n"
-    "      frame      the record's frame\n"
+    "      file       the record's frame file (its \"frame\" number if it has none)\n"
     "      status     ok, or the record's error token (no-pipe, bad-frame, ...),\n"
     "                 or no-truth when TRUTH has no frame for it\n"
     "      rmse       the paper's axis RMSE\n"
@@ -127,7 +127,7 @@ int tool_compare_main(int argc, char **argv)
     if (width > 60)
         width = 60;
     if (!json)
-        printf("%-*s  %-10s %10s %10s %10s\n", width, "frame", "status", "rmse", "angle_deg",
+        printf("%-*s  %-10s %10s %10s %10s\n", width, "file", "status", "rmse", "angle_deg",
                "d_error");
     for (i = 0; i < rs.n; i++) {
         const tool_record *r = &rs.r[i];
@@ -151,7 +151,7 @@ int tool_compare_main(int argc, char **argv)
             cdsp_host_json j;
             cdsp_host_json_init(&j, buf, sizeof buf);
             cdsp_host_json_begin_object(&j);
-            cdsp_host_json_key(&j, "frame");
+            cdsp_host_json_key(&j, "file");
             cdsp_host_json_string(&j, frame);
             cdsp_host_json_key(&j, "status");
             cdsp_host_json_string(&j, status);

@@ -431,7 +431,11 @@ int tool_truth_read(const char *cmd, const char *path, tool_truth *t)
     for (i = 0; i < t->n; i++) {
         json_object *f = json_object_array_get_idx(frames, i), *name;
         tool_truth_frame *tf = &t->f[i];
-        if (json_object_object_get_ex(f, "frame", &name))
+        /* the frame's file name ("file"; "frame" in truth files before the
+         * field list had "file"), matched to the records' */
+        if ((json_object_object_get_ex(f, "file", &name) ||
+             json_object_object_get_ex(f, "frame", &name)) &&
+            json_object_is_type(name, json_type_string))
             tf->frame = dup_str(json_object_get_string(name));
         if (jvec(f, "point", tf->point, 3) || jvec(f, "direction", tf->direction, 3) ||
             jnum(f, "distance", &tf->distance)) {

@@ -1394,7 +1394,7 @@ static void jpeg_and_tiff_frames(void **state)
     a = RUN("solve", "--calib", calib_of(seq_dir), "--radius", "8", dir);
     expect_status(&a, 0);
     assert_int_equal(parse_lines(a.out, ra, 2), 2);
-    assert_non_null(strstr(str(key(ra[0], "frame")), "frame_0000.jpg"));
+    assert_non_null(strstr(str(key(ra[0], "file")), "frame_0000.jpg"));
     check_pose(&t, truth_frame(&t, 0), ra[0]);
     check_pose(&t, truth_frame(&t, 0), ra[1]);
     put_all(ra, 2);
