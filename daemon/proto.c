@@ -277,6 +277,17 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
 /* ------------------------------------------------------------------------
  * JSON.
  * ---------------------------------------------------------------------- */
+/* An array of doubles at full precision (cdsp_host_json_reals takes
+ * cdsp_real, which may be float). */
+static void json_doubles(cdsp_host_json *j, const double *v, int n)
+{
+    int i;
+    cdsp_host_json_begin_array(j);
+    for (i = 0; i < n; i++)
+        cdsp_host_json_number(j, v[i]);
+    cdsp_host_json_end_array(j);
+}
+
 size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
 {
     cdsp_host_json j;
@@ -299,6 +310,10 @@ size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
     if (ok) {
         cdspd_record_to_result(r, &res);
         cdsp_host_json_pose(&j, CDSP_OK, NULL, &res, (cdsp_real)r->radius);
+        cdsp_host_json_key(&j, "point_body");
+        json_doubles(&j, r->point_body, 3);
+        cdsp_host_json_key(&j, "direction_body");
+        json_doubles(&j, r->direction_body, 3);
     } else {
         /* the token names the status; st only has to be an error */
         cdsp_host_json_pose(&j, CDSP_E_ARG, cdspd_status_token(r->status), NULL,
@@ -428,6 +443,9 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
             r->inliers[1] = (uint32_t)in[1];
             r->n_edges = (uint32_t)v;
         }
+        /* body-frame fields: absent from a datagram of an older cdspd */
+        if (ok && json_object_object_get_ex(o, "point_body", &x))
+            ok = jvec(x, r->point_body, 3) && jkvec(o, "direction_body", r->direction_body, 3);
         if (ok && json_object_object_get_ex(o, "sigma", &x)) {
             ok = jkvec(x, "point", r->sigma_point, 3) && jkvec(x, "direction", r->sigma_direction, 3) &&
                  jnum(x, "distance", &r->sigma_distance);

@@ -65,6 +65,10 @@ typedef struct {
     uint32_t frames_dropped;   /* frames replaced in the pool before processing */
     uint32_t frames_bad;       /* incomplete or unusable frames skipped */
     uint32_t reconnects;       /* times the source was reopened */
+    /* the pose in the vehicle's body frame FRD through the mount key
+     * (daemon/mount.h), meaningful when status == 0, zero otherwise */
+    double point_body[3];      /* axis point nearest the body origin, pose unit (mm) */
+    double direction_body[3];  /* unit, signed to point forward */
 } cdspd_record;
 
 /* Short stable token of a status: the library's (cdsp_status_token) or
