@@ -474,9 +474,16 @@ int cdspd_config_set(cdspd_config *c, const char *key, const char *value, const 
             return -1;
         }
         for (i = 0; i < n; i++) {
+            cdspd_mavlink_url u;
+            char e[CDSPD_STR + 256];
             if (!*items[i] || strlen(items[i]) >= CDSPD_STR) {
                 errf(err, errlen, "%s: key 'mavlink': item %d: expected a URL, got '%s'", where,
                      i + 1, items[i]);
+                return -1;
+            }
+            /* the syntax here, with the file's line; the host in finish */
+            if (cdspd_mavlink_url_parse(items[i], &u, 0, e, sizeof e)) {
+                errf(err, errlen, "%s: key 'mavlink': %s", where, e);
                 return -1;
             }
         }
@@ -831,7 +838,7 @@ int cdspd_config_finish(cdspd_config *c, char *err, size_t errlen)
     for (i = 0; i < c->n_mavlink; i++) {
         cdspd_mavlink_url u;
         char e[CDSPD_STR + 256];
-        if (cdspd_mavlink_url_parse(c->mavlink[i], &u, e, sizeof e)) {
+        if (cdspd_mavlink_url_parse(c->mavlink[i], &u, 1, e, sizeof e)) {
             errf(err, errlen, "key 'mavlink': %s", e);
             return -1;
         }

@@ -90,6 +90,7 @@ daemon_TDIR := $(BUILD)/tests/daemon
 daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool \
                $(daemon_TDIR)/test_mavlink
 daemon_RX := $(daemon_TDIR)/cdspd_rx
+daemon_MAVRX := $(daemon_TDIR)/mavlink_rx
 daemon_FEED := $(daemon_TDIR)/v4l2_feed
 daemon_NOTIFY := $(daemon_TDIR)/notify_rx
 daemon_MCOUNT := $(daemon_TDIR)/malloc_count.so
@@ -124,7 +125,11 @@ check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_TOOL) $(daemon_MCOUNT)
 check-daemon-errors: $(daemon_BIN) $(daemon_RX) $(daemon_NOTIFY)
 	@$(daemon_ENV) NOTIFY_RX=$(daemon_NOTIFY) $(RUN) "daemon/errors" tests/daemon/errors.sh
 
-daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors
+.PHONY: check-daemon-mavlink
+check-daemon-mavlink: $(daemon_BIN) $(daemon_RX) $(daemon_MAVRX)
+	@$(daemon_ENV) MAVLINK_RX=$(daemon_MAVRX) $(RUN) "daemon/mavlink" tests/daemon/mavlink_e2e.sh
+
+daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors check-daemon-mavlink
 
 ifneq ($(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),)
 .PHONY: check-daemon-aravis

@@ -48,19 +48,23 @@ static int baud_code(long baud, speed_t *code)
     return -1;
 }
 
-int cdspd_mavlink_url_parse(const char *text, cdspd_mavlink_url *u, char *err, size_t errlen)
+int cdspd_mavlink_url_parse(const char *text, cdspd_mavlink_url *u, int resolve, char *err,
+                            size_t errlen)
 {
     static const char udp[] = "udpout://", ser[] = "serial://", serfc[] = "serial_flowcontrol://";
     memset(u, 0, sizeof *u);
     if (!strncmp(text, udp, sizeof udp - 1)) {
-        const char *hp = text + sizeof udp - 1;
-        char e[CDSPD_STR + 128];
+        const char *hp = text + sizeof udp - 1, *colon = strrchr(hp, ':');
+        char e[CDSPD_STR + 128], *end;
+        long port;
         u->kind = CDSPD_MAVLINK_UDPOUT;
-        if (!strchr(hp, ':') || hp[strlen(hp) - 1] == ':') {
-            snprintf(err, errlen, "'%s': expected udpout://HOST:PORT", text);
+        errno = 0;
+        port = colon ? strtol(colon + 1, &end, 10) : 0;
+        if (!colon || colon == hp || !colon[1] || *end || errno || port < 1 || port > 65535) {
+            snprintf(err, errlen, "'%s': expected udpout://HOST:PORT (PORT 1..65535)", text);
             return -1;
         }
-        if (cdspd_resolve_dest(hp, 0, &u->addr, &u->addr_len, e, sizeof e)) {
+        if (resolve && cdspd_resolve_dest(hp, 0, &u->addr, &u->addr_len, e, sizeof e)) {
             snprintf(err, errlen, "'%s': %s", text, e);
             return -1;
         }
@@ -134,9 +138,11 @@ struct cdspd_mavout {
     pthread_mutex_t mu;      /* guards what follows */
     pthread_cond_t cv;
     int stop;
+    int seen_up;             /* the source has been open: BOOT before */
     int pending;
     target tgt;
     uint64_t last_accept_us;
+    uint64_t n_sent, n_replaced, n_limited; /* poses: sent, replaced unsent, over the rate */
 };
 
 static int open_serial(mav_link *l, char *err, size_t errlen)
@@ -314,7 +320,11 @@ static void send_heartbeat(cdspd_mavout *m)
     memset(&h, 0, sizeof h);
     h.type = CDSPD_MAV_TYPE_ONBOARD_CONTROLLER;
     h.autopilot = CDSPD_MAV_AUTOPILOT_INVALID;
-    h.system_status = cdspd_stats_down(m->stats) ? CDSPD_MAV_STATE_CRITICAL : CDSPD_MAV_STATE_ACTIVE;
+    if (!cdspd_stats_down(m->stats))
+        m->seen_up = 1; /* only this thread reads or writes it */
+    h.system_status = !m->seen_up                   ? CDSPD_MAV_STATE_BOOT
+                      : cdspd_stats_down(m->stats) ? CDSPD_MAV_STATE_CRITICAL
+                                                   : CDSPD_MAV_STATE_ACTIVE;
     h.mavlink_version = CDSPD_MAVLINK_VERSION;
     send_all(m, CDSPD_MAVLINK_ID_HEARTBEAT, p, cdspd_mavlink_pack_heartbeat(p, &h));
 }
@@ -384,9 +394,21 @@ static void *mavout_main(void *arg)
     target t;
 
     pthread_mutex_lock(&m->mu);
-    while (!m->stop) {
+    for (;;) {
         uint64_t now = cdspd_now_us(), wake = next_hb;
         int i, acted = 0;
+        if (m->pending) {
+            /* first, and once more after the stop: the last pose goes out */
+            t = m->tgt;
+            m->pending = 0;
+            m->n_sent++;
+            pthread_mutex_unlock(&m->mu);
+            send_target(m, &t);
+            pthread_mutex_lock(&m->mu);
+            continue;
+        }
+        if (m->stop)
+            break;
         for (i = 0; i < m->n; i++) {
             mav_link *l = &m->links[i];
             if (l->fd < 0 && now >= l->retry_at_us) {
@@ -398,14 +420,6 @@ static void *mavout_main(void *arg)
         }
         if (acted)
             continue;
-        if (m->pending) {
-            t = m->tgt;
-            m->pending = 0;
-            pthread_mutex_unlock(&m->mu);
-            send_target(m, &t);
-            pthread_mutex_lock(&m->mu);
-            continue;
-        }
         if (now >= next_hb) {
             pthread_mutex_unlock(&m->mu);
             send_heartbeat(m);
@@ -457,7 +471,7 @@ int cdspd_mavout_start(cdspd_mavout **out, const cdspd_config *c, cdspd_stats *s
     for (i = 0; i < m->n; i++) {
         mav_link *l = &m->links[i];
         char e[CDSPD_STR + 256];
-        if (cdspd_mavlink_url_parse(c->mavlink[i], &l->u, e, sizeof e)) {
+        if (cdspd_mavlink_url_parse(c->mavlink[i], &l->u, 1, e, sizeof e)) {
             snprintf(err, errlen, "key 'mavlink': %s", e);
             free(m);
             return -1;
@@ -495,8 +509,11 @@ void cdspd_mavout_frame(cdspd_mavout *m, const cdspd_record *r, const cdspd_body
         m->tgt.radius = r->radius;
         memcpy(m->tgt.segment, r->segment, sizeof m->tgt.segment);
         m->tgt.b = *b;
+        m->n_replaced += m->pending;
         m->pending = 1; /* latest wins: an unsent older pose is replaced */
         pthread_cond_signal(&m->cv);
+    } else {
+        m->n_limited++;
     }
     pthread_mutex_unlock(&m->mu);
 }
@@ -512,6 +529,9 @@ void cdspd_mavout_stop(cdspd_mavout *m)
     pthread_mutex_unlock(&m->mu);
     if (m->have_th)
         pthread_join(m->th, NULL);
+    LOG_I(MAVLINK, "poses: %llu sent, %llu replaced by a newer one before sending, %llu over "
+          "mavlink_rate", (unsigned long long)m->n_sent, (unsigned long long)m->n_replaced,
+          (unsigned long long)m->n_limited);
     for (i = 0; i < m->n; i++)
         close_link(&m->links[i]);
     pthread_cond_destroy(&m->cv);

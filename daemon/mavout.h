@@ -2,8 +2,8 @@
  * mavout.h - cdspd's MAVLink output (docs/mavlink.md): the links of the
  * mavlink key (udpout://HOST:PORT, serial:///dev/ttyX:BAUD,
  * serial_flowcontrol:///dev/ttyX:BAUD) and a thread that writes to them
- *   - HEARTBEAT every second from the start (ACTIVE while the source is up,
- *     CRITICAL while it is lost or not yet open);
+ *   - HEARTBEAT every second from the start (BOOT until the source first
+ *     opens, then ACTIVE while it is up and CRITICAL while it is lost);
  *   - for each frame with a pipe (at most mavlink_rate per second),
  *     LANDING_TARGET and DEBUG_VECT "PIPE_DIR" from the body-frame pose.
  * The processing thread only hands over the latest pose (never blocks, never
@@ -36,9 +36,10 @@ typedef struct {
     int flow_control;  /* RTS/CTS (serial_flowcontrol://) */
 } cdspd_mavlink_url;
 
-/* Parse (and for udpout resolve) one URL of the mavlink key: 0, or -1 with
- * err naming the problem. */
-int cdspd_mavlink_url_parse(const char *text, cdspd_mavlink_url *u, char *err, size_t errlen);
+/* Parse one URL of the mavlink key (resolve: also look the udpout host
+ * up): 0, or -1 with err naming the problem. */
+int cdspd_mavlink_url_parse(const char *text, cdspd_mavlink_url *u, int resolve, char *err,
+                            size_t errlen);
 
 typedef struct cdspd_mavout cdspd_mavout;
 
