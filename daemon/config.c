@@ -198,6 +198,9 @@ static const key_def keys[] = {
      "MAVLink component id cdspd sends as (191 = MAV_COMP_ID_ONBOARD_COMPUTER)"},
     {"mavlink_rate", K_REAL, O(mavlink_rate), 0, 1000, NULL, "0",
      "at most this many LANDING_TARGET per second, 0 = one per frame with a pipe"},
+    {"mavlink_position", K_BOOL, O(mavlink_position_valid), 0, 1, NULL, "true",
+     "LANDING_TARGET carries the body-frame position (ArduPilot); false: angles only, "
+     "position_valid 0 (PX4's IRLock-style path)"},
     {"mount", K_MOUNT, O(mount), -1e9, 1e9, NULL, "forward",
      "camera on the vehicle, optical -> body FRD: forward | down | down-right | down-aft | "
      "down-left, [PRESET, x, y, z] or [roll, pitch, yaw, x, y, z] (degrees; x, y, z of the "

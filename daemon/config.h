@@ -115,6 +115,7 @@ typedef struct {
     char mavlink[CDSPD_MAX_MAVLINK][CDSPD_STR]; /* URLs: udpout://, serial://, serial_flowcontrol:// */
     int mavlink_system_id, mavlink_component_id;
     double mavlink_rate;           /* LANDING_TARGET per second at most, 0 = every frame */
+    int mavlink_position_valid;    /* LANDING_TARGET with x, y, z, q (else angles only) */
     double mount[6];               /* roll, pitch, yaw (degrees), x, y, z (pose unit): mount.h */
 
     /* filled by cdspd_config_finish */

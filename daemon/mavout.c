@@ -131,6 +131,7 @@ struct cdspd_mavout {
     uint8_t sysid, compid;
     double min_interval_us;  /* 1e6 / mavlink_rate, 0 = every frame */
     double retry_min, retry_max;
+    int position_valid;
     cdspd_stats *stats;
 
     pthread_t th;
@@ -363,13 +364,17 @@ static void send_target(cdspd_mavout *m, const target *t)
     lt.size_y = (float)(fabs(angle_y(t->segment[1]) - angle_y(t->segment[0])) + width);
     lt.target_num = 0;
     lt.frame = CDSPD_MAV_FRAME_BODY_FRD;
-    lt.x = (float)(1e-3 * t->b.point[0]);
-    lt.y = (float)(1e-3 * t->b.point[1]);
-    lt.z = (float)(1e-3 * t->b.point[2]);
-    for (i = 0; i < 4; i++)
-        lt.q[i] = (float)t->b.q[i];
-    lt.type = CDSPD_LANDING_TARGET_TYPE_VISION_OTHER;
-    lt.position_valid = 1;
+    if (m->position_valid) {
+        /* else the position fields (x, y, z, q, type) stay zero, as the
+         * message defines them when position_valid is 0 */
+        lt.x = (float)(1e-3 * t->b.point[0]);
+        lt.y = (float)(1e-3 * t->b.point[1]);
+        lt.z = (float)(1e-3 * t->b.point[2]);
+        for (i = 0; i < 4; i++)
+            lt.q[i] = (float)t->b.q[i];
+        lt.type = CDSPD_LANDING_TARGET_TYPE_VISION_OTHER;
+        lt.position_valid = 1;
+    }
     send_all(m, CDSPD_MAVLINK_ID_LANDING_TARGET, p, cdspd_mavlink_pack_landing_target(p, &lt));
 
     memset(&dv, 0, sizeof dv);
@@ -467,6 +472,7 @@ int cdspd_mavout_start(cdspd_mavout **out, const cdspd_config *c, cdspd_stats *s
     m->min_interval_us = c->mavlink_rate > 0 ? 1e6 / c->mavlink_rate : 0;
     m->retry_min = c->retry_min;
     m->retry_max = c->retry_max;
+    m->position_valid = c->mavlink_position_valid;
     m->stats = stats;
     for (i = 0; i < m->n; i++) {
         mav_link *l = &m->links[i];

@@ -8,7 +8,8 @@
 #   1. udpout://, the default mount (forward camera at the origin);
 #   2. udpout://, a preset mount with an offset (down-right, [50, -20, 100]
 #      mm) and other system/component ids;
-#   3. udpout://, a mount of arbitrary angles;
+#   3. udpout://, a mount of arbitrary angles, mavlink_position false
+#      (angles only, position fields zero);
 #   4. serial:// through a pseudo-terminal: the same checks, and the device
 #      vanishes for 2 s (closed and removed) then comes back: cdspd keeps
 #      running, reopens it with back-off, poses come again;
@@ -58,7 +59,6 @@ finish() {
         fail "$missing poses without a LANDING_TARGET, cdspd replaced $replaced"
 }
 
-if [ -z "${MAVLINK_ONLY_SERIAL:-}" ]; then
 echo "--- 1. udpout, default mount"
 start_mrx r1 --min-targets 40
 start_cdspd d1 "${common[@]}" --mavlink udpout://127.0.0.1:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
@@ -74,13 +74,12 @@ start_cdspd d2 "${common[@]}" --mavlink udpout://localhost:$MAV_PORT --dest 127.
     --set mavlink_component_id=42 --duration 4
 finish r2 d2
 
-echo "--- 3. udpout, mount [10, -60, 30, 5, 0, -40]"
-start_mrx r3 --min-targets 40 --mount 10,-60,30,5,0,-40
+echo "--- 3. udpout, mount [10, -60, 30, 5, 0, -40], angles only (mavlink_position false)"
+start_mrx r3 --min-targets 40 --mount 10,-60,30,5,0,-40 --no-position
 start_cdspd d3 "${common[@]}" --mavlink udpout://127.0.0.1:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
-    --set "mount=[10, -60, 30, 5, 0, -40]" --duration 4
+    --set "mount=[10, -60, 30, 5, 0, -40]" --set mavlink_position=false --duration 4
 finish r3 d3
 
-fi
 echo "--- 4. serial through a pseudo-terminal that vanishes and comes back"
 tty=$(cd "$work" && pwd)/ttyMAV   # serial:// takes an absolute path
 start_mrx r4 --pty "$tty" --min-targets 40 --vanish-after 2 --vanish-for 2 --min-after-reopen 10

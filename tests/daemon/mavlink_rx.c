@@ -214,13 +214,14 @@ typedef struct {
     double mount[6];
     double duration, idle, vanish_after, vanish_for;
     long min_targets, min_after_reopen;
-    int sysid, compid;
+    int sysid, compid, no_position;
 } options;
 
 static void usage(FILE *f)
 {
     fprintf(f, "usage: mavlink_rx --port-file F [--pty LINK] [--mount r,p,y,x,y,z]\n"
                "       [--sysid N] [--compid N] [--duration S] [--idle S] [--min-targets N]\n"
+               "       [--no-position (cdspd's mavlink_position false)]\n"
                "       [--vanish-after S --vanish-for S --min-after-reopen N]\n"
                "Port file: 'MAVPORT JSONPORT' (MAVPORT 0 with --pty).\n");
 }
@@ -230,7 +231,7 @@ static int parse(options *o, int argc, char **argv)
     static const struct option lo[] = {
         {"port-file", 1, 0, 'p'}, {"pty", 1, 0, 't'}, {"mount", 1, 0, 'm'},
         {"sysid", 1, 0, 's'}, {"compid", 1, 0, 'c'}, {"duration", 1, 0, 'd'},
-        {"idle", 1, 0, 'i'}, {"min-targets", 1, 0, 'n'},
+        {"idle", 1, 0, 'i'}, {"min-targets", 1, 0, 'n'}, {"no-position", 0, 0, 'o'},
         {"vanish-after", 1, 0, 'v'}, {"vanish-for", 1, 0, 'w'}, {"min-after-reopen", 1, 0, 'r'},
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     int ch;
@@ -255,6 +256,7 @@ static int parse(options *o, int argc, char **argv)
         case 'd': o->duration = atof(optarg); break;
         case 'i': o->idle = atof(optarg); break;
         case 'n': o->min_targets = atol(optarg); break;
+        case 'o': o->no_position = 1; break;
         case 'v': o->vanish_after = atof(optarg); break;
         case 'w': o->vanish_for = atof(optarg); break;
         case 'r': o->min_after_reopen = atol(optarg); break;
@@ -557,15 +559,23 @@ int main(int argc, char **argv)
             continue;
         matched++;
         expected(j, &e);
-        check(lt->frame == CDSPD_MAV_FRAME_BODY_FRD && lt->type == 3 && lt->position_valid == 1 &&
-                  lt->target_num == 0,
+        check(lt->frame == CDSPD_MAV_FRAME_BODY_FRD && lt->type == (o.no_position ? 0 : 3) &&
+                  lt->position_valid == !o.no_position && lt->target_num == 0,
               "LANDING_TARGET frame %u type %u position_valid %u target_num %u", lt->frame, lt->type,
               lt->position_valid, lt->target_num);
-        near(lt->x, 1e-3 * e.n[0], "x", j->t);
-        near(lt->y, 1e-3 * e.n[1], "y", j->t);
-        near(lt->z, 1e-3 * e.n[2], "z", j->t);
-        for (i = 0; i < 4; i++)
-            near(lt->q[i], e.q[i], "q", j->t);
+        if (o.no_position) {
+            /* the position fields zero (and not sent: trailing zeros) */
+            check(lt->x == 0 && lt->y == 0 && lt->z == 0 && lt->q[0] == 0 && lt->q[1] == 0 &&
+                      lt->q[2] == 0 && lt->q[3] == 0,
+                  "LANDING_TARGET t=%llu: position fields without position_valid",
+                  (unsigned long long)j->t);
+        } else {
+            near(lt->x, 1e-3 * e.n[0], "x", j->t);
+            near(lt->y, 1e-3 * e.n[1], "y", j->t);
+            near(lt->z, 1e-3 * e.n[2], "z", j->t);
+            for (i = 0; i < 4; i++)
+                near(lt->q[i], e.q[i], "q", j->t);
+        }
         near(lt->distance, 1e-3 * sqrt(e.n[0] * e.n[0] + e.n[1] * e.n[1] + e.n[2] * e.n[2]),
              "distance", j->t);
         near(lt->angle_x, atan2(e.pc[0], e.pc[2]), "angle_x", j->t);
