@@ -21,10 +21,13 @@ enum {
     OFF_POINT = 56, OFF_DIR = 80, OFF_DIST = 104, OFF_ALPHA = 112, OFF_LINES = 120,
     OFF_SEGMENT = 168, OFF_SIG_P = 216, OFF_SIG_D = 240, OFF_SIG_DIST = 264, OFF_RMS = 272,
     OFF_INLIERS = 288, OFF_PROC = 296, OFF_LAT = 300, OFF_IN = 304, OFF_DROP = 308, OFF_BAD = 312,
-    OFF_RECON = 316, OFF_END = 320
+    OFF_RECON = 316, OFF_END_V1 = 320,
+    /* version 2 */
+    OFF_POINT_BODY = 320, OFF_DIR_BODY = 344, OFF_END = 368
 };
 
 typedef char proto_size_check[OFF_END == CDSPD_PROTO_SIZE ? 1 : -1];
+typedef char proto_size_v1_check[OFF_END_V1 == CDSPD_PROTO_SIZE_V1 ? 1 : -1];
 
 const char *cdspd_status_token(int status)
 {
@@ -216,6 +219,8 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
     put_u32(b + OFF_DROP, r->frames_dropped);
     put_u32(b + OFF_BAD, r->frames_bad);
     put_u32(b + OFF_RECON, r->reconnects);
+    put_f64s(b + OFF_POINT_BODY, r->point_body, 3);
+    put_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
     return CDSPD_PROTO_SIZE;
 }
 
@@ -229,12 +234,12 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         *why = "not a cdspd datagram (no CDSP magic)";
         return -1;
     }
-    if (b[OFF_VERSION] != CDSPD_PROTO_VERSION) {
+    if (b[OFF_VERSION] != CDSPD_PROTO_VERSION && b[OFF_VERSION] != 1) {
         *why = "unsupported protocol version";
         return -1;
     }
     length = get_u16(b + OFF_LENGTH);
-    if (length < CDSPD_PROTO_SIZE || len < length) {
+    if (length < (b[OFF_VERSION] == 1 ? CDSPD_PROTO_SIZE_V1 : CDSPD_PROTO_SIZE) || len < length) {
         *why = "truncated datagram";
         return -1;
     }
@@ -271,6 +276,10 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
     r->frames_dropped = get_u32(b + OFF_DROP);
     r->frames_bad = get_u32(b + OFF_BAD);
     r->reconnects = get_u32(b + OFF_RECON);
+    if (r->version >= 2) {
+        get_f64s(b + OFF_POINT_BODY, r->point_body, 3);
+        get_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
+    }
     return 0;
 }
 
