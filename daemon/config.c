@@ -958,6 +958,32 @@ static void yaml_quote(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* A YAML flow list of n quoted texts, stride bytes apart from first. */
+static void dump_texts(FILE *f, const char *first, size_t stride, int n)
+{
+    int i;
+    fputc('[', f);
+    for (i = 0; i < n; i++) {
+        if (i)
+            fputs(", ", f);
+        yaml_quote(f, first + (size_t)i * stride);
+    }
+    fputc(']', f);
+}
+
+/* A YAML flow list of n numbers. */
+static void dump_reals(FILE *f, const double *v, int n)
+{
+    char b[32];
+    int i;
+    fputc('[', f);
+    for (i = 0; i < n; i++) {
+        fmt_real(b, sizeof b, v[i]);
+        fprintf(f, "%s%s", i ? ", " : "", b);
+    }
+    fputc(']', f);
+}
+
 static void dump_value(const cdspd_config *c, const key_def *k, FILE *f)
 {
     const void *field = (const char *)c + k->off;
@@ -987,42 +1013,20 @@ static void dump_value(const cdspd_config *c, const key_def *k, FILE *f)
         break;
     }
     case K_VEC3:
-        fputc('[', f);
-        for (i = 0; i < 3; i++) {
-            fmt_real(b, sizeof b, ((const double *)field)[i]);
-            fprintf(f, "%s%s", i ? ", " : "", b);
-        }
-        fputc(']', f);
+        dump_reals(f, field, 3);
         break;
     case K_INT4:
         fprintf(f, "[%d, %d, %d, %d]", ((const int *)field)[0], ((const int *)field)[1],
                 ((const int *)field)[2], ((const int *)field)[3]);
         break;
     case K_DEST:
-        fputc('[', f);
-        for (i = 0; i < c->n_dest; i++) {
-            if (i)
-                fputs(", ", f);
-            yaml_quote(f, c->dest[i].text);
-        }
-        fputc(']', f);
+        dump_texts(f, c->dest[0].text, sizeof c->dest[0], c->n_dest);
         break;
     case K_MAVLINK:
-        fputc('[', f);
-        for (i = 0; i < c->n_mavlink; i++) {
-            if (i)
-                fputs(", ", f);
-            yaml_quote(f, c->mavlink[i]);
-        }
-        fputc(']', f);
+        dump_texts(f, c->mavlink[0], sizeof c->mavlink[0], c->n_mavlink);
         break;
     case K_MOUNT:
-        fputc('[', f);
-        for (i = 0; i < 6; i++) {
-            fmt_real(b, sizeof b, ((const double *)field)[i]);
-            fprintf(f, "%s%s", i ? ", " : "", b);
-        }
-        fputc(']', f);
+        dump_reals(f, field, 6);
         break;
     }
 }

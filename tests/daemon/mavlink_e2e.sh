@@ -7,7 +7,7 @@
 # by the mount:
 #   1. udpout://, the default mount (forward camera at the origin);
 #   2. udpout://, a preset mount with an offset (down-right, [50, -20, 100]
-#      mm) and other system/component ids;
+#      mm), other system/component ids, mavlink_rate 10 (of 25 fps);
 #   3. udpout://, a mount of arbitrary angles, mavlink_position false
 #      (angles only, position fields zero);
 #   4. serial:// through a pseudo-terminal: the same checks, and the device
@@ -22,41 +22,31 @@
 common=(--calib "$CALIB" --radius 10 --format json --set sim.rate=25 --set sim.frames=16
         --set stats_interval=0)
 
-# start_mrx NAME ARGS...: mavlink_rx in the background; sets MAV_PORT,
-# JSON_PORT and NAME_pid.
+# start_mrx NAME ARGS...: mavlink_rx in the background (lib.sh's start_rx;
+# its port file holds "MAVPORT JSONPORT"); sets MAV_PORT, JSON_PORT and
+# NAME_pid.
 start_mrx() {
-    local name=$1; shift
-    rm -f "$work/$name.port"
-    "$MAVLINK_RX" --port-file "$work/$name.port" "$@" >"$work/$name.out" 2>"$work/$name.err" &
-    local pid=$!
-    pids+=("$pid")
-    eval "${name}_pid=$pid"
-    for _ in $(seq 50); do
-        if [ -s "$work/$name.port" ]; then
-            read -r MAV_PORT JSON_PORT <"$work/$name.port"
-            return 0
-        fi
-        kill -0 "$pid" 2>/dev/null || break
-        sleep 0.1
-    done
-    fail "mavlink_rx $name did not start"
+    CDSPD_RX=$MAVLINK_RX start_rx "$@"
+    read -r MAV_PORT JSON_PORT <<<"$RX_PORT"
 }
 
 # finish NAME DAEMON: wait for both, then every pose of the JSON stream must
 # have had its LANDING_TARGET unless cdspd reports it replaced by a newer
-# one before sending (latest wins; the count it logs at the end).
+# one before sending (latest wins) or held back by mavlink_rate (the counts
+# it logs at the end).
 finish() {
     local rx=$1 d=$2 rc
     wait_for "$(eval echo \$${d}_pid)" 60; rc=$?
     [ $rc -eq 0 ] || fail "cdspd ($d) exit status $rc, expected 0 after --duration"
     wait_for "$(eval echo \$${rx}_pid)" 30 || fail "mavlink_rx ($rx)"
     cat "$work/$rx.out"
-    local missing replaced
+    local missing replaced limited
     missing=$(sed -n 's/^poses without a LANDING_TARGET: \([0-9-]*\)$/\1/p' "$work/$rx.out")
     replaced=$(sed -n 's/.*poses: [0-9]* sent, \([0-9]*\) replaced.*/\1/p' "$work/$d.log")
-    [ -n "$missing" ] && [ -n "$replaced" ] || fail "$rx/$d: no pose counts"
-    [ "$missing" -ge 0 ] && [ "$missing" -le "$replaced" ] ||
-        fail "$missing poses without a LANDING_TARGET, cdspd replaced $replaced"
+    limited=$(sed -n 's/.*poses: .*, \([0-9]*\) over mavlink_rate.*/\1/p' "$work/$d.log")
+    [ -n "$missing" ] && [ -n "$replaced" ] && [ -n "$limited" ] || fail "$rx/$d: no pose counts"
+    [ "$missing" -ge 0 ] && [ "$missing" -le $((replaced + limited)) ] ||
+        fail "$missing poses without a LANDING_TARGET, cdspd replaced $replaced, held back $limited"
 }
 
 echo "--- 1. udpout, default mount"
@@ -67,11 +57,11 @@ finish r1 d1
 grep -q "sending MAVLink (system 1, component 191) to udpout://127.0.0.1:$MAV_PORT" "$work/d1.log" ||
     fail "no log line naming the link"
 
-echo "--- 2. udpout, mount down-right with an offset, system 7 component 42"
-start_mrx r2 --min-targets 40 --mount 0,-90,90,50,-20,100 --sysid 7 --compid 42
+echo "--- 2. udpout, mount down-right with an offset, system 7 component 42, mavlink_rate 10"
+start_mrx r2 --min-targets 15 --mount 0,-90,90,50,-20,100 --sysid 7 --compid 42 --max-rate 10
 start_cdspd d2 "${common[@]}" --mavlink udpout://localhost:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
     --set "mount=[down-right, 50, -20, 100]" --set mavlink_system_id=7 \
-    --set mavlink_component_id=42 --duration 4
+    --set mavlink_component_id=42 --set mavlink_rate=10 --duration 4
 finish r2 d2
 
 echo "--- 3. udpout, mount [10, -60, 30, 5, 0, -40], angles only (mavlink_position false)"
