@@ -50,7 +50,7 @@ finish() {
 }
 
 echo "--- 1. udpout, default mount"
-start_mrx r1 --min-targets 40
+start_mrx r1 --min-targets 10
 start_cdspd d1 "${common[@]}" --mavlink udpout://127.0.0.1:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
     --duration 4
 finish r1 d1
@@ -58,21 +58,21 @@ grep -q "sending MAVLink (system 1, component 191) to udpout://127.0.0.1:$MAV_PO
     fail "no log line naming the link"
 
 echo "--- 2. udpout, mount down-right with an offset, system 7 component 42, mavlink_rate 10"
-start_mrx r2 --min-targets 15 --mount 0,-90,90,50,-20,100 --sysid 7 --compid 42 --max-rate 10
+start_mrx r2 --min-targets 5 --mount 0,-90,90,50,-20,100 --sysid 7 --compid 42 --max-rate 10
 start_cdspd d2 "${common[@]}" --mavlink udpout://localhost:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
     --set "mount=[down-right, 50, -20, 100]" --set mavlink_system_id=7 \
     --set mavlink_component_id=42 --set mavlink_rate=10 --duration 4
 finish r2 d2
 
 echo "--- 3. udpout, mount [10, -60, 30, 5, 0, -40], angles only (mavlink_position false)"
-start_mrx r3 --min-targets 40 --mount 10,-60,30,5,0,-40 --no-position
+start_mrx r3 --min-targets 10 --mount 10,-60,30,5,0,-40 --no-position
 start_cdspd d3 "${common[@]}" --mavlink udpout://127.0.0.1:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
     --set "mount=[10, -60, 30, 5, 0, -40]" --set mavlink_position=false --duration 4
 finish r3 d3
 
 echo "--- 4. serial through a pseudo-terminal that vanishes and comes back"
 tty=$(cd "$work" && pwd)/ttyMAV   # serial:// takes an absolute path
-start_mrx r4 --pty "$tty" --min-targets 40 --vanish-after 2 --vanish-for 2 --min-after-reopen 10
+start_mrx r4 --pty "$tty" --min-targets 10 --vanish-after 2 --vanish-for 2 --min-after-reopen 5
 start_cdspd d4 "${common[@]}" --mavlink "serial://$tty:115200" --dest 127.0.0.1:$JSON_PORT \
     --set retry_min=0.2 --set retry_max=1 --duration 9
 finish r4 d4
