@@ -4,7 +4,7 @@
  * libcdsp recovers the 3D axis of a constant-diameter straight pipe from one
  * camera frame and the pipe's known radius (Yao et al. 2024, "Rapid 3D
  * reconstruction of constant-diameter straight pipelines via single-view
- * perspective projection"; equations restated in shared/METHOD.md).
+ * perspective projection"; equations restated in docs/method.md).
  *
  * Where a frame enters and a pose leaves:
  *
@@ -325,7 +325,7 @@ typedef struct {
                                     cdsp_edges_detect; tracking bands likewise) */
 
 /*
- * The closed form (METHOD.md): from two contour lines (undistorted px), a
+ * The closed form (docs/method.md): from two contour lines (undistorted px), a
  * pixel p_in between them on the pipe, the radius r (> 0).
  * Fills point, direction, distance, alpha, normals, lines; segment is set to
  * point; cov/sigma zero; counts zero.

@@ -2,7 +2,7 @@
  * lines.c - straight contour lines from edge points.
  *
  * Fit: total least squares, i.e. the right singular vector of the smallest
- * singular value of the N x 3 matrix [u v 1] (METHOD.md step 3), computed on
+ * singular value of the N x 3 matrix [u v 1] (docs/method.md §3), computed on
  * Hartley-normalized points (centroid at the origin, RMS distance sqrt(2);
  * Hartley 1997) so the 3x3 problem is well conditioned. The 3x3 normal matrix
  * of the normalized points is built in one pass from moments about a nearby
