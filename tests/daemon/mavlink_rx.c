@@ -269,7 +269,7 @@ static int parse(options *o, int argc, char **argv)
         {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     int ch;
     memset(o, 0, sizeof *o);
-    o->duration = 60;
+    o->duration = 600; /* a bound only: it stops --idle s after the last datagram */
     o->idle = 3;
     o->sysid = 1;
     o->compid = 191;
