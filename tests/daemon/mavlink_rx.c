@@ -443,11 +443,17 @@ static int bind_udp(int *port)
     memset(&a, 0, sizeof a);
     a.sin_family = AF_INET;
     a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    int big = 8 << 20;
     if (fd < 0 || bind(fd, (struct sockaddr *)&a, sizeof a) ||
         getsockname(fd, (struct sockaddr *)&a, &l)) {
         fprintf(stderr, "mavlink_rx: UDP socket: %s\n", strerror(errno));
         return -1;
     }
+    /* room for seconds of datagrams while this process waits for a CPU on
+     * a loaded machine (FORCE: beyond rmem_max when root; else the cap) */
+    if (setsockopt(fd, SOL_SOCKET, SO_RCVBUFFORCE, &big, sizeof big))
+        setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &big, sizeof big);
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
     *port = ntohs(a.sin_port);
     return fd;
 }
@@ -556,24 +562,32 @@ int main(int argc, char **argv)
         if (poll(p, (nfds_t)np, 50) <= 0)
             continue;
         t = now_s();
+        /* everything that is there (non-blocking reads until EAGAIN) */
         if (p[0].revents & POLLIN) {
-            ssize_t n = recv(json_fd, buf, sizeof buf, 0);
-            if (n > 0) {
-                on_json(buf, (size_t)n);
+            static uint8_t jbuf[1 << 16];
+            ssize_t n;
+            while ((n = recv(json_fd, jbuf, sizeof jbuf, 0)) > 0) {
+                on_json(jbuf, (size_t)n);
                 t_last = t;
             }
         }
         if (np == 2 && (p[1].revents & POLLIN)) {
             uint8_t tmp[4096];
-            ssize_t n = o.pty_link ? read(pty_master, tmp, sizeof tmp)
-                                   : recv_stamped(mav_fd, tmp, sizeof tmp, &t);
-            if (n > 0 && have + (size_t)n <= sizeof buf) {
+            ssize_t n;
+            double ta = t;
+            while ((n = o.pty_link ? read(pty_master, tmp, sizeof tmp)
+                                   : recv_stamped(mav_fd, tmp, sizeof tmp, &ta)) > 0) {
+                if (have + (size_t)n > sizeof buf) {
+                    check(0, "more than %zu bytes without a whole frame", sizeof buf);
+                    have = 0;
+                }
                 memcpy(buf + have, tmp, (size_t)n);
                 have += (size_t)n;
-                feed(&s, &o, buf, &have, t);
+                feed(&s, &o, buf, &have, ta);
                 t_last = t;
                 if (!o.pty_link) /* one datagram is whole frames */
                     check(have == 0, "a UDP datagram with a partial frame (%zu bytes left)", have);
+                ta = now_s(); /* the pty's bytes: when read */
             }
         }
     }
