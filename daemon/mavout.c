@@ -402,6 +402,29 @@ static void *mavout_main(void *arg)
     for (;;) {
         uint64_t now = cdspd_now_us(), wake = next_hb;
         int i, acted = 0;
+        /* links due to be (re)opened first: the first heartbeat finds them open */
+        for (i = 0; i < m->n; i++) {
+            mav_link *l = &m->links[i];
+            if (l->fd < 0 && now >= l->retry_at_us && !m->stop) {
+                pthread_mutex_unlock(&m->mu);
+                try_open(m, l, now);
+                pthread_mutex_lock(&m->mu);
+                acted = 1;
+            }
+        }
+        if (acted)
+            continue;
+        if (now >= next_hb && !m->stop) {
+            /* before the pose: a slow link busy with poses must not starve it */
+            pthread_mutex_unlock(&m->mu);
+            send_heartbeat(m);
+            pthread_mutex_lock(&m->mu);
+            /* 1 Hz on the clock, without catching up after a stall */
+            next_hb += 1000000u;
+            if (next_hb <= now)
+                next_hb = now + 1000000u;
+            continue;
+        }
         if (m->pending) {
             /* first, and once more after the stop: the last pose goes out */
             t = m->tgt;
@@ -414,27 +437,6 @@ static void *mavout_main(void *arg)
         }
         if (m->stop)
             break;
-        for (i = 0; i < m->n; i++) {
-            mav_link *l = &m->links[i];
-            if (l->fd < 0 && now >= l->retry_at_us) {
-                pthread_mutex_unlock(&m->mu);
-                try_open(m, l, now);
-                pthread_mutex_lock(&m->mu);
-                acted = 1;
-            }
-        }
-        if (acted)
-            continue;
-        if (now >= next_hb) {
-            pthread_mutex_unlock(&m->mu);
-            send_heartbeat(m);
-            pthread_mutex_lock(&m->mu);
-            /* 1 Hz on the clock, without catching up after a stall */
-            next_hb += 1000000u;
-            if (next_hb <= now)
-                next_hb = now + 1000000u;
-            continue;
-        }
         for (i = 0; i < m->n; i++)
             if (m->links[i].fd < 0 && m->links[i].retry_at_us < wake)
                 wake = m->links[i].retry_at_us;
