@@ -62,7 +62,8 @@ static const key_def keys[] = {
     {"radius", K_REAL, O(radius), 0, 1e9, NULL, "0",
      "pipe radius, in the unit the poses are reported in (mm); required (--radius)"},
     {"dest", K_DEST, 0, 0, 0, NULL, "",
-     "UDP destinations HOST:PORT (unicast, broadcast or multicast), a list; at least one (--dest)"},
+     "UDP destinations HOST:PORT (unicast, broadcast or multicast), a list; at least one, or a "
+     "mavlink link (--dest)"},
     {"format", K_CHOICE, O(format), 0, 0, "binary|json", "binary",
      "datagram format: binary (docs/protocol.md) or json (one JSON object) (--format)"},
     {"duration", K_REAL, O(duration), 0, 1e9, NULL, "0",
