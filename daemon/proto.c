@@ -319,16 +319,10 @@ size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
     if (ok) {
         cdspd_record_to_result(r, &res);
         cdsp_host_json_pose(&j, CDSP_OK, NULL, &res, (cdsp_real)r->radius);
-        cdsp_host_json_key(&j, "point_body");
-        json_doubles(&j, r->point_body, 3);
-        cdsp_host_json_key(&j, "direction_body");
-        json_doubles(&j, r->direction_body, 3);
     } else {
         /* the token names the status; st only has to be an error */
         cdsp_host_json_pose(&j, CDSP_E_ARG, cdspd_status_token(r->status), NULL,
                             (cdsp_real)r->radius);
-        cdsp_host_json_key(&j, "radius");
-        cdsp_host_json_number(&j, r->radius);
     }
     cdsp_host_json_key(&j, "source_down");
     cdsp_host_json_bool(&j, (r->flags & CDSPD_FLAG_SOURCE_DOWN) != 0);
@@ -346,6 +340,33 @@ size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
     cdsp_host_json_int(&j, r->frames_bad);
     cdsp_host_json_key(&j, "reconnects");
     cdsp_host_json_int(&j, r->reconnects);
+    /* the pose in the body frame (mount key), null without a pose */
+    cdsp_host_json_key(&j, "body");
+    if (ok) {
+        cdsp_host_json_begin_object(&j);
+        cdsp_host_json_key(&j, "point");
+        json_doubles(&j, r->point_body, 3);
+        cdsp_host_json_key(&j, "direction");
+        json_doubles(&j, r->direction_body, 3);
+        cdsp_host_json_end_object(&j);
+    } else {
+        cdsp_host_json_null(&j);
+    }
+    if (r->has_truth) {
+        cdsp_host_json_key(&j, "truth");
+        cdsp_host_json_begin_object(&j);
+        cdsp_host_json_key(&j, "in_view");
+        cdsp_host_json_bool(&j, r->truth_in_view);
+        if (r->truth_in_view) {
+            cdsp_host_json_key(&j, "point");
+            json_doubles(&j, r->truth_point, 3);
+            cdsp_host_json_key(&j, "direction");
+            json_doubles(&j, r->truth_direction, 3);
+            cdsp_host_json_key(&j, "distance");
+            cdsp_host_json_number(&j, r->truth_distance);
+        }
+        cdsp_host_json_end_object(&j);
+    }
     cdsp_host_json_end_object(&j);
     text = cdsp_host_json_finish(&j);
     return text ? strlen(text) : 0;
@@ -452,9 +473,6 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
             r->inliers[1] = (uint32_t)in[1];
             r->n_edges = (uint32_t)v;
         }
-        /* body-frame fields: absent from a datagram of an older cdspd */
-        if (ok && json_object_object_get_ex(o, "point_body", &x))
-            ok = jvec(x, r->point_body, 3) && jkvec(o, "direction_body", r->direction_body, 3);
         if (ok && json_object_object_get_ex(o, "sigma", &x)) {
             ok = jkvec(x, "point", r->sigma_point, 3) && jkvec(x, "direction", r->sigma_direction, 3) &&
                  jnum(x, "distance", &r->sigma_distance);
@@ -463,7 +481,7 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
         }
         if (jbool(o, "tracked"))
             r->flags |= CDSPD_FLAG_TRACKED;
-        else
+        if (jbool(o, "full_search"))
             r->flags |= CDSPD_FLAG_FULL_SEARCH;
         if (jbool(o, "truncated"))
             r->flags |= CDSPD_FLAG_TRUNCATED;
@@ -486,6 +504,18 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
     r->frames_dropped = (uint32_t)ju64(o, "frames_dropped", &ok);
     r->frames_bad = (uint32_t)ju64(o, "frames_bad", &ok);
     r->reconnects = (uint32_t)ju64(o, "reconnects", &ok);
+    /* the body-frame pose: absent from a datagram of an older cdspd */
+    if (r->status == 0 && json_object_object_get_ex(o, "body", &x) &&
+        json_object_is_type(x, json_type_object))
+        ok = ok && jkvec(x, "point", r->point_body, 3) && jkvec(x, "direction", r->direction_body, 3);
+    if (json_object_object_get_ex(o, "truth", &x) && json_object_is_type(x, json_type_object)) {
+        r->has_truth = 1;
+        r->truth_in_view = jbool(x, "in_view");
+        if (r->truth_in_view)
+            ok = ok && jkvec(x, "point", r->truth_point, 3) &&
+                 jkvec(x, "direction", r->truth_direction, 3) &&
+                 jnum(x, "distance", &r->truth_distance);
+    }
     json_object_put(o);
     if (!ok) {
         *why = "JSON record lacks a field or has one of the wrong type";

@@ -70,6 +70,10 @@ typedef struct {
      * (daemon/mount.h), meaningful when status == 0, zero otherwise */
     double point_body[3];      /* axis point nearest the body origin, pose unit (mm) */
     double direction_body[3];  /* unit, signed to point forward */
+    /* JSON only (not in the binary layout): the sim source's ground truth
+     * with sim.truth, as cdspd_sim_truth gives it */
+    int has_truth, truth_in_view;
+    double truth_point[3], truth_direction[3], truth_distance;
 } cdspd_record;
 
 /* Short stable token of a status: the library's (cdsp_status_token) or
