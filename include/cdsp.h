@@ -378,13 +378,20 @@ typedef struct {
                                     modelled silhouette. Default 0 (opt-in:
                                     see make bench's accuracy study for
                                     where it helps and where not yet) */
-    int max_rows;                /* scanlines sampled per contour, spread over
-                                    its inliers (16..4096). Default 256 */
+    int max_rows;                /* scanlines sampled per contour (16..4096):
+                                    the frame path takes each sampled
+                                    inlier's scanline and its two
+                                    neighbours, inliers spread evenly.
+                                    Default 2048 */
     cdsp_real max_half_width_px; /* profile half-width, px (6..CDSP_PROFILE_RANGE_PX;
                                     also kept inside 0.9 of the pipe's
                                     half-width). Default 20: a 15 px motion
                                     blur or a 3 px optical one plus the
                                     fit zones */
+    cdsp_real max_fit_chi2;      /* frame path: a contour whose pipe side fits
+                                    worse than this (fit_chi2) keeps the
+                                    detector's line (a limb in shadow, a
+                                    highlight, a plateau). Default 1 */
 } cdsp_profile_params;
 
 void cdsp_profile_params_default(cdsp_profile_params *p);
@@ -397,6 +404,12 @@ typedef struct {
                                motion, the pixel's footprint), px */
     cdsp_real contrast;     /* pipe minus background at the silhouette, gray levels */
     cdsp_real half_width;   /* window half-width used, px */
+    cdsp_real fit_chi2;     /* pipe side's chi-square per degree of freedom
+                               against the pixels' noise (<~1: the model fits) */
+    int flat;               /* 1: the limb term is not significant
+                               (F-test): the pipe side is a straight ramp,
+                               which the detector handles exactly */
+    int saturated;          /* 1: part of the profile sits at full scale */
     uint32_t rows;          /* scanlines accumulated */
 } cdsp_profile;
 
@@ -414,6 +427,13 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3],
                              const cdsp_real p_in[2], const cdsp_real ends[2][2],
                              const cdsp_profile_params *pp, cdsp_profile_ws *ws,
                              cdsp_profile *out);
+
+/* Whether the frame path moves a contour by pr->offset: 1 when the model
+ * fits (fit_chi2 <= pp->max_fit_chi2, not saturated) and is needed (a limb term, or a
+ * blur wider than the detector's window of half-width detector_half_window);
+ * 0 keeps the detector's line. */
+int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp,
+                         int detector_half_window);
 
 typedef struct {
     cdsp_edge_params edge;

@@ -115,7 +115,7 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
         st = solve_edges(img, cam, radius, ws, n, p, prior, rng, out);
         if (st == CDSP_OK && out->inliers[0] >= (uint32_t)p->track_min_inliers &&
             out->inliers[1] >= (uint32_t)p->track_min_inliers) {
-            out->flags = CDSP_FLAG_TRACKED;
+            out->flags = CDSP_FLAG_TRACKED | (out->flags & CDSP_FLAG_PROFILE);
             return CDSP_OK;
         }
     }
@@ -127,6 +127,6 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
     st = solve_edges(img, cam, radius, ws, n, p, prior, rng, out);
     if (st != CDSP_OK)
         return st;
-    out->flags = flags;
+    out->flags = flags | (out->flags & CDSP_FLAG_PROFILE);
     return CDSP_OK;
 }

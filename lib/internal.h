@@ -140,7 +140,8 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,
-                                 cdsp_profile_ws *ws, cdsp_profile *prof, cdsp_real *moved);
+                                 int detector_h, cdsp_profile_ws *ws, cdsp_profile *prof,
+                                 cdsp_real *moved);
 cdsp_status cdsp__profile_params_check(const cdsp_profile_params *p);
 cdsp_status cdsp__axis_core(const cdsp_camera *cam, const cdsp_real l1[3], const cdsp_real l2[3],
                             const cdsp_real p_in[2], cdsp_real radius, cdsp__axis *out);

@@ -266,8 +266,8 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
             cdsp_profile pr;
             cdsp_real moved = R(0);
             if (cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)((i ? best.j : best.i) + 1),
-                                     &lines[i ? best.j : best.i], best.p_in, &p->profile, pws, &pr,
-                                     &moved) == CDSP_OK) {
+                                     &lines[i ? best.j : best.i], best.p_in, &p->profile,
+                                     p->edge.half_window, pws, &pr, &moved) == CDSP_OK) {
                 edge_offset[i] = moved;
                 edge_blur[i] = pr.blur;
                 profiled++;

@@ -46,18 +46,22 @@
 
 #define BPP CDSP_PROFILE_BINS_PER_PX
 #define NB CDSP_PROFILE_NBINS
+#ifndef PROFILE_FIT_ZONE
+#define PROFILE_FIT_ZONE 30
+#endif
 
 void cdsp_profile_params_default(cdsp_profile_params *p)
 {
     p->enable = 0; /* opt-in until it beats the detector everywhere (make bench's study) */
-    p->max_rows = 256;
+    p->max_rows = 2048;
     p->max_half_width_px = R(20);
+    p->max_fit_chi2 = R(1);
 }
 
 cdsp_status cdsp__profile_params_check(const cdsp_profile_params *p)
 {
     if (!p || p->max_rows < 16 || p->max_rows > 4096 || !(p->max_half_width_px >= R(6)) ||
-        !(p->max_half_width_px <= R(CDSP_PROFILE_RANGE_PX)))
+        !(p->max_half_width_px <= R(CDSP_PROFILE_RANGE_PX)) || !(p->max_fit_chi2 > R(0)))
         return CDSP_E_ARG;
     return CDSP_OK;
 }
@@ -208,41 +212,56 @@ static cdsp_real pipe_slope(const sides *m, cdsp_real X)
 static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *mb, cdsp_real d,
                      cdsp_real z, cdsp_real W, cdsp_real s2, sides *m)
 {
+    /* Each side's basis is centred on its zone (x - xc, h(x) - h(xc)) and
+     * its values on the zone's first bin, so that the normal equations
+     * stay well conditioned in float too (raw, 1, x and sqrt are nearly
+     * collinear over a zone of a few px and the levels reach 65535). */
     cdsp_real Nb[3][3] = {{0}}, rb[3] = {0}, Np[3][3] = {{0}}, rp[3] = {0};
-    int b, i, j, nbg = 0, npp = 0;
+    cdsp_real xb = -(z + W) / R(2), xp = (z + W) / R(2), hp, mb0 = R(0), mp0 = R(0);
+    int b, i, j, nbg = 0, npp = 0, have_b = 0, have_p = 0;
+    hp = sq_at(m, xp) + s2 / R(2) * sq_curv(m, xp);
     for (b = 0; b < NB; b++) {
         cdsp_real w, x = ub[b] - d, f[3];
         if (!ws->count[b])
             continue;
         w = (cdsp_real)ws->count[b];
         if (x <= -z && x >= -W) {
+            if (!have_b) {
+                mb0 = mb[b];
+                have_b = 1;
+            }
             f[0] = R(1);
-            f[1] = x;
+            f[1] = x - xb;
             for (i = 0; i < 2; i++) {
                 for (j = 0; j < 2; j++)
                     Nb[i][j] += w * f[i] * f[j];
-                rb[i] += w * f[i] * mb[b];
+                rb[i] += w * f[i] * (mb[b] - mb0);
             }
             nbg++;
         } else if (x >= z && x <= W) {
+            if (!have_p) {
+                mp0 = mb[b];
+                have_p = 1;
+            }
             f[0] = R(1);
-            f[1] = x;
-            f[2] = sq_at(m, x) + s2 / R(2) * sq_curv(m, x);
+            f[1] = x - xp;
+            f[2] = sq_at(m, x) + s2 / R(2) * sq_curv(m, x) - hp;
             for (i = 0; i < 3; i++) {
                 for (j = 0; j < 3; j++)
                     Np[i][j] += w * f[i] * f[j];
-                rp[i] += w * f[i] * mb[b];
+                rp[i] += w * f[i] * (mb[b] - mp0);
             }
             npp++;
         }
     }
     if (nbg < 3 || npp < 4 || !solve_small(Nb, rb, 2) || !solve_small(Np, rp, 3))
         return 0;
-    m->D = rb[0];
+    /* back to D + E x and A + B x + C h(x) */
     m->E = rb[1];
-    m->A = rp[0];
+    m->D = mb0 + rb[0] - rb[1] * xb;
     m->B = rp[1];
     m->C = rp[2];
+    m->A = mp0 + rp[0] - rp[1] * xp - rp[2] * hp;
     return 1;
 }
 
@@ -313,8 +332,8 @@ static cdsp_status model_solve(const cdsp_profile_ws *ws, cdsp_real half, cdsp_r
         W = half - R_FABS(d) - R(0.25);
         if (z > W - R(3))
             z = W - R(3);
-        if (W > z + R(10))
-            W = z + R(10);
+        if (W > z + R(PROFILE_FIT_ZONE))
+            W = z + R(PROFILE_FIT_ZONE);
         if (!(z >= R(1)) || !fit_sides(ws, ub, mb, d, z, W, s2, &m))
             return CDSP_E_NOCONVERGE;
         a = d - W;
@@ -364,9 +383,10 @@ static cdsp_status model_solve(const cdsp_profile_ws *ws, cdsp_real half, cdsp_r
     for (b = 0; b < NB; b++) {
         cdsp_real x = ub[b] - d;
         if (ws->count[b] > 1 && R_FABS(x) >= z && R_FABS(x) <= W) {
-            cdsp_real c = (cdsp_real)ws->count[b], s = (cdsp_real)ws->sum[b];
-            var_pix += (cdsp_real)ws->sumsq[b] - s * s / c;
-            dof += c - R(1);
+            /* c sumsq - sum^2 exactly in 64 bits (c <= 4096 rows x 1 per bin) */
+            uint64_t c = ws->count[b], sm = ws->sum[b], q = c * ws->sumsq[b] - sm * sm;
+            var_pix += (cdsp_real)q / (cdsp_real)c;
+            dof += (cdsp_real)c - R(1);
         }
     }
     if (dof > R(0))
@@ -379,7 +399,81 @@ static cdsp_status model_solve(const cdsp_profile_ws *ws, cdsp_real half, cdsp_r
     out->contrast = J;
     out->sigma_offset = R_FABS(J) > R(0) ? R_SQRT(varM) / R_FABS(J) : R(0);
     out->half_width = W;
+    {
+        /* the pipe side's fit quality: chi-square per bin against the
+         * bins' own noise (var_pix / count) */
+        cdsp_real chi = R(0);
+        int nb = 0;
+        for (b = 0; b < NB; b++) {
+            cdsp_real x = ub[b] - d;
+            if (ws->count[b] && x >= z && x <= W && var_pix > R(0)) {
+                /* the bin's noise, floored at 0.2 % of the step: a model
+                 * error that small is not a misfit (noise-free frames) */
+                cdsp_real r = mb[b] - (pipe_at(&m, x) + s2 / R(2) * m.C * sq_curv(&m, x));
+                chi += r * r / (var_pix / (cdsp_real)ws->count[b] + R(4e-6) * J * J);
+                nb++;
+            }
+        }
+        out->fit_chi2 = nb > 3 ? chi / (cdsp_real)(nb - 3) : R(0);
+    }
+    {
+        /* Is the pipe side's limb term significant? F-test of the model
+         * against a straight pipe side A + B s (the detector's second pass
+         * is exact for straight sides): F = (RSS_line - RSS_model) /
+         * (RSS_model / dof); 10 is far beyond chance for one parameter. */
+        cdsp_real S0 = 0, S1 = 0, S2 = 0, T0 = 0, T1 = 0, T2 = 0, rss_m = 0, det, bl, al;
+        int nbin = 0;
+        for (b = 0; b < NB; b++) {
+            cdsp_real x = ub[b] - d, w = (cdsp_real)ws->count[b], r, y;
+            if (!ws->count[b] || x < z || x > W)
+                continue;
+            y = mb[b] - mb[NB / 2 + (int)(z * R(BPP))]; /* a level near the zone: conditioning */
+            S0 += w;
+            S1 += w * x;
+            S2 += w * x * x;
+            T0 += w * y;
+            T1 += w * x * y;
+            T2 += w * y * y;
+            r = mb[b] - (pipe_at(&m, x) + s2 / R(2) * m.C * sq_curv(&m, x));
+            rss_m += w * r * r;
+            nbin++;
+        }
+        det = S0 * S2 - S1 * S1;
+        out->flat = 1;
+        if (nbin > 4 && det > R(0)) {
+            cdsp_real rss_l;
+            bl = (S0 * T1 - S1 * T0) / det;
+            al = (T0 - bl * S1) / S0;
+            rss_l = T2 - al * T0 - bl * T1; /* residual of the weighted line fit */
+            if (rss_m > R(0) && rss_l - rss_m > R(10) * rss_m / (cdsp_real)(nbin - 3))
+                out->flat = 0;
+        }
+    }
     return CDSP_OK;
+}
+
+/* Any bin within a gray level of full scale (255, 4095, 65535): a
+ * saturation plateau, which no side model here describes. */
+static int saturated(const cdsp_profile_ws *ws, const cdsp_image *img)
+{
+    uint32_t full = (1u << img->bits) - 1u;
+    int b;
+    for (b = 0; b < NB; b++)
+        if (ws->count[b] && ws->sum[b] >= (full - 1u) * ws->count[b])
+            return 1;
+    return 0;
+}
+
+int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp, int detector_h)
+{
+    if (!pr || !pp || !(pr->fit_chi2 <= pp->max_fit_chi2) || pr->saturated)
+        return 0; /* the model does not fit: a shadowed limb, a highlight, a plateau */
+    /* a straight pipe side and a blur the detector's window spans (blur
+     * zone 3.5 sigma + 1.5 inside h + 1/2): the partial-area estimate is
+     * exact there and less noisy than the model's wider window */
+    if (pr->flat && R(3.5) * pr->blur + R(1.5) <= (cdsp_real)detector_h + R(0.5))
+        return 0;
+    return 1;
 }
 
 cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3], const cdsp_real p_in[2],
@@ -436,6 +530,7 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3], con
         return CDSP_E_FEW_POINTS;
     st = model_solve(ws, half, R_FABS(side), out);
     out->rows = (uint32_t)used;
+    out->saturated = saturated(ws, img);
     return st;
 }
 
@@ -452,7 +547,8 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3], con
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,
-                                 cdsp_profile_ws *ws, cdsp_profile *prof, cdsp_real *moved)
+                                 int detector_h, cdsp_profile_ws *ws, cdsp_profile *prof,
+                                 cdsp_real *moved)
 {
     const cdsp_real eps = R(0.5);
     cdsp_real side, nu[2], tu[2], half, scale_sum = R(0), du;
@@ -475,7 +571,8 @@ cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, 
         cnt += label[i] == lab;
     if (cnt < 16)
         return CDSP_E_FEW_POINTS;
-    stride = (cnt + (size_t)pp->max_rows - 1) / (size_t)pp->max_rows;
+    /* three scanlines per sampled inlier (below) */
+    stride = (3 * cnt + (size_t)pp->max_rows - 1) / (size_t)pp->max_rows;
     ws_clear(ws);
     for (i = 0; i < n; i++) {
         cdsp_real d, f[2], p2[2], q[2], qt[2], qn[2], nd[2], nl, g[2], sc;
@@ -511,9 +608,23 @@ cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, 
         }
         if (!(sc > R(0.1)))
             continue;
-        if (accumulate(img, ws, q, nd, half * sc)) {
-            used++;
-            scale_sum += sc;
+        {
+            /* this scanline and its two neighbours (the detector reads one
+             * line in step; the profile's noise wants them all): along the
+             * distorted tangent, one scanline per step */
+            cdsp_real td[2] = {-nd[1], nd[0]}, ta = R_FABS(nd[0]) >= R_FABS(nd[1]) ? td[1] : td[0];
+            int j;
+            if (!(R_FABS(ta) > R(0.5)))
+                continue;
+            for (j = -1; j <= 1; j++) {
+                cdsp_real qj[2];
+                qj[0] = q[0] + (cdsp_real)j * td[0] / R_FABS(ta);
+                qj[1] = q[1] + (cdsp_real)j * td[1] / R_FABS(ta);
+                if (accumulate(img, ws, qj, nd, half * sc)) {
+                    used++;
+                    scale_sum += sc;
+                }
+            }
         }
     }
     if (used < 16)
@@ -522,6 +633,11 @@ cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, 
     if (st != CDSP_OK)
         return st;
     prof->rows = (uint32_t)used;
+    prof->saturated = saturated(ws, img);
+    if (!cdsp_profile_applies(prof, pp, detector_h)) {
+        *moved = R(0);
+        return prof->fit_chi2 <= pp->max_fit_chi2 ? CDSP_OK : CDSP_E_NOCONVERGE;
+    }
     du = prof->offset * (cdsp_real)used / scale_sum;
     /* move the line du toward the pipe: l.(p + du nu) = du (nu . l) */
     ln->l[2] -= du * (nu[0] * ln->l[0] + nu[1] * ln->l[1]);
