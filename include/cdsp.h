@@ -380,6 +380,8 @@ typedef struct {
     uint32_t sum[CDSP_PROFILE_NBINS];
     uint64_t sumsq[CDSP_PROFILE_NBINS];
     cdsp_real sum_u[CDSP_PROFILE_NBINS];
+    cdsp_real mean_u[CDSP_PROFILE_NBINS], mean_v[CDSP_PROFILE_NBINS]; /* the fit's
+                               bins (here, not on an MCU's small stack) */
 } cdsp_profile_ws;
 
 typedef struct {

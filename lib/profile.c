@@ -306,10 +306,10 @@ static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const
 
 /* The model on the bins: silhouette d (px from the line toward the pipe),
  * blur, contrast, noise of d. */
-static cdsp_status model_solve(const cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px,
+static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px,
                                cdsp_profile *out)
 {
-    cdsp_real ub[NB], mb[NB];
+    cdsp_real *ub = ws->mean_u, *mb = ws->mean_v;
     /* start from a wide blur (fit zones at the window's ends), then adapt */
     cdsp_real d = R(0), s2 = (half / R(6)) * (half / R(6)), var_pix = R(0), dof = R(0), varM = R(0);
     sides m;
