@@ -55,7 +55,7 @@ void cdsp_profile_params_default(cdsp_profile_params *p)
     p->enable = 0; /* opt-in until it beats the detector everywhere (make bench's study) */
     p->max_rows = 2048;
     p->max_half_width_px = R(20);
-    p->max_fit_chi2 = R(1);
+    p->max_fit_chi2 = R(0.25);
 }
 
 cdsp_status cdsp__profile_params_check(const cdsp_profile_params *p)
