@@ -125,7 +125,15 @@ check-daemon-sim: $(daemon_BIN) $(daemon_RX) $(daemon_TOOL) $(daemon_MCOUNT)
 check-daemon-errors: $(daemon_BIN) $(daemon_RX) $(daemon_NOTIFY)
 	@$(daemon_ENV) NOTIFY_RX=$(daemon_NOTIFY) $(RUN) "daemon/errors" tests/daemon/errors.sh
 
-daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors
+# issue 15's new-user behaviour (replay, bad frames, counters, listen, truth)
+# and the one field list (JSON, CSV, docs/protocol.md, docs/cdsp_tool.md)
+.PHONY: check-daemon-ux
+daemon_FAKECAM := $(if $(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),$(BUILD)/fakecam/cdsp_fakecam)
+check-daemon-ux: $(daemon_BIN) $(daemon_RX) $(daemon_TOOL) $(daemon_FAKECAM)
+	@$(daemon_ENV) CDSP_TOOL=$(daemon_TOOL) FAKECAM=$(daemon_FAKECAM) $(RUN) "daemon/ux" tests/daemon/ux.sh
+	@$(daemon_ENV) CDSP_TOOL=$(daemon_TOOL) $(RUN) "daemon/fields" tests/daemon/fields.sh
+
+daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors check-daemon-ux
 
 ifneq ($(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),)
 .PHONY: check-daemon-aravis
