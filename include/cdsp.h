@@ -421,12 +421,30 @@ typedef struct {
     int n_clutter;             /* <= CDSP_RENDER_MAX_CLUTTER, behind or in front */
     cdsp_clutter clutter[CDSP_RENDER_MAX_CLUTTER];
     uint32_t texture_seed;
+    /* Added for the detection tests and benchmark (issue 10); all 0 in
+     * cdsp_scene_default, and 0 leaves a frame bit-identical to before. */
+    cdsp_real background_ramp[2]; /* background brightness slope, fraction of
+                                  full scale per undistorted px along u and v,
+                                  about the principal point: a ramp that
+                                  crosses the pipe's level flips the contrast
+                                  along a contour */
+    cdsp_real specular;        /* Blinn-Phong highlight on the pipe body:
+                                  specular * max(0, n.h)^specular_exp added
+                                  (fraction of full scale; values above full
+                                  scale saturate) */
+    cdsp_real specular_exp;    /* its exponent (>= 1 when specular > 0) */
+    cdsp_real motion_px[2];    /* linear motion blur: the image moves by this
+                                  vector (distorted px) during the exposure;
+                                  |motion| <= CDSP_RENDER_MAX_MOTION_PX */
 } cdsp_scene;
+
+#define CDSP_RENDER_MAX_MOTION_PX 64
 
 void cdsp_scene_default(cdsp_scene *s);
 
-/* Floats of scratch cdsp_render needs for a w x h frame (blur buffer and a
- * line buffer); 0 is fine when blur_sigma_px == 0. */
+/* Floats of scratch cdsp_render needs for a w x h frame (two frame buffers,
+ * the second for motion blur, and a line buffer); 0 is fine when
+ * blur_sigma_px == 0 and motion_px is zero. */
 size_t cdsp_render_scratch_size(int width, int height);
 
 /*
@@ -435,7 +453,8 @@ size_t cdsp_render_scratch_size(int width, int height);
  * otherwise). Anti-aliased by exact area coverage along the pipe's contours
  * (supersampled near end caps and clutter), with the camera's distortion.
  * rng supplies sensor noise (may be NULL when noise_sigma == 0).
- * scratch: cdsp_render_scratch_size() floats, or NULL without blur.
+ * scratch: cdsp_render_scratch_size() floats, or NULL without blur (optical
+ * or motion).
  */
 cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out,
                         size_t stride, int out_bits, float *scratch, size_t scratch_len,
