@@ -412,6 +412,42 @@ static void record(tally *t, const frame_spec *f, int positive_frame, cdsp_statu
     }
 }
 
+/* sup_render, or with BENCH_DETECT_CACHE=dir the frame saved there by an
+ * earlier run with the same arguments (raw pixels; rendering is most of the
+ * run time, so detection changes can be compared quickly). */
+static void *cached_render(const frame_spec *f, uint64_t seed, int i, cdsp_image *img)
+{
+    const char *dir = getenv("BENCH_DETECT_CACHE");
+    size_t bytes = (size_t)f->cam.width * (size_t)f->cam.height * (f->out_bits <= 8 ? 1u : 2u);
+    char path[512];
+    void *px;
+    FILE *fp;
+    if (!dir)
+        return sup_render(&f->s, &f->cam, f->out_bits, seed, img);
+    snprintf(path, sizeof path, "%s/frame-%04d-%llu.raw", dir, i, (unsigned long long)seed);
+    fp = fopen(path, "rb");
+    if (fp) {
+        px = malloc(bytes);
+        if (px && fread(px, 1, bytes, fp) == bytes) {
+            fclose(fp);
+            img->data = px;
+            img->width = f->cam.width;
+            img->height = f->cam.height;
+            img->stride = (size_t)f->cam.width * (f->out_bits <= 8 ? 1u : 2u);
+            img->bits = f->out_bits;
+            return px;
+        }
+        free(px);
+        fclose(fp);
+    }
+    px = sup_render(&f->s, &f->cam, f->out_bits, seed, img);
+    if (px && (fp = fopen(path, "wb")) != NULL) {
+        fwrite(px, 1, bytes, fp);
+        fclose(fp);
+    }
+    return px;
+}
+
 /* BENCH_DETECT_DUMP=dir: each frame as dir/frame-NNNN.pgm (8 bit, scaled
  * from the rendered bit depth), to look at what the generator draws. */
 static void dump_pgm(const char *dir, int i, const cdsp_image *img, int out_bits)
@@ -490,7 +526,7 @@ int main(int argc, char **argv)
             positive(&gen, &f);
         else
             negative(&gen, &f, (i - npos) % NNEG);
-        px = sup_render(&f.s, &f.cam, f.out_bits, (uint64_t)i + 1000 * seed, &img);
+        px = cached_render(&f, (uint64_t)i + 1000 * seed, i, &img);
         if (!px) {
             fprintf(stderr, "bench_detect: frame %d did not render\n", i);
             return 1;
