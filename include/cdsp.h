@@ -70,9 +70,15 @@ typedef double cdsp_real;
 #define CDSP_MAX_POINTS 2048
 #endif
 
-/* Candidate lines RANSAC extracts before the pair is chosen. */
+/* Candidate lines RANSAC extracts before the pair is chosen (the most
+ * max_lines may ask for). Each costs one pass over the points. */
 #ifndef CDSP_MAX_LINES
-#define CDSP_MAX_LINES 8
+#define CDSP_MAX_LINES 24
+#endif
+
+/* Ranked pipe candidates kept in the workspaces (the chosen one first). */
+#ifndef CDSP_MAX_CANDIDATES
+#define CDSP_MAX_CANDIDATES 8
 #endif
 
 /* ------------------------------------------------------------------------
@@ -264,8 +270,14 @@ typedef struct {
                                  line normal, degrees. Default 20 */
     cdsp_real confidence;     /* RANSAC success probability for the adaptive
                                  iteration count. Default 0.999 */
-    int max_iterations;       /* hard cap per line. Default 300 */
-    int max_lines;            /* candidate lines (<= CDSP_MAX_LINES). Default 6 */
+    int max_iterations;       /* hard cap of hypotheses per line. Default 300.
+                                 Half of them are guided (a second point on
+                                 the first one's edge direction, see
+                                 lib/lines.c), so a short contour among long
+                                 clutter edges is still sampled. */
+    int max_lines;            /* candidate lines (<= CDSP_MAX_LINES). Default
+                                 24; when reached while significant points
+                                 remain, CDSP_FLAG_CAPPED is set */
     int min_inliers;          /* a line needs at least this many. Default 12 */
     cdsp_real min_overlap;    /* a pair's contours must overlap along the pipe
                                  by this fraction of the shorter one. Default 0.5 */
@@ -274,7 +286,12 @@ typedef struct {
     int polarity;             /* 0 either; +1 pipe brighter than background;
                                  -1 darker. Default 0 */
     cdsp_real min_distance, max_distance; /* plausible |P_C|, radius units;
-                                 0 = no bound. Default 0, 0 */
+                                 0 = no bound. Default 0, 0. With a bound,
+                                 no pose outside it is ever reported. */
+    cdsp_real min_support;    /* fraction of the overlap each contour's inliers
+                                 must cover (in 32 bins along it): support all
+                                 on one short piece is not a contour. Default
+                                 0.35 */
 } cdsp_pair_params;
 
 void cdsp_pair_params_default(cdsp_pair_params *p);
@@ -310,11 +327,52 @@ typedef struct {
                                 marks the inliers of contour k (valid until the
                                 workspace is used again); 0 from cdsp_axis_solve */
     uint32_t flags;          /* CDSP_FLAG_* */
+    /* Since issue 10: how sure, and on what evidence. */
+    cdsp_real confidence;    /* in [0, 1]: how likely this is the pipe, from the
+                                pair's evidence and its margin over the best
+                                rival (see "The pair score" below); calibrated
+                                on `make bench-detect`. 0 from cdsp_axis_solve */
+    cdsp_real score;         /* the pair score the pose won with (below) */
+    cdsp_real noise;         /* frame path: the frame's measured noise sigma,
+                                gray levels (0 on the points path) */
+    cdsp_real min_step;      /* frame path: the edge step required, gray levels */
+    uint32_t n_lines;        /* candidate contour lines considered */
+    uint32_t n_candidates;   /* plausible pipe candidates found (>= 1 on CDSP_OK);
+                                the ranked list is in the workspace */
 } cdsp_result;
 
 #define CDSP_FLAG_TRACKED 1u     /* found in the bands around the prior */
 #define CDSP_FLAG_FULL_SEARCH 2u /* searched the whole frame / ROI */
 #define CDSP_FLAG_TRUNCATED 4u   /* more edges than CDSP_MAX_EDGES were found */
+#define CDSP_FLAG_CAPPED 8u      /* max_lines lines were extracted while enough
+                                    free points for another remained: a contour
+                                    may not have been considered */
+
+/*
+ * The pair score (issue 10; lib/pair.c). Every pair of candidate lines that
+ * passes the plausibility tests (opposite polarity forming a band, within
+ * max_contour_angle, overlapping by min_overlap, not crossing inside their
+ * stretch, a band at least as wide as the edge window 2 half_window + 1,
+ * each contour's support covering min_support of the overlap, the closed
+ * form's distance inside [min_distance, max_distance]) is scored
+ *   S = sqrt(n1 c1 q1 * n2 c2 q2) * sqrt(w / w0) * T
+ * with, per contour k: n_k its inliers on the common stretch, c_k its mean
+ * edge step divided by the frame's step threshold (contrast), q_k the
+ * fraction of the overlap its inliers cover (spread, not one short piece);
+ * w the band's width in px (w0 = 2 half_window + 1: the larger band of two
+ * otherwise equal ones is the pipe a person points the camera at); T, in
+ * tracking, 1 + 2 exp(-e^2 / 2) with e the pair's offset from the prior's
+ * contours in units of track_band_px (the pipe being followed wins over a
+ * newcomer). A contour belongs to one pipe: pairs are taken best first and
+ * a pair sharing a line with a better one is dropped, except that a pair is
+ * replaced by the two pairs its lines form with others when those two
+ * together score more (a gap between two pipes of a rack shares one contour
+ * with each). The survivors, ranked, are the candidates (the workspace's
+ * cand[], first = the pose returned).
+ * confidence = E * M, E = (1 - exp(-min(n1 q1, n2 q2) / 25)) * min(1, c / 4)
+ * (evidence: supported points and contrast c = min(c1, c2)), M = 1 - (S2 /
+ * S1)^2 (margin over the best rival candidate S2, 0 when none).
+ */
 
 /*
  * The closed form (METHOD.md): from two contour lines (undistorted px), a
@@ -340,13 +398,34 @@ typedef struct {
                                  predicted contour in tracking mode. Default 12 */
     int track_min_inliers;    /* below this per contour, tracking falls back to a
                                  full search. Default 30 */
+    cdsp_real noise_factor;   /* frame path: an edge needs a step of at least
+                                 min(edge.min_contrast * range, max(noise_factor
+                                 * sigma, 2)) gray levels, sigma the frame's
+                                 measured noise, range the data's real range
+                                 (2^b - 1 for the largest value seen, so Mono10/12
+                                 in 16-bit containers count as 10/12 bit).
+                                 0 = the fixed fraction alone. Default 10 */
+    cdsp_real min_confidence; /* a pose with a lower confidence is reported as
+                                 CDSP_E_NO_PIPE. Default 0 (every pose) */
 } cdsp_params;
 
 void cdsp_params_default(cdsp_params *p);
 
 /* Workspace of the points path: one label byte per point. */
+/* A ranked pipe candidate: its two contour lines (undistorted px, as in
+ * cdsp_result.lines), a pixel between them, its score and confidence, and
+ * the labels of its inliers in the workspace's label array. */
+typedef struct {
+    cdsp_real lines[2][3];
+    cdsp_real p_in[2];
+    cdsp_real score, confidence;
+    uint8_t label[2];
+} cdsp_candidate;
+
 typedef struct {
     uint8_t label[CDSP_MAX_POINTS];
+    cdsp_candidate cand[CDSP_MAX_CANDIDATES]; /* ranked, best first; result.n_candidates
+                                                 of them (at most CDSP_MAX_CANDIDATES) */
 } cdsp_points_ws;
 
 /* Workspace of the frame path. Large (CDSP_MAX_EDGES * (4 reals + 1));
@@ -354,6 +433,7 @@ typedef struct {
 typedef struct {
     cdsp_edge edge[CDSP_MAX_EDGES];
     uint8_t label[CDSP_MAX_EDGES];
+    cdsp_candidate cand[CDSP_MAX_CANDIDATES]; /* as in cdsp_points_ws */
 } cdsp_frame_ws;
 
 /*
