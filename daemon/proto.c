@@ -21,7 +21,7 @@ enum {
     OFF_POINT = 56, OFF_DIR = 80, OFF_DIST = 104, OFF_ALPHA = 112, OFF_LINES = 120,
     OFF_SEGMENT = 168, OFF_SIG_P = 216, OFF_SIG_D = 240, OFF_SIG_DIST = 264, OFF_RMS = 272,
     OFF_INLIERS = 288, OFF_PROC = 296, OFF_LAT = 300, OFF_IN = 304, OFF_DROP = 308, OFF_BAD = 312,
-    OFF_RECON = 316, OFF_END = 320
+    OFF_RECON = 316, OFF_CONF = 320, OFF_END = 328
 };
 
 typedef char proto_size_check[OFF_END == CDSPD_PROTO_SIZE ? 1 : -1];
@@ -76,6 +76,7 @@ void cdspd_record_set_result(cdspd_record *r, const cdsp_result *res)
     r->inliers[0] = res->inliers[0];
     r->inliers[1] = res->inliers[1];
     r->n_edges = res->n_edges;
+    r->confidence = (double)res->confidence;
     r->flags &= ~(CDSPD_FLAG_TRACKED | CDSPD_FLAG_FULL_SEARCH | CDSPD_FLAG_TRUNCATED);
     if (res->flags & CDSP_FLAG_TRACKED)
         r->flags |= CDSPD_FLAG_TRACKED;
@@ -107,6 +108,7 @@ void cdspd_record_to_result(const cdspd_record *r, cdsp_result *res)
     res->inliers[0] = r->inliers[0];
     res->inliers[1] = r->inliers[1];
     res->n_edges = r->n_edges;
+    res->confidence = (cdsp_real)r->confidence;
     if (r->flags & CDSPD_FLAG_TRACKED)
         res->flags |= CDSP_FLAG_TRACKED;
     if (r->flags & CDSPD_FLAG_FULL_SEARCH)
@@ -216,6 +218,7 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
     put_u32(b + OFF_DROP, r->frames_dropped);
     put_u32(b + OFF_BAD, r->frames_bad);
     put_u32(b + OFF_RECON, r->reconnects);
+    put_f64(b + OFF_CONF, r->confidence);
     return CDSPD_PROTO_SIZE;
 }
 
@@ -271,6 +274,7 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
     r->frames_dropped = get_u32(b + OFF_DROP);
     r->frames_bad = get_u32(b + OFF_BAD);
     r->reconnects = get_u32(b + OFF_RECON);
+    r->confidence = get_f64(b + OFF_CONF);
     return 0;
 }
 
@@ -440,6 +444,7 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
             r->flags |= CDSPD_FLAG_FULL_SEARCH;
         if (jbool(o, "truncated"))
             r->flags |= CDSPD_FLAG_TRUNCATED;
+        ok = ok && jnum(o, "confidence", &r->confidence);
     } else {
         int st = 0;
         if (!json_object_object_get_ex(o, "error", &x) ||

@@ -18,8 +18,8 @@
 #include "cdsp.h"
 
 #define CDSPD_PROTO_MAGIC "CDSP"
-#define CDSPD_PROTO_VERSION 1
-#define CDSPD_PROTO_SIZE 320     /* bytes of a version-1 record */
+#define CDSPD_PROTO_VERSION 2
+#define CDSPD_PROTO_SIZE 328     /* bytes of a version-2 record */
 
 /* kind */
 #define CDSPD_KIND_FRAME 1       /* the result of one frame */
@@ -65,6 +65,8 @@ typedef struct {
     uint32_t frames_dropped;   /* frames replaced in the pool before processing */
     uint32_t frames_bad;       /* incomplete or unusable frames skipped */
     uint32_t reconnects;       /* times the source was reopened */
+    /* version 2 */
+    double confidence;         /* cdsp_result.confidence, 0..1 (0 unless status == 0) */
 } cdspd_record;
 
 /* Short stable token of a status: the library's (cdsp_status_token) or

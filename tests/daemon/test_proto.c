@@ -41,6 +41,7 @@ static void random_record(cdsp_rng *g, cdspd_record *r, int ok)
         r->inliers[0] = cdsp_rng_below(g, 5000);
         r->inliers[1] = cdsp_rng_below(g, 5000);
         r->n_edges = cdsp_rng_below(g, 16384);
+        r->confidence = (double)cdsp_rng_uniform(g);
     }
     r->proc_us = cdsp_rng_below(g, 100000);
     r->latency_us = cdsp_rng_below(g, 100000);
@@ -80,6 +81,7 @@ static void assert_records_equal(const cdspd_record *a, const cdspd_record *b)
     assert_int_equal(a->frames_dropped, b->frames_dropped);
     assert_int_equal(a->frames_bad, b->frames_bad);
     assert_int_equal(a->reconnects, b->reconnects);
+    assert_memory_equal(&a->confidence, &b->confidence, sizeof a->confidence);
 }
 
 /* The byte table of docs/protocol.md, checked with hand-made values. */
@@ -113,14 +115,16 @@ static void test_layout(void **state)
     r.frames_dropped = 10;
     r.frames_bad = 11;
     r.reconnects = 12;
+    r.confidence = -2.0;
     assert_int_equal(cdspd_proto_encode(&r, b, CDSPD_PROTO_SIZE - 1), 0);
     assert_int_equal(cdspd_proto_encode(&r, b, sizeof b), CDSPD_PROTO_SIZE);
-    assert_int_equal(CDSPD_PROTO_SIZE, 320);
+    assert_int_equal(CDSPD_PROTO_SIZE, 328);
     assert_memory_equal(b, "CDSP", 4);
-    assert_int_equal(b[4], 1);
+    assert_int_equal(b[4], 2);
     assert_int_equal(b[5], CDSPD_KIND_FRAME);
-    assert_int_equal(b[6], 320 & 0xFF);
-    assert_int_equal(b[7], 320 >> 8);
+    assert_int_equal(b[6], 328 & 0xFF);
+    assert_int_equal(b[7], 328 >> 8);
+    assert_memory_equal(b + 320, minus2_le, 8); /* confidence (version 2) */
     assert_int_equal(b[8], 0x04);
     assert_int_equal(b[11], 0x01);
     assert_int_equal(b[12], 0xFA); /* -6, two's complement */
@@ -163,7 +167,7 @@ static void test_binary_round_trip(void **state)
         random_record(&g, &a, i % 3 != 0);
         assert_int_equal(cdspd_proto_encode(&a, buf, sizeof buf), CDSPD_PROTO_SIZE);
         assert_int_equal(cdspd_proto_decode(buf, sizeof buf, &b, &why), 0);
-        assert_int_equal(b.version, 1);
+        assert_int_equal(b.version, 2);
         assert_records_equal(&a, &b);
     }
 }
@@ -186,21 +190,21 @@ static void test_binary_rejects(void **state)
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     assert_non_null(strstr(why, "magic"));
     buf[0] = 'C';
-    buf[4] = 2;
+    buf[4] = 1; /* version 1 (320 bytes, no confidence) is not read as 2 */
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     assert_non_null(strstr(why, "version"));
-    buf[4] = 1;
+    buf[4] = 2;
     buf[5] = 9;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     buf[5] = CDSPD_KIND_FRAME;
-    buf[6] = (uint8_t)(319 & 0xFF);
-    buf[7] = 319 >> 8;
+    buf[6] = (uint8_t)(327 & 0xFF);
+    buf[7] = 327 >> 8;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     /* a longer record of a later revision: fields appended, still read */
     buf[6] = (uint8_t)(400 & 0xFF);
     buf[7] = 400 >> 8;
     memset(buf + CDSPD_PROTO_SIZE, 0x5A, 80);
-    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 400, has 320 */
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 400, has 328 */
     assert_int_equal(cdspd_proto_decode(buf, 400, &b, &why), 0);
     assert_records_equal(&a, &b);
 }

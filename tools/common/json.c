@@ -272,4 +272,6 @@ void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_to
     cdsp_host_json_bool(j, (r->flags & CDSP_FLAG_TRACKED) != 0);
     cdsp_host_json_key(j, "truncated");
     cdsp_host_json_bool(j, (r->flags & CDSP_FLAG_TRUNCATED) != 0);
+    cdsp_host_json_key(j, "confidence");
+    cdsp_host_json_number(j, (double)r->confidence);
 }
