@@ -124,7 +124,7 @@ static const char *const cue_names[] = {"bars behind", "bars in front", "thin ba
 static void camera_for(cdsp_rng *g, frame_spec *f)
 {
     double r = (double)cdsp_rng_uniform(g);
-    int W = r < 0.75 ? 640 : r < 0.93 ? 1280 : 2448, H = W == 640 ? 480 : W == 1280 ? 1024 : 2048;
+    int W = r < 0.8 ? 640 : r < 0.95 ? 1280 : 2448, H = W == 640 ? 480 : W == 1280 ? 1024 : 2048;
     sup_camera(&f->cam, W, H, W * 1.42 * uni(g, 0.8, 1.25), uni(g, -0.12, 0.05), 0);
 }
 
@@ -168,7 +168,7 @@ static void look(cdsp_rng *g, cdsp_scene *s)
 static void positive(cdsp_rng *g, frame_spec *f)
 {
     cdsp_scene *s = &f->s;
-    double W, H, u, v, w_px, D, ray[3], e[3], side[3], th, phi, t, contrast, bg;
+    double W, H, u, v, w_px, D, ray[3], e[3], side[3], th, phi, t, contrast, bg, C[3];
     int k, nb, i;
     memset(f, 0, sizeof *f);
     f->kind = "pipe";
@@ -196,13 +196,17 @@ static void positive(cdsp_rng *g, frame_spec *f)
         f->v[k] = cos(phi) * e[k] + sin(phi) * ray[k];
         f->P[k] = D * ray[k];
     }
-    /* the true foot of the perpendicular from the optical centre */
+    /* the pipe is centred on the point seen at (u, v); the truth is the
+     * foot of the perpendicular from the optical centre (up to D sin(phi)
+     * along the axis from it, often out of view) */
+    for (k = 0; k < 3; k++)
+        C[k] = f->P[k];
     t = f->P[0] * f->v[0] + f->P[1] * f->v[1] + f->P[2] * f->v[2];
     for (k = 0; k < 3; k++)
         f->P[k] -= t * f->v[k];
     f->dist = sqrt(f->P[0] * f->P[0] + f->P[1] * f->P[1] + f->P[2] * f->P[2]);
     range_for(g, f, f->dist);
-    sup_scene(s, f->P, f->v, f->radius);
+    sup_scene(s, C, f->v, f->radius);
     look(g, s);
     /* polarity and contrast */
     bg = uni(g, 0.1, 0.8);
@@ -258,11 +262,12 @@ static void positive(cdsp_rng *g, frame_spec *f)
         double gap = uni(g, 0.3, 3) * f->radius, hl = uni(g, 0.12, 0.3) * (W + H) / 2 * D / (double)f->cam.fx;
         double level = (double)s->pipe_level * uni(g, 0.8, 1.1);
         cdsp_clutter *b = &s->clutter[s->n_clutter++];
+        double sgn = chance(g, 0.5) ? 1 : -1;
         f->cues |= CUE_RACK;
         xprod(f->v, ray, side);
         unit(side);
         for (k = 0; k < 3; k++) {
-            double c0 = f->P[k] + (2 * f->radius + gap) * side[k] * (chance(g, 0.5) ? 1 : -1);
+            double c0 = C[k] + (2 * f->radius + gap) * side[k] * sgn;
             b->p0[k] = (cdsp_real)(c0 - hl * f->v[k]);
             b->p1[k] = (cdsp_real)(c0 + hl * f->v[k]);
         }
@@ -412,6 +417,32 @@ static void record(tally *t, const frame_spec *f, int positive_frame, cdsp_statu
     }
 }
 
+/* BENCH_DETECT_ONLY: the truth, the answer and the ranked candidates. */
+static void explain(const frame_spec *f, cdsp_status st, const cdsp_result *r, const cdsp_frame_ws *w)
+{
+    double l[2][3], pin[2];
+    unsigned k;
+    sup_contour_lines(&f->cam, f->P, f->v, f->radius, l, pin);
+    fprintf(stderr, "truth: r %.1f d %.1f range [%.1f, %.1f] lines (%.3f %.3f %.1f) (%.3f %.3f %.1f)\n",
+            f->radius, f->dist, f->range[0], f->range[1], l[0][0], l[0][1], l[0][2], l[1][0], l[1][1],
+            l[1][2]);
+    fprintf(stderr, "got: %s d %.1f", cdsp_status_token(st), st == CDSP_OK ? (double)r->distance : 0.0);
+#ifdef CDSP_FLAG_CAPPED
+    fprintf(stderr, " conf %.3f noise %.2f step %.1f lines %u flags %x\n", (double)r->confidence,
+            (double)r->noise, (double)r->min_step, (unsigned)r->n_lines, (unsigned)r->flags);
+    for (k = 0; st == CDSP_OK && k < r->n_candidates && k < CDSP_MAX_CANDIDATES; k++)
+        fprintf(stderr, "  cand %u score %.1f conf %.3f (%.3f %.3f %.1f) (%.3f %.3f %.1f)\n", k,
+                (double)w->cand[k].score, (double)w->cand[k].confidence, (double)w->cand[k].lines[0][0],
+                (double)w->cand[k].lines[0][1], (double)w->cand[k].lines[0][2],
+                (double)w->cand[k].lines[1][0], (double)w->cand[k].lines[1][1],
+                (double)w->cand[k].lines[1][2]);
+#else
+    (void)w;
+    (void)k;
+    fprintf(stderr, "\n");
+#endif
+}
+
 /* sup_render, or with BENCH_DETECT_CACHE=dir the frame saved there by an
  * earlier run with the same arguments (raw pixels; rendering is most of the
  * run time, so detection changes can be compared quickly). */
@@ -526,6 +557,8 @@ int main(int argc, char **argv)
             positive(&gen, &f);
         else
             negative(&gen, &f, (i - npos) % NNEG);
+        if (getenv("BENCH_DETECT_ONLY") && atoi(getenv("BENCH_DETECT_ONLY")) != i)
+            continue; /* BENCH_DETECT_ONLY=i: that frame alone, with details */
         px = cached_render(&f, (uint64_t)i + 1000 * seed, i, &img);
         if (!px) {
             fprintf(stderr, "bench_detect: frame %d did not render\n", i);
@@ -539,6 +572,8 @@ int main(int argc, char **argv)
         sz = f.cam.width == sizes[0] ? 0 : f.cam.width == sizes[1] ? 1 : 2;
         tm[sz][nt[sz]++] = (sup_now() - t0) * 1e3;
         record(&plain, &f, pos, st, &r);
+        if (getenv("BENCH_DETECT_ONLY"))
+            explain(&f, st, &r, &ws);
         prm.pair.min_distance = (cdsp_real)f.range[0];
         prm.pair.max_distance = (cdsp_real)f.range[1];
         cdsp_rng_seed(&rng, (uint64_t)i, 3);
@@ -549,6 +584,8 @@ int main(int argc, char **argv)
             return 1;
         }
         record(&ranged, &f, pos, st, &r);
+        if (getenv("BENCH_DETECT_ONLY"))
+            explain(&f, st, &r, &ws);
         if (getenv("BENCH_DETECT_VERBOSE"))
             fprintf(stderr, "%4d %-12s %4dx%-4d bits %2d/%2d cues %03x: %s\n", i, f.kind, f.cam.width,
                     f.cam.height, f.out_bits, f.img_bits, f.cues,
