@@ -60,8 +60,10 @@ daemon_HOST_LIB := $(BUILD)/libcdsp_host.a
 # Objects depend on the optional sources found: a stamp that changes with them.
 daemon_STAMP := $(daemon_DIR)/features
 daemon_FEATURES := $(strip $(daemon_DEFS))
-$(shell mkdir -p $(daemon_DIR); [ "$$(cat $(daemon_STAMP) 2>/dev/null)" = "$(daemon_FEATURES)" ] || \
-        echo "$(daemon_FEATURES)" >$(daemon_STAMP))
+# (-f: with no optional library the features are empty, and so is cat's
+# output for a missing stamp; the stamp must exist all the same.)
+$(shell mkdir -p $(daemon_DIR); [ -f $(daemon_STAMP) ] && \
+        [ "$$(cat $(daemon_STAMP))" = "$(daemon_FEATURES)" ] || echo "$(daemon_FEATURES)" >$(daemon_STAMP))
 
 $(daemon_DIR)/%.o: daemon/%.c $(daemon_STAMP)
 	@mkdir -p $(@D)

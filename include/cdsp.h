@@ -4,7 +4,7 @@
  * libcdsp recovers the 3D axis of a constant-diameter straight pipe from one
  * camera frame and the pipe's known radius (Yao et al. 2024, "Rapid 3D
  * reconstruction of constant-diameter straight pipelines via single-view
- * perspective projection"; equations restated in shared/METHOD.md).
+ * perspective projection"; equations restated in docs/method.md).
  *
  * Where a frame enters and a pose leaves:
  *
@@ -221,8 +221,14 @@ void cdsp_edge_params_default(cdsp_edge_params *p);
  * Rows y = roi.y + k*step are scanned for near-vertical edges and columns
  * for near-horizontal ones; each edge is reported once, by the family whose
  * scan direction is closer to its gradient.
- * Writes at most cap points to out and their number to *n. Returns
- * CDSP_E_CAPACITY (with *n = cap and out filled) when more were found.
+ * Writes at most cap points to out and their number to *n. When more than
+ * cap are found, the buffer filling up does not decide which contours are
+ * seen: the family that does not fit (the one with more points, when rows
+ * and columns fit alone but not together) is scanned again at twice its
+ * step, until both fit; out then holds both families, each over the whole
+ * roi at one uniform step (a power-of-two multiple of p->step), and the
+ * call returns CDSP_E_CAPACITY with *n <= cap. (Only if one line at a step
+ * past the frame's extent still overflows is out a truncated scan.)
  */
 cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p,
                               cdsp_edge *out, size_t cap, size_t *n);
@@ -343,7 +349,9 @@ typedef struct {
 
 #define CDSP_FLAG_TRACKED 1u     /* found in the bands around the prior */
 #define CDSP_FLAG_FULL_SEARCH 2u /* searched the whole frame / ROI */
-#define CDSP_FLAG_TRUNCATED 4u   /* more edges than CDSP_MAX_EDGES were found */
+#define CDSP_FLAG_TRUNCATED 4u   /* more edges than CDSP_MAX_EDGES were found: the
+                                    frame was scanned at a coarser step (see
+                                    cdsp_edges_detect; tracking bands likewise) */
 #define CDSP_FLAG_CAPPED 8u      /* max_lines lines were extracted while enough
                                     free points for another remained: a contour
                                     may not have been considered */
@@ -354,28 +362,30 @@ typedef struct {
  * max_contour_angle, overlapping by min_overlap, not crossing inside their
  * stretch, a band at least as wide as the edge window 2 half_window + 1,
  * each contour's support covering min_support of the overlap, the closed
- * form's distance inside [min_distance, max_distance]) is scored
- *   S = sqrt(n1 c1 q1 * n2 c2 q2) * sqrt(w / w0) * T
+ * form's distance inside [min_distance, max_distance], no contour of the
+ * opposite polarity inside the band: two objects and the gap between them)
+ * is scored by its weaker contour
+ *   S = min(n1 c1 q1, n2 c2 q2) * T
  * with, per contour k: n_k its inliers on the common stretch, c_k its mean
  * edge step divided by the frame's step threshold (contrast), q_k the
- * fraction of the overlap its inliers cover (spread, not one short piece);
- * w the band's width in px (w0 = 2 half_window + 1: the larger band of two
- * otherwise equal ones is the pipe a person points the camera at); T, in
- * tracking, 1 + 2 exp(-e^2 / 2) with e the pair's offset from the prior's
- * contours in units of track_band_px (the pipe being followed wins over a
- * newcomer). A contour belongs to one pipe: pairs are taken best first and
- * a pair sharing a line with a better one is dropped, except that a pair is
- * replaced by the two pairs its lines form with others when those two
- * together score more (a gap between two pipes of a rack shares one contour
- * with each). The survivors, ranked, are the candidates (the workspace's
- * cand[], first = the pose returned).
+ * fraction of the overlap its inliers cover (spread, not one short piece):
+ * the longest, clearest band wins, and a gap borrowing one strong edge of a
+ * neighbour does not win on that edge; T, in tracking, 1 + 2 exp(-e^2 / 2)
+ * with e the pair's offset from the prior's contours in units of
+ * track_band_px (the pipe being followed wins over a newcomer). A contour
+ * belongs to one pipe: pairs are taken best first and a pair sharing a line
+ * with a better one is dropped; a pair is also passed over when each of its
+ * two lines forms a pair at least as good with another line (the gap
+ * between two pipes of a rack, each pipe as good as the gap). The
+ * survivors, ranked, are the candidates (the workspace's cand[], first =
+ * the pose returned; "every pipe in view" can take them all).
  * confidence = E * M, E = (1 - exp(-min(n1 q1, n2 q2) / 25)) * min(1, c / 4)
  * (evidence: supported points and contrast c = min(c1, c2)), M = 1 - (S2 /
  * S1)^2 (margin over the best rival candidate S2, 0 when none).
  */
 
 /*
- * The closed form (METHOD.md): from two contour lines (undistorted px), a
+ * The closed form (docs/method.md): from two contour lines (undistorted px), a
  * pixel p_in between them on the pipe, the radius r (> 0).
  * Fills point, direction, distance, alpha, normals, lines; segment is set to
  * point; cov/sigma zero; counts zero.

@@ -131,9 +131,9 @@ static void frame_edge_params(const cdsp_image *img, const cdsp_params *p, cdsp_
         e->min_contrast = R(0.999);
 }
 
-static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
-                          const cdsp_edge_params *edge, const cdsp_result *prior, cdsp_edge *out,
-                          size_t cap)
+static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                          const cdsp_edge_params *edge, int step, const cdsp_result *prior,
+                          cdsp_edge *out, size_t cap)
 {
     int x0 = 0, y0 = 0, x1 = img->width, y1 = img->height, k, h = p->edge.half_window;
     int band = (int)R_CEIL(p->track_band_px);
@@ -153,8 +153,7 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
         int other = horizontal ? img->height : img->width;   /* across */
         int smin = horizontal ? x0 : y0, smax = horizontal ? x1 : y1;
         int t;
-        for (t = (lo > 1 ? lo : 1) + p->edge.step / 2; t < hi - 1 && t < other - 1;
-             t += p->edge.step) {
+        for (t = (lo > 1 ? lo : 1) + step / 2; t < hi - 1 && t < other - 1; t += step) {
             cdsp_real sc;
             int from, to;
             if (!crossing(cam, l, horizontal, t, &sc))
@@ -175,6 +174,23 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
             if (n == cap)
                 return n;
         }
+    }
+    return n;
+}
+
+/* The bands around both contours; when they hold more edges than cap, both
+ * are read again at twice the step until they fit, so the first contour's
+ * band never fills the buffer before the second is read (*truncated set). */
+static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                          const cdsp_edge_params *edge, const cdsp_result *prior, cdsp_edge *out,
+                          size_t cap, int *truncated)
+{
+    int step = p->edge.step, extent = img->width > img->height ? img->width : img->height;
+    size_t n;
+    *truncated = 0;
+    while ((n = track_bands(img, cam, p, edge, step, prior, out, cap)) == cap && step <= extent / 2) {
+        step *= 2;
+        *truncated = 1;
     }
     return n;
 }
@@ -231,11 +247,12 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
     }
 
     if (prior && v3_finite(prior->lines[0]) && v3_finite(prior->lines[1])) {
-        n = track_edges(img, cam, p, &edge, prior, ws->edge, CDSP_MAX_EDGES);
+        int truncated;
+        n = track_edges(img, cam, p, &edge, prior, ws->edge, CDSP_MAX_EDGES, &truncated);
         st = solve_edges(cam, radius, ws, n, p, min_step, prior, rng, out);
         if (st == CDSP_OK && out->inliers[0] >= (uint32_t)p->track_min_inliers &&
             out->inliers[1] >= (uint32_t)p->track_min_inliers) {
-            out->flags |= CDSP_FLAG_TRACKED;
+            out->flags |= CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u);
             out->noise = sigma;
             out->min_step = min_step;
             return CDSP_OK;

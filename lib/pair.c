@@ -19,9 +19,9 @@
  * holds one object, not two and the gap between them (see band_split). The
  * survivors are
  * scored and ranked as documented in include/cdsp.h ("The pair score"):
- * the evidence of both contours (inliers on the common stretch, contrast
- * over the step threshold, spread of the support), the band's width, and in
- * tracking the prior; each contour belongs to one candidate.
+ * the evidence of the weaker contour (inliers on the common stretch,
+ * contrast over the step threshold, spread of the support) and in tracking
+ * the prior; each contour belongs to one candidate.
  *
  * Uncertainty: each TLS line has two independent parameters about its
  * centroid, the offset along its normal (variance s^2/N) and the angle
@@ -256,7 +256,9 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     nB = (cdsp_real)B->count * ov / (hiB - loB);
     cA = A->strength / sc->step_ref;
     cB = B->strength / sc->step_ref;
-    S = R_SQRT(nA * cA * qA * nB * cB * qB) * R_SQRT(width / sc->min_band_px);
+    /* the weaker contour's evidence: a band is as good as its worse side
+     * (a gap borrowing one strong edge of a neighbour does not win on it) */
+    S = nA * cA * qA < nB * cB * qB ? nA * cA * qA : nB * cB * qB;
     if (sc->prior) {
         /* offset of both contours (at the overlap's middle) from the nearer
          * of the prior's contours, in band widths */
@@ -495,7 +497,7 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         kj = best_with(list, np, c->j, c->i, used, dead);
         if (ki >= 0 && kj >= 0 && ki != kj &&
             list[ki].i + list[ki].j - c->i != list[kj].i + list[kj].j - c->j &&
-            list[ki].score + list[kj].score > c->score) {
+            list[ki].score >= c->score && list[kj].score >= c->score) {
             dead[i] = 1;
             continue;
         }
