@@ -520,10 +520,12 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         cand[i].label[0] = (uint8_t)(c->i + 1);
         cand[i].label[1] = (uint8_t)(c->j + 1);
     }
-    /* the first: how much it dominates the runner-up */
+    /* the first: how much it dominates the runner-up, and among how many
+     * plausible bands it was chosen (measured on bench-detect: with one
+     * candidate 77 % of poses were right, with two or more 20-30 %) */
     if (nc > 1) {
         cdsp_real ratio = chosen[1].score / chosen[0].score;
-        cand[0].confidence *= R(1) - ratio * ratio;
+        cand[0].confidence *= (R(1) - ratio * ratio) / (cdsp_real)nc;
     }
     conf = cand[0].confidence;
     L[0] = &lines[chosen[0].i];

@@ -559,6 +559,8 @@ int main(int argc, char **argv)
             negative(&gen, &f, (i - npos) % NNEG);
         if (getenv("BENCH_DETECT_ONLY") && atoi(getenv("BENCH_DETECT_ONLY")) != i)
             continue; /* BENCH_DETECT_ONLY=i: that frame alone, with details */
+        if (getenv("BENCH_DETECT_FROM") && i < atoi(getenv("BENCH_DETECT_FROM")))
+            continue; /* BENCH_DETECT_FROM=i: skip the frames before i (to fill a cache in parallel) */
         px = cached_render(&f, (uint64_t)i + 1000 * seed, i, &img);
         if (!px) {
             fprintf(stderr, "bench_detect: frame %d did not render\n", i);
@@ -572,6 +574,12 @@ int main(int argc, char **argv)
         sz = f.cam.width == sizes[0] ? 0 : f.cam.width == sizes[1] ? 1 : 2;
         tm[sz][nt[sz]++] = (sup_now() - t0) * 1e3;
         record(&plain, &f, pos, st, &r);
+#ifdef CDSP_FLAG_CAPPED
+        if (getenv("BENCH_DETECT_TABLE")) /* per frame: plain solve's right, confidence, candidates */
+            fprintf(stderr, "T %d %d %d %.4f %u %.1f\n", i, pos, st == CDSP_OK && pos && right(&f, &r),
+                    st == CDSP_OK ? (double)r.confidence : -1.0, st == CDSP_OK ? (unsigned)r.n_candidates : 0u,
+                    st == CDSP_OK ? (double)r.score : 0.0);
+#endif
         if (getenv("BENCH_DETECT_ONLY"))
             explain(&f, st, &r, &ws);
         prm.pair.min_distance = (cdsp_real)f.range[0];
