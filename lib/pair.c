@@ -438,14 +438,15 @@ static cdsp_real evidence(const pair_choice *c, int contrast_known)
 cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                              size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
                              cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
-                             cdsp_result *out)
+                             const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out)
 {
     cdsp_line lines[CDSP_MAX_LINES];
     uint32_t mask[CDSP_MAX_LINES];
     uint8_t used[CDSP_MAX_LINES], dead[PAIR_KEEP];
     pair_choice list[PAIR_KEEP], chosen[CDSP_MAX_CANDIDATES];
     const cdsp_line *L[2];
-    int nlines = 0, i, j, np = 0, nc = 0, capped = 0;
+    int nlines = 0, i, j, np = 0, nc = 0, capped = 0, profiled = 0;
+    cdsp_real edge_offset[2] = {0, 0}, edge_blur[2] = {0, 0};
     score_ctx sc;
     cdsp_result r;
     cdsp__axis ax;
@@ -530,6 +531,21 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
     conf = cand[0].confidence;
     L[0] = &lines[chosen[0].i];
     L[1] = &lines[chosen[0].j];
+    /* the edge-profile model moves each line to its modelled silhouette
+     * (lib/profile.c); a contour it cannot model keeps the detector's line */
+    if (img && pws && p->profile.enable) {
+        for (i = 0; i < 2; i++) {
+            cdsp_profile pr;
+            cdsp_real moved = R(0);
+            if (cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)((i ? chosen[0].j : chosen[0].i) + 1),
+                                     &lines[i ? chosen[0].j : chosen[0].i], chosen[0].p_in, &p->profile,
+                                     p->edge.half_window, pws, &pr, &moved) == CDSP_OK) {
+                edge_offset[i] = moved;
+                edge_blur[i] = pr.blur;
+                profiled++;
+            }
+        }
+    }
     st = cdsp__axis_core(cam, L[0]->l, L[1]->l, chosen[0].p_in, radius, &ax);
     if (st != CDSP_OK)
         return st;
@@ -544,7 +560,11 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
     r.label[0] = (uint8_t)(chosen[0].i + 1);
     r.label[1] = (uint8_t)(chosen[0].j + 1);
     r.n_edges = (uint32_t)n;
-    r.flags = capped ? CDSP_FLAG_CAPPED : 0u;
+    r.flags = (capped ? CDSP_FLAG_CAPPED : 0u) | (profiled == 2 ? CDSP_FLAG_PROFILE : 0u);
+    for (i = 0; i < 2; i++) {
+        r.edge_offset[i] = edge_offset[i];
+        r.edge_blur[i] = edge_blur[i];
+    }
     r.confidence = conf;
     r.score = chosen[0].score;
     r.n_lines = (uint32_t)nlines;
@@ -576,7 +596,8 @@ cdsp_status cdsp__params_check(const cdsp_params *p)
         !(q->max_contour_angle_deg < R(90)) || q->min_distance < R(0) || q->max_distance < R(0) ||
         !(q->min_support >= R(0)) || !(q->min_support <= R(1)))
         return CDSP_E_ARG;
-    if (!(p->track_band_px > R(0)) || p->track_min_inliers < 2)
+    if (!(p->track_band_px > R(0)) || p->track_min_inliers < 2 ||
+        cdsp__profile_params_check(&p->profile) != CDSP_OK)
         return CDSP_E_ARG;
     if (!(p->noise_factor >= R(0)) || !R_FINITE(p->noise_factor) || !(p->min_confidence >= R(0)) ||
         !(p->min_confidence <= R(1)))
@@ -610,7 +631,8 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cd
         return CDSP_E_CAPACITY;
     if (!edges_finite(pts, n))
         return CDSP_E_NONFINITE;
-    return cdsp__pair_solve(cam, radius, pts, n, ws->label, ws->cand, p, R(0), prior, rng, out);
+    return cdsp__pair_solve(cam, radius, pts, n, ws->label, ws->cand, p, R(0), prior, rng, NULL, NULL,
+                            out);
 }
 
 void cdsp_params_default(cdsp_params *p)
@@ -621,4 +643,5 @@ void cdsp_params_default(cdsp_params *p)
     p->track_min_inliers = 30;
     p->noise_factor = R(10);
     p->min_confidence = R(0);
+    cdsp_profile_params_default(&p->profile);
 }
