@@ -590,8 +590,8 @@ int tool_solve_main(int argc, char **argv)
              "px.", NULL, 0},
             {"min-confidence", 0, OPT_REAL, &J.min_confidence, 0, 1, "C",
              "Report a pose whose confidence (0..1, in the output) is below C as "
-             "no-pipe. Among poses of confidence >= 0.9, at least 99 % were the true "
-             "pipe on the detection benchmark (make bench-detect).", NULL, 0},
+             "no-pipe. How often poses of each confidence were the true pipe is "
+             "measured by make bench-detect (its calibration table).", NULL, 0},
             {"min-distance", 0, OPT_REAL, &J.min_distance, 0, 1e12, "D",
              "Reject pipes nearer than D (unit of R); 0: no bound.", NULL, 0},
             {"max-distance", 0, OPT_REAL, &J.max_distance, 0, 1e12, "D",
