@@ -4,8 +4,9 @@
  * searched (a dashed cyan rectangle) and a caption band across the top
  * (status, distance +- sigma, or why the frame failed). Sizes follow the
  * frame like the overlay's marks: text 16 px high per 1000 px of the
- * frame's larger side (at least 14 px), so a 5 MP frame viewed whole still
- * has readable text and lines.
+ * frame's larger side (at least 14 px, less only when a line would not fit
+ * a small frame's width), so a 5 MP frame viewed whole still has readable
+ * text and lines.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tool_internal.h"
@@ -71,8 +72,21 @@ int tool_overlay_annotate(uint8_t *rgb, int w, int h, const cdsp_roi *roi,
         cairo_set_dash(cr, NULL, 0, 0);
     }
     if (nlines > 0) {
+        double widest = 0;
         cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
         cairo_set_font_size(cr, font);
+        /* a small frame: the text shrinks until the longest line fits
+         * (down to 8 px, then it is cut at the frame's edge) */
+        for (i = 0; i < nlines; i++) {
+            cairo_text_extents_t e;
+            cairo_text_extents(cr, lines[i], &e);
+            widest = fmax(widest, e.x_advance);
+        }
+        if (widest > w - 2 * pad) {
+            font = fmax(8.0, font * (w - 2 * pad) / widest);
+            pad = 0.4 * font;
+            cairo_set_font_size(cr, font);
+        }
         cairo_set_source_rgb(cr, BAND_GRAY / 255.0, BAND_GRAY / 255.0, BAND_GRAY / 255.0);
         cairo_rectangle(cr, 0, 0, w, nlines * 1.3 * font + 2 * pad);
         cairo_fill(cr);

@@ -117,9 +117,11 @@ static void draw(const job *J, slot *s, cdsp_frame_ws *ws)
         const cdsp_result *r = &s->res;
         base = base ? base + 1 : J->frames.path[s->index];
         if (s->st == CDSP_OK) {
-            snprintf(l0, sizeof l0, "%s   ok   distance %.3f \xc2\xb1 %.3f   P_C (%.2f, %.2f, %.2f)",
-                     base, (double)r->distance, (double)r->sigma_distance, (double)r->point[0],
-                     (double)r->point[1], (double)r->point[2]);
+            snprintf(l0, sizeof l0,
+                     "%s   ok   distance %.3f \xc2\xb1 %.3f   confidence %.2f   P_C (%.2f, %.2f, "
+                     "%.2f)",
+                     base, (double)r->distance, (double)r->sigma_distance, (double)r->confidence,
+                     (double)r->point[0], (double)r->point[1], (double)r->point[2]);
             snprintf(l1, sizeof l1,
                      "direction (%.4f, %.4f, %.4f)   inliers %u + %u of %u edge points, "
                      "rms %.3f / %.3f px%s",
@@ -490,9 +492,10 @@ static const char overlay_description[] =
     "    and magenta), the two fitted contour lines (yellow, curved as the lens\n"
     "    distortion bends them) and the visible axis segment projected into the\n"
     "    frame (red); the --roi rectangle (dashed cyan) and a caption across the\n"
-    "    top: the frame, its status, the distance +- sigma, P_C, the direction and\n"
-    "    the inliers, or the error and why. Lines, marks and text grow with the\n"
-    "    frame (text 16 px high per 1000 px), so a 5 MP frame viewed whole reads.\n"
+    "    top: the frame, its status, the distance +- sigma, the confidence, P_C,\n"
+    "    the direction and the inliers, or the error and why. Lines, marks and\n"
+    "    text grow with the frame (text 16 px high per 1000 px), so a 5 MP frame\n"
+    "    viewed whole reads.\n"
     "    When no pipe is found the picture shows all edge points the detector\n"
     "    found, which usually tells why.\n\n";
 
