@@ -11,6 +11,25 @@ work=$(mktemp -d "${CDSPD_TMP:-/tmp}/$(basename "$0" .sh).XXXXXX") || exit 2
 CALIB=daemon/demo-camera.yaml
 pids=()
 
+# CDSPD_SAN set (daemon/sanitize.mk): cdspd is a sanitizer build. Every
+# finding goes to $work/san.PID (log_path), and a script that leaves one
+# fails at its exit whatever else it checked.
+if [ -n "${CDSPD_SAN:-}" ]; then
+    for v in ASAN_OPTIONS UBSAN_OPTIONS TSAN_OPTIONS; do
+        export "$v=${!v:+${!v}:}log_path=$work/san"
+    done
+fi
+san_reports() {
+    local f found=1
+    for f in "$work"/san.*; do
+        [ -s "$f" ] || continue
+        echo "FAIL: sanitizer report $(basename "$f"):" >&2
+        head -n 60 "$f" >&2
+        found=0
+    done
+    return $found
+}
+
 cleanup() {
     local p
     for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null; done
@@ -19,7 +38,10 @@ cleanup() {
         kill -KILL "$p" 2>/dev/null
         wait "$p" 2>/dev/null
     done
+    local rc=0
+    [ -n "${CDSPD_SAN:-}" ] && san_reports && rc=1
     [ -n "${KEEP_TMP:-}" ] || rm -rf "$work"
+    [ $rc -eq 0 ] || exit 1
 }
 trap cleanup EXIT
 trap 'exit 1' INT TERM HUP
@@ -32,7 +54,7 @@ fail() {
         echo "--- $(basename "$f") (last 25 lines)" >&2
         tail -n 25 "$f" >&2
     done
-    exit 1
+    exit 1    # cleanup (the EXIT trap) shows any sanitizer report
 }
 
 # start_rx NAME ARGS...: cdspd_rx in the background; sets RX_PORT and NAME_pid.
