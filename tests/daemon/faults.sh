@@ -100,7 +100,7 @@ cat >"$work/good.yaml" <<YAML
 source: sim
 calib: $cam
 radius: 10
-sim: {frames: 4, rate: 50, away: 0}
+sim: {frames: 2, rate: 50, away: 0}
 stats_interval: 0
 YAML
 start_rx rx4 --validate --config "$work/good.yaml" --truth sim --duration 900 --idle 10 \
@@ -129,8 +129,13 @@ for i in $(seq 1 100); do
     done
     [ "$(grep -c "$pat" "$work/d4.log")" -ge $want ] || fail "reload $i not taken within 30 s"
     if [ $((i % 10)) -eq 0 ]; then
-        # poses in this window of ten reloads: SIGUSR1's statistics line
-        wait_log "$work/d4.log" "sim: open" 30
+        # poses in this window of ten reloads: once the last valid reload's
+        # source is open (the sim renders its frames again at each one),
+        # SIGUSR1's statistics line counts them
+        for _ in $(seq 600); do
+            grep -E "reloaded: source|sim: open" "$work/d4.log" | tail -1 | grep -q "sim: open" && break
+            sleep 0.1
+        done
         sleep 0.5
         n_before=$(grep -c "SIGUSR1: " "$work/d4.log")
         kill -USR1 "$d4_pid"

@@ -89,6 +89,7 @@ wait_count() {
     fail "waited 30 s for '$1' (x$2)"
 }
 
+rss_trend=()
 n_hup=0 n_ok=0 n_bad=0 n_rx=0 n_rm=0 n_fill=0 k=0 rx_gone="" rss0="" fd0="" rss_max=0
 t_end=$(( $(date +%s) + SOAK_SECONDS ))
 while [ "$(date +%s)" -lt $t_end ] || [ $k -lt 6 ]; do
@@ -122,6 +123,7 @@ while [ "$(date +%s)" -lt $t_end ] || [ $k -lt 6 ]; do
     esac
     k=$((k + 1))
     r=$(rss); [ "${r:-0}" -gt $rss_max ] && rss_max=$r
+    [ $((k % 6)) -eq 0 ] && rss_trend+=("$r")
     if [ $k -eq 6 ]; then
         rss0=$r fd0=$(nfd)
         echo "start (after one round of faults): resident ${rss0} KiB, ${fd0} descriptors"
@@ -131,6 +133,10 @@ done
 sleep 1
 rss1=$(rss) fd1=$(nfd)
 echo "end ($SOAK_SECONDS s, $k faults): resident ${rss1} KiB (max ${rss_max}), ${fd1} descriptors"
+# the resident memory after every round of faults, at most 12 of them evenly spread
+n_t=${#rss_trend[@]}
+idx=$(for j in $(seq 0 11); do [ $n_t -gt 0 ] && echo $(( j * (n_t - 1) / 11 )); done | uniq)
+echo "resident KiB after rounds of faults ($n_t rounds):$(for j in $idx; do echo -n " ${rss_trend[$j]}"; done)"
 kill -USR1 "$d_pid"
 wait_count "SIGUSR1: " 1
 grep "SIGUSR1: " "$work/d.log" | sed 's/.*total: /totals: /'
