@@ -82,9 +82,14 @@ start_cdspd() {
     eval "${name}_pid=$pid"
 }
 
+# CDSPD_WAIT_SCALE (integer, default 1): every bound of wait_for and
+# wait_log multiplied by it, for the sanitizer builds (daemon/sanitize.mk),
+# which run several times slower; the waits end as soon as the event comes.
+scale=${CDSPD_WAIT_SCALE:-1}
+
 # wait_for PID SECONDS: its exit status, or 124 (and it is killed) after SECONDS.
 wait_for() {
-    local pid=$1 n=$(( $2 * 10 ))
+    local pid=$1 n=$(( $2 * 10 * scale ))
     while [ $n -gt 0 ]; do
         if ! kill -0 "$pid" 2>/dev/null; then
             wait "$pid"
@@ -100,7 +105,7 @@ wait_for() {
 
 # wait_log FILE PATTERN SECONDS: until grep finds PATTERN in FILE.
 wait_log() {
-    local n=$(( $3 * 10 ))
+    local n=$(( $3 * 10 * scale ))
     while [ $n -gt 0 ]; do
         grep -q -- "$2" "$1" 2>/dev/null && return 0
         sleep 0.1
