@@ -142,7 +142,7 @@ for i in $(seq 1 100); do
         for _ in $(seq 100); do
             [ "$(grep -c "SIGUSR1: " "$work/d4.log")" -gt "$n_before" ] && break; sleep 0.1
         done
-        np=$(grep "SIGUSR1: " "$work/d4.log" | tail -1 | sed -n 's/.* pose \([0-9]*\),.*/\1/p')
+        np=$(grep "SIGUSR1: .* pose [0-9]" "$work/d4.log" | tail -1 | sed -n 's/.* pose \([0-9]*\),.*/\1/p')
         [ "${np:-0}" -gt 0 ] || fail "no pose during reloads $((i - 9))..$i"
     fi
 done
@@ -252,7 +252,7 @@ else
             n=$(grep -c "SIGUSR1: " "$work/d8.log")
             kill -USR1 "$d8_pid"
             for _ in $(seq 50); do [ "$(grep -c "SIGUSR1: " "$work/d8.log")" -gt "$n" ] && break; sleep 0.1; done
-            got=$((got + $(grep "SIGUSR1: " "$work/d8.log" | tail -1 | sed -n 's/.* pose \([0-9]*\),.*/\1/p')))
+            got=$((got + $(grep "SIGUSR1: .* pose [0-9]" "$work/d8.log" | tail -1 | sed -n 's/.* pose \([0-9]*\),.*/\1/p')))
             [ $got -ge "$want" ] && return 0
             sleep 1
         done
@@ -272,6 +272,8 @@ else
     poses_seen 5 120 || fail "no 5 poses within 120 s after the camera was thawed"
     kill -TERM "$d8_pid"
     wait_for "$d8_pid" 10 || fail "cdspd exit status $? after SIGTERM (frozen camera)"
+    sleep 0.5
+    kill -TERM "$rx8_pid"   # its --idle is long (a slow camera): it sums up now
     wait_for "$rx8_pid" 10 || fail "receiver (frozen camera)"
     cat "$work/rx8.out"
     kill -TERM "$cam_pid"; wait_for "$cam_pid" 10 >/dev/null 2>&1

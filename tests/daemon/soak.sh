@@ -139,7 +139,7 @@ idx=$(for j in $(seq 0 11); do [ $n_t -gt 0 ] && echo $(( j * (n_t - 1) / 11 ));
 echo "resident KiB after rounds of faults ($n_t rounds):$(for j in $idx; do echo -n " ${rss_trend[$j]}"; done)"
 kill -USR1 "$d_pid"
 wait_count "SIGUSR1: " 1
-grep "SIGUSR1: " "$work/d.log" | sed 's/.*total: /totals: /'
+grep "SIGUSR1: .* pose [0-9]" "$work/d.log" | sed "s/.*total: /totals: /"
 kill -TERM "$d_pid"
 wait_for "$d_pid" 20; rc=$?
 sleep 0.5   # the last datagrams in
