@@ -93,7 +93,7 @@ dsan_asan_ENV = $(dsan_ENV) CDSPD=$(dsan_asan_BIN) CDSPD_RX=$(daemon_RX) \
 check-daemon-asan: $(dsan_asan_BIN) $(dsan_E2E_DEPS) $(daemon_FEED)
 	@$(dsan_asan_ENV) $(RUN) "daemon-asan/faults" tests/daemon/faults.sh
 ifneq ($(filter -DCDSPD_HAVE_V4L2,$(daemon_DEFS)),)
-	@CDSPD_TMP=$(daemon_TDIR)/tmp VM_RUNS="GREY-loss" $(RUN) "daemon-asan/v4l2-vivid-vm" \
+	@CDSPD_TMP=$(daemon_TDIR)/tmp VM_RUNS="GREY-loss" VM_CDSPD_DURATION=60 $(RUN) "daemon-asan/v4l2-vivid-vm" \
 	    tests/daemon/vm_v4l2.sh $(dsan_asan_BIN) $(daemon_RX) $(daemon_FEED)
 endif
 

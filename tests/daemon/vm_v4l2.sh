@@ -6,7 +6,8 @@
 # runs inside the VM (tests/daemon/vm_inner.sh) and prints PASS/FAIL on the
 # console. Exit status 0 when both pass. VM_RUNS chooses the runs
 # (default "GREY-loss YUYV-plain"; daemon/sanitize.mk runs GREY-loss with
-# the ASan build).
+# the ASan build, with VM_CDSPD_DURATION=60: cdspd's run in the "loss"
+# mode, 25 s by default).
 set -u
 cdspd=$1 rx=$2 feed=$3
 shift 3
@@ -26,6 +27,6 @@ for run in ${VM_RUNS:-GREY-loss YUYV-plain}; do
     tests/vm/run-in-vm.sh --timeout "${VM_TIMEOUT:-240}" --format "320x240:$fourcc" \
         --file "$cdspd:/bin/cdspd" --file "$rx:/bin/cdspd_rx" --file "$feed:/bin/v4l2_feed" \
         --file "tests/daemon/vm_inner.sh:/bin/vm_inner.sh" --file "$work/cam.yaml:/etc/cdspd-cam.yaml" \
-        -- sh /bin/vm_inner.sh "$fourcc" "$mode" || rc=1
+        -- sh /bin/vm_inner.sh "$fourcc" "$mode" ${VM_CDSPD_DURATION:-} || rc=1
 done
 exit $rc
