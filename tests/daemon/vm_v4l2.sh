@@ -24,7 +24,7 @@ rc=0
 for run in ${VM_RUNS:-GREY-loss YUYV-plain}; do
     fourcc=${run%-*} mode=${run#*-}
     echo "=== v4l2 $fourcc ($mode) in the VM"
-    tests/vm/run-in-vm.sh --timeout "${VM_TIMEOUT:-240}" --format "320x240:$fourcc" \
+    tests/vm/run-in-vm.sh --timeout "${VM_TIMEOUT:-1200}" --format "320x240:$fourcc" \
         --file "$cdspd:/bin/cdspd" --file "$rx:/bin/cdspd_rx" --file "$feed:/bin/v4l2_feed" \
         --file "tests/daemon/vm_inner.sh:/bin/vm_inner.sh" --file "$work/cam.yaml:/etc/cdspd-cam.yaml" \
         -- sh /bin/vm_inner.sh "$fourcc" "$mode" ${VM_CDSPD_DURATION:-} || rc=1
