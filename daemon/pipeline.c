@@ -410,6 +410,7 @@ int cdspd_pipeline_start(cdspd_pipeline **out, const cdspd_config *cfg, cdspd_st
         cdspd_sender_close(&p->sender);
         goto fail;
     }
+    cdspd_recorder_set_lossless(&p->rec, p->src->replay);
     if (pthread_create(&p->proc, NULL, proc_main, p)) {
         snprintf(err, errlen, "cannot start the processing thread");
         goto fail_rec;
