@@ -193,16 +193,21 @@ typedef struct {
 } cdsp_edge;
 
 typedef struct {
-    int step;               /* scanline spacing, px (>= 1). Default 4: a
-                               quarter of the rows and columns are read. */
+    int step;               /* scanline spacing, px (1..CDSP_EDGE_MAX_STEP).
+                               Default 4: a quarter of the rows and columns
+                               are read. */
     int half_window;        /* partial-area window half-length, px (2..8).
                                Default 4 (9-px window): covers an edge
                                blurred with sigma up to ~1.2 px. */
     cdsp_real min_contrast; /* minimum intensity step across an edge as a
                                fraction of full scale (2^bits - 1).
                                Default 0.06 (15 gray levels at 8 bit). */
-    cdsp_roi roi;           /* where to look; default whole frame */
+    cdsp_roi roi;           /* where to look; default whole frame; any
+                               values (clipped to the frame, no overflow) */
 } cdsp_edge_params;
+
+/* Largest scanline spacing (a wider step than any frame reads one line). */
+#define CDSP_EDGE_MAX_STEP 65536
 
 void cdsp_edge_params_default(cdsp_edge_params *p);
 
@@ -282,6 +287,11 @@ void cdsp_pair_params_default(cdsp_pair_params *p);
 /* ------------------------------------------------------------------------
  * The axis.
  * ---------------------------------------------------------------------- */
+
+/* Largest radius the solvers accept (radius units: 1e9 mm is 1000 km).
+ * Beyond it the covariance's squares leave the float range and the
+ * uncertainty would come out infinite; CDSP_E_ARG instead. */
+#define CDSP_MAX_RADIUS 1e9
 typedef struct {
     cdsp_real point[3];      /* P_C: foot of the perpendicular from the optical
                                 centre onto the axis (camera frame) */
@@ -318,7 +328,7 @@ typedef struct {
 
 /*
  * The closed form (METHOD.md): from two contour lines (undistorted px), a
- * pixel p_in between them on the pipe, the radius r (> 0).
+ * pixel p_in between them on the pipe, the radius r (0 < r <= CDSP_MAX_RADIUS).
  * Fills point, direction, distance, alpha, normals, lines; segment is set to
  * point; cov/sigma zero; counts zero.
  * CDSP_E_DEGENERATE when: the back-projection planes are parallel
@@ -343,6 +353,12 @@ typedef struct {
 } cdsp_params;
 
 void cdsp_params_default(cdsp_params *p);
+
+/* The parameter checks every solve entry point makes, for callers that
+ * validate a configuration before any frame (cdspd at load time):
+ * CDSP_OK, or CDSP_E_ARG when p is NULL or a field is outside its range
+ * (documented at each field above: e.g. 0 < min_contrast < 1). */
+cdsp_status cdsp_params_check(const cdsp_params *p);
 
 /* Workspace of the points path: one label byte per point. */
 typedef struct {
@@ -393,6 +409,9 @@ cdsp_real cdsp_result_point_distance(const cdsp_result *r, const cdsp_real X[3])
 #define CDSP_RENDER_MAX_CLUTTER 8
 #endif
 
+/* Largest blur_sigma_px: the kernel's radius (3 sigma) fits its buffer. */
+#define CDSP_RENDER_MAX_BLUR_PX 8
+
 typedef struct {
     cdsp_real p0[3], p1[3];  /* camera-frame endpoints of the clutter bar's
                                 centre line (a box-like bar seen side on) */
@@ -416,7 +435,8 @@ typedef struct {
     cdsp_real ambient;         /* 1 = flat, no shading */
     cdsp_real texture;         /* background texture amplitude (fraction) */
     cdsp_real texture_scale_px;/* its feature size, px */
-    cdsp_real blur_sigma_px;   /* Gaussian optical blur (needs scratch) */
+    cdsp_real blur_sigma_px;   /* Gaussian optical blur, 0..CDSP_RENDER_MAX_BLUR_PX
+                                  (needs scratch) */
     cdsp_real noise_sigma;     /* Gaussian sensor noise, fraction of full scale */
     int n_clutter;             /* <= CDSP_RENDER_MAX_CLUTTER, behind or in front */
     cdsp_clutter clutter[CDSP_RENDER_MAX_CLUTTER];
@@ -436,6 +456,8 @@ size_t cdsp_render_scratch_size(int width, int height);
  * (supersampled near end caps and clutter), with the camera's distortion.
  * rng supplies sensor noise (may be NULL when noise_sigma == 0).
  * scratch: cdsp_render_scratch_size() floats, or NULL without blur.
+ * CDSP_E_NONFINITE when any real of the scene (levels, light, geometry,
+ * clutter) is NaN or infinite; CDSP_E_ARG for values out of range.
  */
 cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out,
                         size_t stride, int out_bits, float *scratch, size_t scratch_len,

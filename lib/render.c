@@ -229,7 +229,13 @@ static cdsp_real lattice(uint32_t seed, int32_t x, int32_t y)
 static cdsp_real value_noise(uint32_t seed, cdsp_real x, cdsp_real y)
 {
     cdsp_real fx = R_FLOOR(x), fy = R_FLOOR(y), tx = x - fx, ty = y - fy, a, b, c, d;
-    int32_t ix = (int32_t)fx, iy = (int32_t)fy;
+    int32_t ix, iy;
+    /* cells beyond +-1e9 (a tiny texture_scale_px) are flat: the lattice
+     * index must fit an int32 */
+    if (!(R_FABS(fx) < R(1e9)) || !(R_FABS(fy) < R(1e9)))
+        return R(0);
+    ix = (int32_t)fx;
+    iy = (int32_t)fy;
     tx = tx * tx * (R(3) - R(2) * tx);
     ty = ty * ty * (R(3) - R(2) * ty);
     a = lattice(seed, ix, iy);
@@ -496,15 +502,40 @@ static void store(const cdsp_scene *s, cdsp_rng *rng, cdsp_real val, cdsp_real f
     long qv;
     if (s->noise_sigma > R(0))
         val += s->noise_sigma * cdsp_rng_normal(rng);
-    qv = (long)(val * full + R(0.5));
-    qv = qv < 0 ? 0 : (qv > (long)full ? (long)full : qv);
+    /* clamp before the conversion: a level far outside [0, 1] (or noise on
+     * it) must not reach (long) out of its range */
+    if (!(val > R(0)))
+        qv = 0;
+    else if (val >= R(1))
+        qv = (long)full;
+    else
+        qv = (long)(val * full + R(0.5));
     if (bpp == 1)
         ((unsigned char *)out)[(size_t)y * stride + (size_t)x] = (unsigned char)qv;
     else
         ((uint16_t *)(void *)((unsigned char *)out + (size_t)y * stride))[x] = (uint16_t)qv;
 }
 
-#define RENDER_MAX_KERNEL 25 /* radius: 3 sigma up to sigma = 8 px */
+#define RENDER_MAX_KERNEL 25 /* radius: 3 sigma up to sigma = CDSP_RENDER_MAX_BLUR_PX */
+
+/* Every real of the scene is finite (the header's CDSP_E_NONFINITE). */
+static int scene_finite(const cdsp_scene *s)
+{
+    int i;
+    if (!v3_finite(s->axis_point) || !v3_finite(s->axis_dir) || !v3_finite(s->light) ||
+        !R_FINITE(s->radius) || !R_FINITE(s->half_length) || !R_FINITE(s->pipe_level) ||
+        !R_FINITE(s->cap_level) || !R_FINITE(s->background_level) || !R_FINITE(s->ambient) ||
+        !R_FINITE(s->texture) || !R_FINITE(s->texture_scale_px) || !R_FINITE(s->blur_sigma_px) ||
+        !R_FINITE(s->noise_sigma))
+        return 0;
+    for (i = 0; i < s->n_clutter && i < CDSP_RENDER_MAX_CLUTTER; i++) {
+        const cdsp_clutter *c = &s->clutter[i];
+        if (!v3_finite(c->p0) || !v3_finite(c->p1) || !R_FINITE(c->half_width) ||
+            !R_FINITE(c->level))
+            return 0;
+    }
+    return 1;
+}
 
 cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, size_t stride,
                         int out_bits, float *scratch, size_t scratch_len, cdsp_rng *rng)
@@ -529,11 +560,11 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
         stride = (size_t)W * bpp;
     if (stride < (size_t)W * bpp)
         return CDSP_E_FORMAT;
-    if (!v3_finite(s->axis_point) || !v3_finite(s->axis_dir) || !R_FINITE(s->radius) ||
-        !R_FINITE(s->blur_sigma_px) || !R_FINITE(s->noise_sigma))
+    if (!scene_finite(s))
         return CDSP_E_NONFINITE;
     if (!(s->radius > R(0)) || s->n_clutter < 0 || s->n_clutter > CDSP_RENDER_MAX_CLUTTER ||
-        s->blur_sigma_px < R(0) || s->blur_sigma_px > R(8) || s->noise_sigma < R(0))
+        s->blur_sigma_px < R(0) || s->blur_sigma_px > R(CDSP_RENDER_MAX_BLUR_PX) ||
+        s->noise_sigma < R(0))
         return CDSP_E_ARG;
     if (s->noise_sigma > R(0) && !rng)
         return CDSP_E_ARG;
