@@ -303,11 +303,10 @@ static void *proc_main(void *arg)
                 cdspd_record_set_result(&rec, &res);
                 prev = res;
                 have_prev = 1;
-                cdspd_stats_add(p->stats, CDSPD_STAT(ok), 1);
             } else {
                 have_prev = 0;
-                cdspd_stats_add(p->stats, CDSPD_STAT(not_found), 1);
             }
+            cdspd_stats_add(p->stats, cdspd_stats_status_field(st), 1);
         }
         cdspd_stats_add(p->stats, CDSPD_STAT(processed), 1);
         if (cdspd_recorder_wants(&p->rec, processed) && cdspd_recorder_ready(&p->rec))
