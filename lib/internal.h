@@ -144,6 +144,9 @@ cdsp_status cdsp__params_check(const cdsp_params *p);
 /* The checks every solve entry point makes: camera, radius, parameters. */
 cdsp_status cdsp__solve_args_check(const cdsp_camera *cam, cdsp_real radius, const cdsp_params *p);
 cdsp_status cdsp__edge_params_check(const cdsp_edge_params *p);
+/* lines.c: floor(0.618034 n) without overflow for any size_t width (the
+ * start of RANSAC's golden-ratio subsample stride); tested on its own. */
+size_t cdsp__golden_start(size_t n);
 /* The roi clipped to the frame as [x0, x1) x [y0, y1) (w or h <= 0: the
  * whole frame); any roi values, no overflow. */
 void cdsp__edges_clip_roi(const cdsp_image *img, const cdsp_roi *roi, int *x0, int *y0, int *x1,

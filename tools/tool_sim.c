@@ -3,7 +3,7 @@
  * (libcdsp's cdsp_render: exact area anti-aliasing, lens distortion, blur,
  * sensor noise), the matching calibration YAML and a ground-truth JSON, so
  * that anyone can try `solve` without a camera. --preset paper renders the
- * four pipes of the paper's simulation (METHOD.md).
+ * four pipes of the paper's simulation (docs/method.md).
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tool_internal.h"
@@ -41,7 +41,7 @@ static const char sim_description[] =
     "    same whatever N is.\n"
     "\n"
     "    --preset paper renders the paper's simulation instead (Yao et al. 2024,\n"
-    "    METHOD.md): a 2448 x 2048 camera with 3.45 um pixels and f = 12 mm\n"
+    "    docs/method.md): a 2448 x 2048 camera with 3.45 um pixels and f = 12 mm\n"
     "    (fx = fy = 3478.26 px), principal point at the centre, no distortion;\n"
     "    four pipes of radius 8 mm and length 500 mm in the world plane Z_W = 0\n"
     "    (p1 along X_W through the origin, p2 = p1 moved -100 mm along Y_W, p3\n"

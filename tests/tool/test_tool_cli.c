@@ -565,7 +565,7 @@ static void paper_preset(void **state)
     assert_int_equal(t.cam.width, 2448);
     assert_int_equal(t.cam.height, 2048);
     assert_true(fabs((double)t.cam.fx - 3478.26) < 0.01);
-    /* the paper's distances from the camera to p1..p4 (METHOD.md geometry) */
+    /* the paper's distances from the camera to p1..p4 (docs/method.md §9 geometry) */
     {
         static const double want[4] = {360.5551, 424.2641, 335.4102, 390.5125};
         for (i = 0; i < 4; i++)
@@ -1206,7 +1206,7 @@ static void bench_files(void **state)
     tt_assert_contains(r.out, "Table 2.");
     tt_assert_contains(r.out, "Table 3.");
     run_free(&r);
-    /* the radius table is exact: |dr| / r x distance (METHOD.md) */
+    /* the radius table is exact: |dr| / r x distance (docs/method.md) */
     snprintf(path, sizeof path, "%s/bench_radius.csv", out);
     text = slurp(path, NULL);
     line = strtok_r(text, "\n", &save);
