@@ -536,7 +536,7 @@ static void png_claims_beyond_its_data(void **state)
     size_t len;
     int rc;
     (void)state;
-    f = fopen("tests/fuzz/corpus/png/regress-65-bytes-claims-2GiB.png", "rb");
+    f = fopen("tests/fuzz/corpus/image-png/regress-65-bytes-claims-2GiB.png", "rb");
     assert_non_null(f); /* run from the repository's top, as make does */
     len = fread(buf, 1, sizeof buf, f);
     fclose(f);
