@@ -474,7 +474,9 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out,
 /* The exact contour lines of an infinite cylinder (undistorted px, oriented
  * as in cdsp_line: toward the brighter side assuming pipe brighter when
  * pipe_brighter != 0) and a pixel inside; the ground truth for tests.
- * CDSP_E_DEGENERATE when the camera is inside or the pipe is behind. */
+ * CDSP_E_DEGENERATE when the camera is inside or the pipe is behind (or so
+ * close to the camera's plane that its image is not finite); the camera is
+ * checked (cdsp_camera_check). */
 cdsp_status cdsp_cylinder_contours(const cdsp_camera *cam, const cdsp_real axis_point[3],
                                    const cdsp_real axis_dir[3], cdsp_real radius,
                                    int pipe_brighter, cdsp_real l1[3], cdsp_real l2[3],

@@ -104,6 +104,9 @@ cdsp_status cdsp_cylinder_contours(const cdsp_camera *cam, const cdsp_real axis_
     int i;
     if (!cam || !axis_point || !axis_dir || !l1 || !l2 || !p_in)
         return CDSP_E_ARG;
+    st = cdsp_camera_check(cam); /* fuzzing: an infinite fx gave CDSP_OK and Inf */
+    if (st != CDSP_OK)
+        return st;
     if (!v3_finite(axis_point) || !v3_finite(axis_dir) || !R_FINITE(radius))
         return CDSP_E_NONFINITE;
     if (!(radius > R(0)))
@@ -137,6 +140,9 @@ cdsp_status cdsp_cylinder_contours(const cdsp_camera *cam, const cdsp_real axis_
     }
     p_in[0] = cam->fx * X[0] / X[2] + cam->cx;
     p_in[1] = cam->fy * X[1] / X[2] + cam->cy;
+    /* a pipe grazing the camera's plane projects beyond the reals */
+    if (!v3_finite(l1) || !v3_finite(l2) || !R_FINITE(p_in[0]) || !R_FINITE(p_in[1]))
+        return CDSP_E_DEGENERATE;
     return CDSP_OK;
 }
 

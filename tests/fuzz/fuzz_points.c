@@ -121,10 +121,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (cdsp_svd3(A, U, S, V) == CDSP_OK && (!fin(U, 9) || !fin(S, 3) || !fin(V, 9)))
             abort();
     }
-    if (cdsp_cylinder_contours(&cam, X, l1, (cdsp_real)radius, fz_u8(&in) & 1, l1, l2, pin) ==
-            CDSP_OK &&
-        (!fin(l1, 3) || !fin(l2, 3) || !fin(pin, 2)))
-        abort();
+    {
+        cdsp_real dir[3], c1[3], c2[3], cin[2];
+        memcpy(dir, l1, sizeof dir);
+        if (cdsp_cylinder_contours(&cam, X, dir, (cdsp_real)radius, fz_u8(&in) & 1, c1, c2, cin) ==
+                CDSP_OK &&
+            (!fin(c1, 3) || !fin(c2, 3) || !fin(cin, 2)))
+            abort();
+    }
     {
         /* a small frame of a fuzzed scene */
         static uint8_t out[24 * 16 * 2];
@@ -133,6 +137,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         int bits = (int)fz_range(&in, 0, 17);
         small.width = 24;
         small.height = 16;
+        if (cdsp_camera_check(&small) != CDSP_OK) { /* else the render stops at the camera */
+            small.fx = small.fy = 20;
+            small.cx = 12;
+            small.cy = 8;
+            small.k1 = small.k2 = small.p1 = small.p2 = small.k3 = 0;
+        }
         cdsp_scene_default(&s);
         for (k = 0; k < 3; k++) {
             s.axis_point[k] = pool[(size_t)fz_u8(&in) & 15];

@@ -369,6 +369,15 @@ static void test_nonfinite_scene(void **state)
     s = base;
     s.blur_sigma_px = (cdsp_real)(CDSP_RENDER_MAX_BLUR_PX + 0.5);
     assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_E_ARG);
+    /* found by fuzzing (tests/fuzz/corpus/points/regress-contours-infinite-fx.bin):
+     * the contours of a camera with fx = -Inf came back CDSP_OK and infinite */
+    {
+        cdsp_camera bad = cam;
+        cdsp_real l1[3], l2[3], pin[2];
+        bad.fx = (cdsp_real)-INFINITY;
+        assert_int_equal(cdsp_cylinder_contours(&bad, base.axis_point, base.axis_dir, 8, 1, l1, l2,
+                                                pin), CDSP_E_NONFINITE);
+    }
 }
 
 int main(void)
