@@ -99,7 +99,7 @@ $(call fuzz_BIN,$(1)): $(fuzz_OBJ_DIR)/$(1).o $(fuzz_DEPS_$(1)) $(fuzz_LIB)
 check-fuzz-$(1): $(call fuzz_BIN,$(1))
 	@rm -rf $(fuzz_DIR)/check/$(1) && mkdir -p $(fuzz_DIR)/check/$(1) $(fuzz_DIR)/crashes
 	@$(RUN) "fuzz/$(1)" $(call fuzz_BIN,$(1)) $(call fuzz_FLAGS,$(1)) \
-	    -runs=$(or $(FUZZ_RUNS),$(fuzz_RUNS_$(1))) -verbosity=0 -artifact_prefix=$(fuzz_DIR)/crashes/$(1)- \
+	    -runs=$(or $(FUZZ_RUNS),$(fuzz_RUNS_$(1))) -verbosity=0 -print_funcs=0 -artifact_prefix=$(fuzz_DIR)/crashes/$(1)- \
 	    $(fuzz_DIR)/check/$(1) tests/fuzz/corpus/$(1)
 
 fuzz-$(1): $(call fuzz_BIN,$(1))
