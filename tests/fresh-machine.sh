@@ -13,7 +13,9 @@
 # Needs root (debootstrap, chroot, mounts) and about 3 GB of disk; takes
 # 15-40 minutes. The mirror is the one this machine's apt uses.
 # Environment: FRESH_DIR (default /var/tmp) for the root, KEEP_ROOT=1 to
-# keep it, FRESH_STEPS (default "user demo check") to run fewer steps.
+# keep it, FRESH_STEPS (default "user demo check") to run fewer steps,
+# FRESH_CACHE=FILE.tar to save the untouched debootstrap result there (or,
+# when FILE.tar exists, to start from it instead of running debootstrap).
 # Logs: build/fresh/*.log. Exit status: 0 every step passed, 1 a step
 # failed, 2 cannot run here (not root, no mirror, debootstrap failed).
 set -u
@@ -37,6 +39,7 @@ if ! command -v debootstrap >/dev/null 2>&1; then
 fi
 
 root=$(mktemp -d "${FRESH_DIR:-/var/tmp}/cdsp-fresh.XXXXXX") || exit 2
+chmod 755 "$root" # mktemp's 0700 would keep the unprivileged step out of /
 mounts=()
 cleanup() {
     local i
@@ -54,12 +57,21 @@ trap cleanup EXIT
 trap 'exit 1' INT TERM HUP
 
 t0=$(date +%s)
-say "debootstrap --variant=minbase bookworm into $root"
-if ! debootstrap --variant=minbase --include=git,make,ca-certificates bookworm "$root" "$mirror" \
-        >"$logs/debootstrap.log" 2>&1; then
-    tail -n 20 "$logs/debootstrap.log"
-    say "debootstrap failed (log: $logs/debootstrap.log)"
-    exit 2
+cache=${FRESH_CACHE:-}
+if [ -n "$cache" ] && [ -f "$cache" ]; then
+    say "unpacking the fresh root saved in $cache into $root"
+    tar --numeric-owner -C "$root" -xpf "$cache" || { say "cannot unpack $cache"; exit 2; }
+else
+    say "debootstrap --variant=minbase bookworm into $root"
+    if ! debootstrap --variant=minbase --include=git,make,ca-certificates bookworm "$root" "$mirror" \
+            >"$logs/debootstrap.log" 2>&1; then
+        tail -n 20 "$logs/debootstrap.log"
+        say "debootstrap failed (log: $logs/debootstrap.log)"
+        exit 2
+    fi
+    if [ -n "$cache" ]; then # the untouched root, for the next run
+        tar --numeric-owner -C "$root" -cf "$cache" . && say "fresh root saved in $cache"
+    fi
 fi
 say "root ready in $(( $(date +%s) - t0 )) s"
 

@@ -278,8 +278,8 @@ static int cmp_double(const void *a, const void *b)
 
 static const char bench_description[] =
     "    Repeats the accuracy study of the paper (Yao et al. 2024, section 4;\n"
-    "    figures restated in docs/method.md) with libcdsp on simulated data and prints\n"
-    "    each table beside the paper's figures:\n"
+    "    figures restated in docs/method.md) with libcdsp on simulated data\n"
+    "    and prints each table beside the paper's figures:\n"
     "\n"
     "    1. Axis RMSE against Gaussian noise of 0..3 px added to the contour\n"
     "       points, --trials trials per level, for the paper's four pipes p1..p4\n"

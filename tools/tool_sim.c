@@ -55,7 +55,8 @@ static const char sim_after[] =
     "      calibration  \"camera.yaml\"\n"
     "      radius       R\n"
     "      frames       one object per frame:\n"
-    "        frame        the file name, in DIR\n"
+    "        frame        its index, from 0 (solve's \"frame\" of it)\n"
+    "        file         the file name, in DIR\n"
     "        pipe         \"p1\" .. \"p4\" with --preset paper\n"
     "        axis_point, axis_dir, half_length   the simulated cylinder\n"
     "        point, direction, distance          what solve should report: the\n"
@@ -322,7 +323,9 @@ int tool_sim_main(int argc, char **argv)
         }
         tool_axis_truth(point, dir, foot, unit, &dist);
         cdsp_host_json_begin_object(&j);
-        cdsp_host_json_key(&j, "frame");
+        cdsp_host_json_key(&j, "frame"); /* the index, as in solve's records */
+        cdsp_host_json_int(&j, (long long)k);
+        cdsp_host_json_key(&j, "file");
         cdsp_host_json_string(&j, name);
         if (o.preset == 1) {
             char pn[4] = {'p', (char)('1' + k), 0, 0};
