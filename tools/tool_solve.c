@@ -544,7 +544,7 @@ int tool_solve_main(int argc, char **argv)
         const tool_opt opts[] = {
             {"calib", 'c', OPT_STR, &J.calib_path, 0, 0, "CAM.yaml",
              "The camera calibration, ROS camera_info YAML (required).", NULL, 1},
-            {"radius", 'r', OPT_REAL, &J.radius, 1e-9, 1e12, "R",
+            {"radius", 'r', OPT_REAL, &J.radius, 1e-9, CDSP_MAX_RADIUS, "R",
              "The pipe's radius in the unit wanted for the output, e.g. 8 for a 16 mm "
              "pipe in mm (required).", NULL, 1},
             {"out", 'o', OPT_STR, &J.out_dir, 0, 0, "DIR",

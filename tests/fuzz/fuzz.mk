@@ -33,8 +33,10 @@ fuzz_LIB_CFLAGS := $(fuzz_CFLAGS)
 $(eval $(call lib_variant,fuzz,$(CLANG),fuzz_LIB_CFLAGS))
 
 fuzz_HOST_OBJ := $(patsubst tools/common/%.c,$(fuzz_OBJ_DIR)/common/%.o,$(sort $(wildcard tools/common/*.c)))
-fuzz_DAEMON_OBJ := $(fuzz_OBJ_DIR)/daemon/proto.o $(fuzz_OBJ_DIR)/daemon/config.o \
-                   $(fuzz_OBJ_DIR)/daemon/log.o
+# config.o refers to the file source (cdspd_config_finish finds a
+# recording's calibration): the source objects come along, unused
+fuzz_DAEMON_OBJ := $(patsubst %,$(fuzz_OBJ_DIR)/daemon/%.o,proto config log src_file source pool \
+                     sim_path src_sim)
 $(fuzz_OBJ_DIR)/common/%.o: tools/common/%.c
 	@mkdir -p $(@D)
 	$(CLANG) $(fuzz_CFLAGS) $(fuzz_INC) -c $< -o $@
