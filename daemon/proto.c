@@ -221,6 +221,15 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
     return CDSPD_PROTO_SIZE;
 }
 
+static int finite_n(const double *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
 int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char **why)
 {
     const char *dummy;
@@ -273,6 +282,17 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
     r->frames_dropped = get_u32(b + OFF_DROP);
     r->frames_bad = get_u32(b + OFF_BAD);
     r->reconnects = get_u32(b + OFF_RECON);
+    /* cdspd sends finite numbers only (zeros without a pose); a NaN or Inf
+     * would reach the consumer as JSON null, which no decoder takes back
+     * (found by tests/fuzz listen) */
+    if (!finite_n(&r->radius, 1) || !finite_n(r->point, 3) || !finite_n(r->direction, 3) ||
+        !finite_n(&r->distance, 1) || !finite_n(&r->alpha, 1) || !finite_n(&r->lines[0][0], 6) ||
+        !finite_n(&r->segment[0][0], 6) || !finite_n(r->sigma_point, 3) ||
+        !finite_n(r->sigma_direction, 3) || !finite_n(&r->sigma_distance, 1) ||
+        !finite_n(r->rms, 2)) {
+        *why = "a number in the record is not finite";
+        return -1;
+    }
     return 0;
 }
 
@@ -522,8 +542,12 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
             ok = 0;
         r->status = st;
     }
-    if (jnum(o, "radius", &v))
-        r->radius = v;
+    if (json_object_object_get_ex(o, "radius", &x)) {
+        if (jnum_of(x, &v))
+            r->radius = v;
+        else
+            ok = 0; /* given, but not a finite number */
+    }
     if (jbool(o, "source_down"))
         r->flags |= CDSPD_FLAG_SOURCE_DOWN;
     if (jbool(o, "recorded"))

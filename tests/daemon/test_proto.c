@@ -284,7 +284,8 @@ static void test_json_hostile(void **state)
     };
     static const char *const files[] = {"regress-kind-null.json", "regress-status-null.json",
                                         "regress-error-null.json",
-                                        "regress-trailing-injection.json"};
+                                        "regress-trailing-injection.json",
+                                        "regress-binary-nan-radius.bin"};
     cdspd_record a, b;
     char text[4096], mut[8400];
     cdsp_rng g;
@@ -333,6 +334,28 @@ static void test_json_hostile(void **state)
     snprintf(mut, sizeof mut, "%s\n%s", text, text);
     assert_int_equal(cdspd_proto_decode_json(mut, strlen(mut), &b, &why), -1);
     assert_string_equal(why, "bytes after the JSON object");
+    /* found by tests/fuzz listen (corpus/listen/regress-binary-nan-radius.bin):
+     * a binary record's NaN became JSON null, which no decoder takes back;
+     * both decoders now refuse non-finite numbers, radius included */
+    {
+        uint8_t bin[CDSPD_PROTO_SIZE];
+        double nan_v = NAN;
+        random_record(&g, &a, 1);
+        a.kind = CDSPD_KIND_FRAME;
+        assert_int_equal(cdspd_proto_encode(&a, bin, sizeof bin), CDSPD_PROTO_SIZE);
+        assert_int_equal(cdspd_proto_decode(bin, sizeof bin, &b, &why), 0);
+        memcpy(bin + 48, &nan_v, 8); /* OFF_RADIUS, docs/protocol.md */
+        assert_int_equal(cdspd_proto_decode(bin, sizeof bin, &b, &why), -1);
+        assert_string_equal(why, "a number in the record is not finite");
+        n = cdspd_proto_encode_json(&a, text, sizeof text);
+        {
+            char *rad = strstr(text, "\"radius\":");
+            assert_non_null(rad);
+            snprintf(mut, sizeof mut, "%.*s\"radius\":null%s", (int)(rad - text), text,
+                     strchr(rad, ','));
+            assert_int_equal(cdspd_proto_decode_json(mut, strlen(mut), &b, &why), -1);
+        }
+    }
     for (i = 0; i < sizeof files / sizeof files[0]; i++) {
         char path[256];
         FILE *f;
