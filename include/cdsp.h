@@ -326,6 +326,12 @@ typedef struct {
                                 marks the inliers of contour k (valid until the
                                 workspace is used again); 0 from cdsp_axis_solve */
     uint32_t flags;          /* CDSP_FLAG_* */
+    /* The edge-profile model (frame path, CDSP_FLAG_PROFILE): how far each
+     * contour was moved from the detector's line to the modelled silhouette
+     * (undistorted px, + toward the pipe; 0 when not applied) and the edge
+     * spread measured on it (sigma, px; 0 when not applied). */
+    cdsp_real edge_offset[2];
+    cdsp_real edge_blur[2];
 } cdsp_result;
 
 #define CDSP_FLAG_TRACKED 1u     /* found in the bands around the prior */
@@ -333,6 +339,8 @@ typedef struct {
 #define CDSP_FLAG_TRUNCATED 4u   /* more edges than CDSP_MAX_EDGES were found: the
                                     frame was scanned at a coarser step (see
                                     cdsp_edges_detect; tracking bands likewise) */
+#define CDSP_FLAG_PROFILE 8u     /* the edge-profile model fitted both contours
+                                    (edge_offset: how far each was moved) */
 
 /*
  * The closed form (docs/method.md): from two contour lines (undistorted px), a
@@ -351,6 +359,106 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3],
 /* ------------------------------------------------------------------------
  * Points -> pose and frame -> pose.
  * ---------------------------------------------------------------------- */
+/* ------------------------------------------------------------------------
+ * Edge-profile model (lib/profile.c): where a contour's silhouette is, from
+ * the intensity profile across it accumulated along the whole contour.
+ * The detector's points sit where its partial-area window puts the edge;
+ * on a shaded limb, a blur wider than its window or a contour that is not
+ * axis-aligned that is off the silhouette by up to a few tenths of a pixel
+ * (motion blur: pixels). The model takes the profile (pixel centres at
+ * their signed distance u from the fitted line, in 1/4 px bins over
+ * hundreds of scanlines) as a step blurred by a symmetric kernel of unknown
+ * width (optics, motion, the pixel's footprint) between a background side
+ * D + E u and a pipe side A + B s + C sqrt(s (2 Rc - s)) (s = distance
+ * from the silhouette, Rc the pipe's image radius: a Lambertian cylinder's
+ * shading, ~ sqrt(s) at the limb), and solves the area balance
+ * (blur moves intensity across the silhouette, never out of a window wider
+ * than the blur) for the silhouette. Details and limits: lib/profile.c,
+ * docs/method.md.
+ * ---------------------------------------------------------------------- */
+#ifndef CDSP_PROFILE_RANGE_PX
+#define CDSP_PROFILE_RANGE_PX 24   /* largest half-width of a profile, px */
+#endif
+#define CDSP_PROFILE_BINS_PER_PX 4
+#define CDSP_PROFILE_NBINS (2 * CDSP_PROFILE_RANGE_PX * CDSP_PROFILE_BINS_PER_PX)
+
+/* Bins of one contour's profile (caller-owned scratch; contents undefined
+ * between calls). Sums are exact integers for 8..16-bit pixels up to
+ * max_rows = 4096. */
+typedef struct {
+    uint32_t count[CDSP_PROFILE_NBINS];
+    uint32_t sum[CDSP_PROFILE_NBINS];
+    uint64_t sumsq[CDSP_PROFILE_NBINS];
+    cdsp_real sum_u[CDSP_PROFILE_NBINS];
+    cdsp_real mean_u[CDSP_PROFILE_NBINS], mean_v[CDSP_PROFILE_NBINS]; /* the fit's
+                               bins (here, not on an MCU's small stack) */
+} cdsp_profile_ws;
+
+typedef struct {
+    int enable;                  /* frame path: move each contour to its
+                                    modelled silhouette. Default 0 (opt-in:
+                                    see make bench's accuracy study for
+                                    where it helps and where not yet) */
+    int max_rows;                /* scanlines sampled per contour (16..4096):
+                                    the frame path takes each sampled
+                                    inlier's scanline and its two
+                                    neighbours, inliers spread evenly.
+                                    Default 2048 */
+    cdsp_real max_half_width_px; /* profile half-width, px (6..CDSP_PROFILE_RANGE_PX;
+                                    also kept inside 0.9 of the pipe's
+                                    half-width). Default 20: a 15 px motion
+                                    blur or a 3 px optical one plus the
+                                    fit zones */
+    cdsp_real max_fit_chi2;      /* frame path: a contour whose pipe side fits
+                                    worse than this (fit_chi2) keeps the
+                                    detector's line (a limb in shadow, a
+                                    highlight, a plateau). Default 0.25:
+                                    on the paper's rendered scene good
+                                    contours give 0.01-0.03, shadowed limbs
+                                    0.6-0.8 */
+} cdsp_profile_params;
+
+void cdsp_profile_params_default(cdsp_profile_params *p);
+
+typedef struct {
+    cdsp_real offset;       /* modelled silhouette minus the given line, px
+                               along the normal, positive toward the pipe */
+    cdsp_real sigma_offset; /* its standard deviation from the pixels' noise, px */
+    cdsp_real blur;         /* measured sigma of the edge spread (optics,
+                               motion, the pixel's footprint), px */
+    cdsp_real contrast;     /* pipe minus background at the silhouette, gray levels */
+    cdsp_real half_width;   /* window half-width used, px */
+    cdsp_real fit_chi2;     /* pipe side's chi-square per degree of freedom
+                               against the pixels' noise (<~1: the model fits) */
+    int flat;               /* 1: the limb term is not significant
+                               (F-test): the pipe side is a straight ramp,
+                               which the detector handles exactly */
+    int saturated;          /* 1: part of the profile sits at full scale */
+    uint32_t rows;          /* scanlines accumulated */
+} cdsp_profile;
+
+/*
+ * Fit the profile model to the frame along the straight line `line` (frame
+ * px, a u + b v + c = 0, any scale) between the projections of ends[0] and
+ * ends[1] onto it; p_in is the pipe's middle (its distance from the line
+ * is taken as the limb's radius Rc, px). Scanlines whose
+ * window leaves the frame are skipped. CDSP_E_FEW_POINTS when fewer than
+ * 16 scanlines fit, CDSP_E_NOCONVERGE when the model does not fit (no edge,
+ * or the silhouette more than half the window away), CDSP_E_ARG for bad
+ * arguments.
+ */
+cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3],
+                             const cdsp_real p_in[2], const cdsp_real ends[2][2],
+                             const cdsp_profile_params *pp, cdsp_profile_ws *ws,
+                             cdsp_profile *out);
+
+/* Whether the frame path moves a contour by pr->offset: 1 when the model
+ * fits (fit_chi2 <= pp->max_fit_chi2, not saturated) and is needed (a limb term, or a
+ * blur wider than the detector's window of half-width detector_half_window);
+ * 0 keeps the detector's line. */
+int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp,
+                         int detector_half_window);
+
 typedef struct {
     cdsp_edge_params edge;
     cdsp_pair_params pair;
@@ -358,6 +466,7 @@ typedef struct {
                                  predicted contour in tracking mode. Default 12 */
     int track_min_inliers;    /* below this per contour, tracking falls back to a
                                  full search. Default 30 */
+    cdsp_profile_params profile; /* the edge-profile model (frame path) */
 } cdsp_params;
 
 void cdsp_params_default(cdsp_params *p);
@@ -378,6 +487,7 @@ typedef struct {
 typedef struct {
     cdsp_edge edge[CDSP_MAX_EDGES];
     uint8_t label[CDSP_MAX_EDGES];
+    cdsp_profile_ws profile;
 } cdsp_frame_ws;
 
 /*

@@ -91,14 +91,15 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
     return n;
 }
 
-static cdsp_status solve_edges(const cdsp_camera *cam, cdsp_real radius, cdsp_frame_ws *ws,
-                               size_t n, const cdsp_params *p, const cdsp_result *prior,
-                               cdsp_rng *rng, cdsp_result *out)
+static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                               cdsp_frame_ws *ws, size_t n, const cdsp_params *p,
+                               const cdsp_result *prior, cdsp_rng *rng, cdsp_result *out)
 {
     cdsp_status st = cdsp_camera_undistort_edges(cam, ws->edge, &n);
     if (st != CDSP_OK)
         return st;
-    return cdsp__pair_solve(cam, radius, ws->edge, n, ws->label, p, prior, rng, out);
+    return cdsp__pair_solve(cam, radius, ws->edge, n, ws->label, p, prior, rng, img, &ws->profile,
+                            out);
 }
 
 cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
@@ -122,10 +123,11 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
     if (prior && v3_finite(prior->lines[0]) && v3_finite(prior->lines[1])) {
         int truncated;
         n = track_edges(img, cam, p, prior, ws->edge, CDSP_MAX_EDGES, &truncated);
-        st = solve_edges(cam, radius, ws, n, p, prior, rng, out);
+        st = solve_edges(img, cam, radius, ws, n, p, prior, rng, out);
         if (st == CDSP_OK && out->inliers[0] >= (uint32_t)p->track_min_inliers &&
             out->inliers[1] >= (uint32_t)p->track_min_inliers) {
-            out->flags = CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u);
+            out->flags = CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u) |
+                         (out->flags & CDSP_FLAG_PROFILE);
             return CDSP_OK;
         }
     }
@@ -134,9 +136,9 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
         flags |= CDSP_FLAG_TRUNCATED;
     else if (st != CDSP_OK)
         return st;
-    st = solve_edges(cam, radius, ws, n, p, prior, rng, out);
+    st = solve_edges(img, cam, radius, ws, n, p, prior, rng, out);
     if (st != CDSP_OK)
         return st;
-    out->flags = flags;
+    out->flags = flags | (out->flags & CDSP_FLAG_PROFILE);
     return CDSP_OK;
 }

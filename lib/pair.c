@@ -222,11 +222,13 @@ static void visible_segment(const cdsp_camera *cam, const cdsp_line *L[2], cdsp_
 
 cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                              size_t n, uint8_t *label, const cdsp_params *p,
-                             const cdsp_result *prior, cdsp_rng *rng, cdsp_result *out)
+                             const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
+                             cdsp_profile_ws *pws, cdsp_result *out)
 {
     cdsp_line lines[CDSP_MAX_LINES];
     const cdsp_line *L[2];
-    int nlines = 0, i, j;
+    int nlines = 0, i, j, profiled = 0;
+    cdsp_real edge_offset[2] = {0, 0}, edge_blur[2] = {0, 0};
     pair_choice best;
     cdsp_result r;
     cdsp__axis ax;
@@ -257,6 +259,21 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         return CDSP_E_NO_PIPE;
     L[0] = &lines[best.i];
     L[1] = &lines[best.j];
+    /* the edge-profile model moves each line to its modelled silhouette
+     * (lib/profile.c); a contour it cannot model keeps the detector's line */
+    if (img && pws && p->profile.enable) {
+        for (i = 0; i < 2; i++) {
+            cdsp_profile pr;
+            cdsp_real moved = R(0);
+            if (cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)((i ? best.j : best.i) + 1),
+                                     &lines[i ? best.j : best.i], best.p_in, &p->profile,
+                                     p->edge.half_window, pws, &pr, &moved) == CDSP_OK) {
+                edge_offset[i] = moved;
+                edge_blur[i] = pr.blur;
+                profiled++;
+            }
+        }
+    }
     st = cdsp__axis_core(cam, L[0]->l, L[1]->l, best.p_in, radius, &ax);
     if (st != CDSP_OK)
         return st;
@@ -269,7 +286,11 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
     r.label[0] = (uint8_t)(best.i + 1);
     r.label[1] = (uint8_t)(best.j + 1);
     r.n_edges = (uint32_t)n;
-    r.flags = 0;
+    r.flags = profiled == 2 ? CDSP_FLAG_PROFILE : 0u;
+    for (i = 0; i < 2; i++) {
+        r.edge_offset[i] = edge_offset[i];
+        r.edge_blur[i] = edge_blur[i];
+    }
     propagate(cam, radius, L, best.p_in, &r);
     visible_segment(cam, L, &r);
     if (prior ? v3_dot(r.direction, prior->direction) < R(0) : cdsp__axis_wants_swap(r.direction))
@@ -296,7 +317,8 @@ cdsp_status cdsp__params_check(const cdsp_params *p)
         !(q->min_overlap <= R(1)) || !(q->max_contour_angle_deg > R(0)) ||
         !(q->max_contour_angle_deg < R(90)) || q->min_distance < R(0) || q->max_distance < R(0))
         return CDSP_E_ARG;
-    if (!(p->track_band_px > R(0)) || p->track_min_inliers < 2)
+    if (!(p->track_band_px > R(0)) || p->track_min_inliers < 2 ||
+        cdsp__profile_params_check(&p->profile) != CDSP_OK)
         return CDSP_E_ARG;
     return cdsp__edge_params_check(&p->edge);
 }
@@ -332,7 +354,7 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cd
         return CDSP_E_CAPACITY;
     if (!edges_finite(pts, n))
         return CDSP_E_NONFINITE;
-    return cdsp__pair_solve(cam, radius, pts, n, ws->label, p, prior, rng, out);
+    return cdsp__pair_solve(cam, radius, pts, n, ws->label, p, prior, rng, NULL, NULL, out);
 }
 
 void cdsp_params_default(cdsp_params *p)
@@ -341,4 +363,5 @@ void cdsp_params_default(cdsp_params *p)
     cdsp_pair_params_default(&p->pair);
     p->track_band_px = R(12);
     p->track_min_inliers = 30;
+    cdsp_profile_params_default(&p->profile);
 }

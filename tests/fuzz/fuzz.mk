@@ -8,6 +8,8 @@
 #   overlay               overlay drawing of points/lines anywhere
 #   frame                 libcdsp on arbitrary frames and parameters
 #   points                libcdsp's geometric entry points on arbitrary numbers
+#   mavlink               the MAVLink encoder's inputs, its frames decoded back,
+#                         received byte streams, the mavlink key's URLs
 # Seeds and regression inputs (regress-*: every hostile input of issue 16 and
 # every crash fuzzing found) are in tests/fuzz/corpus/TARGET/.
 #
@@ -57,7 +59,7 @@ $(fuzz_OBJ_DIR)/%.o: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_input.h
 	$(CLANG) $(fuzz_CFLAGS) $(fuzz_INC) -c $< -o $@
 
 # target: the objects it links beside its harness
-fuzz_TARGETS := image-pgm image-png calib config listen export overlay frame points
+fuzz_TARGETS := image-pgm image-png calib config listen export overlay frame points mavlink
 fuzz_DEPS_image-pgm := $(fuzz_HOST_OBJ)
 fuzz_DEPS_image-png := $(fuzz_HOST_OBJ)
 fuzz_DEPS_calib := $(fuzz_HOST_OBJ)
@@ -68,6 +70,8 @@ fuzz_DEPS_export := $(fuzz_OBJ_DIR)/tools/tool_export.o $(fuzz_OBJ_DIR)/tools/to
 fuzz_DEPS_overlay := $(fuzz_OBJ_DIR)/tools/tool_overlay.o $(fuzz_HOST_OBJ)
 fuzz_DEPS_frame :=
 fuzz_DEPS_points :=
+fuzz_DEPS_mavlink := $(patsubst %,$(fuzz_OBJ_DIR)/daemon/%.o,mavlink mount mavout stats) $(fuzz_DAEMON_OBJ) \
+                     $(fuzz_HOST_OBJ)
 
 # Executions per target in make check, the corpus replay included, chosen
 # for ~40 s in all under ASan/UBSan on this 2-core machine (exec/s measured
@@ -82,6 +86,7 @@ fuzz_RUNS_export := 4000
 fuzz_RUNS_overlay := 1000
 fuzz_RUNS_frame := 600
 fuzz_RUNS_points := 2000
+fuzz_RUNS_mavlink := 10000
 fuzz_MAXLEN_frame := 20000
 FUZZ_SECONDS ?= 60
 
