@@ -297,6 +297,11 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         *why = "unknown status";
         return -1;
     }
+    /* likewise a status record saying "ok" (JSON: "error":"ok") */
+    if (r->kind == CDSPD_KIND_STATUS && r->status == 0) {
+        *why = "a status record without a status";
+        return -1;
+    }
     /* cdspd sends finite numbers only (zeros without a pose); a NaN or Inf
      * would reach the consumer as JSON null, which no decoder takes back
      * (found by tests/fuzz listen) */

@@ -303,7 +303,8 @@ static void test_json_hostile(void **state)
                                         "regress-error-null.json",
                                         "regress-trailing-injection.json",
                                         "regress-binary-nan-radius.bin",
-                                        "regress-binary-unknown-status.bin"};
+                                        "regress-binary-unknown-status.bin",
+                                        "regress-binary-status-ok.bin"};
     cdspd_record a, b;
     char text[4096], mut[8400];
     cdsp_rng g;
@@ -373,6 +374,12 @@ static void test_json_hostile(void **state)
         bin[15] = 0x00;
         assert_int_equal(cdspd_proto_decode(bin, sizeof bin, &b, &why), -1);
         assert_string_equal(why, "unknown status");
+        /* and a status record with status 0 (regress-binary-status-ok.bin) */
+        a.kind = CDSPD_KIND_STATUS;
+        a.status = 0;
+        assert_int_equal(cdspd_proto_encode(&a, bin, sizeof bin), CDSPD_PROTO_SIZE);
+        assert_int_equal(cdspd_proto_decode(bin, sizeof bin, &b, &why), -1);
+        assert_string_equal(why, "a status record without a status");
         n = cdspd_proto_encode_json(&a, text, sizeof text);
         {
             char *rad = strstr(text, "\"radius\":");
