@@ -134,6 +134,9 @@ static const key_def keys[] = {
     {"solver.max_distance", K_REAL, O(max_distance), 0, 1e12, NULL, "0",
      "plausible |P_C| upper bound, radius units, 0 = none"},
     {"solver.seed", K_U64, O(seed), 0, 0, NULL, "1", "seed of the solver's RANSAC generator"},
+    /* ---- solver: detection (issue 10) -------------------------------------- */
+    {"solver.min_confidence", K_REAL, O(min_confidence), 0, 1, NULL, "0",
+     "poses with a lower confidence (0..1) are sent as no-pipe"},
     /* ---- net -------------------------------------------------------------- */
     {"net.ttl", K_INT, O(ttl), 0, 255, NULL, "1", "multicast TTL (hops)"},
     {"net.multicast_loop", K_BOOL, O(multicast_loop), 0, 1, NULL, "true",
@@ -1025,6 +1028,7 @@ void cdspd_config_params(const cdspd_config *c, cdsp_params *p)
     p->edge.step = c->step;
     p->edge.half_window = c->half_window;
     p->edge.min_contrast = (cdsp_real)c->min_contrast;
+    p->min_confidence = (cdsp_real)c->min_confidence;
     p->edge.roi.x = c->roi[0];
     p->edge.roi.y = c->roi[1];
     p->edge.roi.w = c->roi[2];

@@ -62,6 +62,7 @@ typedef struct {
     /* solver: cdsp_params */
     int step, half_window, polarity, track_min_inliers;
     double min_contrast, track_band_px, min_distance, max_distance;
+    double min_confidence; /* solver.min_confidence (issue 10) */
     int roi[4];
     uint64_t seed;
 

@@ -25,7 +25,7 @@ enum {
     OFF_INLIERS = 288, OFF_PROC = 296, OFF_LAT = 300, OFF_IN = 304, OFF_DROP = 308, OFF_BAD = 312,
     OFF_RECON = 316, OFF_END_V1 = 320,
     /* version 2 */
-    OFF_POINT_BODY = 320, OFF_DIR_BODY = 344, OFF_END = 368
+    OFF_POINT_BODY = 320, OFF_DIR_BODY = 344, OFF_CONF = 368, OFF_END = 376
 };
 
 typedef char proto_size_check[OFF_END == CDSPD_PROTO_SIZE ? 1 : -1];
@@ -81,6 +81,7 @@ void cdspd_record_set_result(cdspd_record *r, const cdsp_result *res)
     r->inliers[0] = res->inliers[0];
     r->inliers[1] = res->inliers[1];
     r->n_edges = res->n_edges;
+    r->confidence = (double)res->confidence;
     r->flags &= ~(CDSPD_FLAG_TRACKED | CDSPD_FLAG_FULL_SEARCH | CDSPD_FLAG_TRUNCATED);
     if (res->flags & CDSP_FLAG_TRACKED)
         r->flags |= CDSPD_FLAG_TRACKED;
@@ -112,6 +113,7 @@ void cdspd_record_to_result(const cdspd_record *r, cdsp_result *res)
     res->inliers[0] = r->inliers[0];
     res->inliers[1] = r->inliers[1];
     res->n_edges = r->n_edges;
+    res->confidence = (cdsp_real)r->confidence;
     if (r->flags & CDSPD_FLAG_TRACKED)
         res->flags |= CDSP_FLAG_TRACKED;
     if (r->flags & CDSPD_FLAG_FULL_SEARCH)
@@ -223,6 +225,7 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
     put_u32(b + OFF_RECON, r->reconnects);
     put_f64s(b + OFF_POINT_BODY, r->point_body, 3);
     put_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
+    put_f64(b + OFF_CONF, r->confidence);
     return CDSPD_PROTO_SIZE;
 }
 
@@ -290,6 +293,7 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
     if (r->version >= 2) {
         get_f64s(b + OFF_POINT_BODY, r->point_body, 3);
         get_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
+        r->confidence = get_f64(b + OFF_CONF);
     }
     /* a status without a token would go out of listen --json as "unknown",
      * which the JSON decoder refuses (tests/fuzz listen): both refuse it */
@@ -570,6 +574,7 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
             r->flags |= CDSPD_FLAG_FULL_SEARCH;
         if (jbool(o, "truncated"))
             r->flags |= CDSPD_FLAG_TRUNCATED;
+        ok = ok && jnum(o, "confidence", &r->confidence);
     } else {
         int st = 0;
         if (strcmp(status, "error") || !error || !cdspd_status_from_token(error, &st) || st == 0)

@@ -19,7 +19,7 @@
 
 #define CDSPD_PROTO_MAGIC "CDSP"
 #define CDSPD_PROTO_VERSION 2
-#define CDSPD_PROTO_SIZE 368     /* bytes of a version-2 record */
+#define CDSPD_PROTO_SIZE 376     /* bytes of a version-2 record */
 #define CDSPD_PROTO_SIZE_V1 320  /* bytes of a version-1 record (still decoded) */
 
 /* kind */
@@ -74,6 +74,7 @@ typedef struct {
      * with sim.truth, as cdspd_sim_truth gives it */
     int has_truth, truth_in_view;
     double truth_point[3], truth_direction[3], truth_distance;
+    double confidence;         /* version 2: cdsp_result.confidence, 0..1 (0 unless status == 0) */
 } cdspd_record;
 
 /* Short stable token of a status: the library's (cdsp_status_token) or

@@ -130,13 +130,16 @@ static inline int img_px(const cdsp_image *img, int x, int y)
  * trigonometry (and libm's deep range reduction) off this call's stack. */
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
-                             cdsp_line *lines, int *nlines);
-/* img and pws: the frame and scratch for the edge-profile model (frame
+                             cdsp_line *lines, int *nlines, int *capped);
+/* min_step: the edge step threshold the points were detected with (gray
+ * levels; 0 when unknown, e.g. the points path): contrast is scored
+ * relative to it. cand: CDSP_MAX_CANDIDATES slots for the ranked list.
+ * img and pws: the frame and scratch for the edge-profile model (frame
  * path); NULL from the points path, which has no frame. */
 cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                             size_t n, uint8_t *label, const cdsp_params *p,
-                             const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
-                             cdsp_profile_ws *pws, cdsp_result *out);
+                             size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
+                             cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
+                             const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out);
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,

@@ -41,6 +41,7 @@ static void random_record(cdsp_rng *g, cdspd_record *r, int ok)
         r->inliers[0] = cdsp_rng_below(g, 5000);
         r->inliers[1] = cdsp_rng_below(g, 5000);
         r->n_edges = cdsp_rng_below(g, 16384);
+        r->confidence = (double)cdsp_rng_uniform(g);
     }
     r->proc_us = cdsp_rng_below(g, 100000);
     r->latency_us = cdsp_rng_below(g, 100000);
@@ -82,6 +83,7 @@ static void assert_records_equal(const cdspd_record *a, const cdspd_record *b)
     assert_int_equal(a->reconnects, b->reconnects);
     assert_memory_equal(a->point_body, b->point_body, sizeof a->point_body);
     assert_memory_equal(a->direction_body, b->direction_body, sizeof a->direction_body);
+    assert_memory_equal(&a->confidence, &b->confidence, sizeof a->confidence);
 }
 
 /* The byte table of docs/protocol.md, checked with hand-made values. */
@@ -117,14 +119,16 @@ static void test_layout(void **state)
     r.reconnects = 12;
     r.point_body[1] = 1.0;
     r.direction_body[2] = -2.0;
+    r.confidence = -2.0;
     assert_int_equal(cdspd_proto_encode(&r, b, CDSPD_PROTO_SIZE - 1), 0);
     assert_int_equal(cdspd_proto_encode(&r, b, sizeof b), CDSPD_PROTO_SIZE);
-    assert_int_equal(CDSPD_PROTO_SIZE, 368);
+    assert_int_equal(CDSPD_PROTO_SIZE, 376);
     assert_memory_equal(b, "CDSP", 4);
     assert_int_equal(b[4], 2);
     assert_int_equal(b[5], CDSPD_KIND_FRAME);
-    assert_int_equal(b[6], 368 & 0xFF);
-    assert_int_equal(b[7], 368 >> 8);
+    assert_int_equal(b[6], 376 & 0xFF);
+    assert_int_equal(b[7], 376 >> 8);
+    assert_memory_equal(b + 368, minus2_le, 8); /* confidence (version 2) */
     assert_int_equal(b[8], 0x04);
     assert_int_equal(b[11], 0x01);
     assert_int_equal(b[12], 0xFA); /* -6, two's complement */
@@ -199,14 +203,14 @@ static void test_binary_rejects(void **state)
     buf[5] = 9;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     buf[5] = CDSPD_KIND_FRAME;
-    buf[6] = (uint8_t)(367 & 0xFF);
-    buf[7] = 367 >> 8;
+    buf[6] = (uint8_t)(375 & 0xFF);
+    buf[7] = 375 >> 8;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     /* a longer record of a later revision: fields appended, still read */
     buf[6] = (uint8_t)(448 & 0xFF);
     buf[7] = 448 >> 8;
     memset(buf + CDSPD_PROTO_SIZE, 0x5A, 80);
-    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 448, has 368 */
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 448, has 376 */
     assert_int_equal(cdspd_proto_decode(buf, 448, &b, &why), 0);
     assert_records_equal(&a, &b);
     /* a version-1 record (320 bytes) of an older cdspd: read, no body fields */

@@ -314,10 +314,11 @@ void *sup_render(const cdsp_scene *s, const cdsp_camera *cam, int bits, uint64_t
 {
     size_t bpp = bits <= 8 ? 1 : 2, nscr = cdsp_render_scratch_size(cam->width, cam->height);
     void *buf = malloc((size_t)cam->width * (size_t)cam->height * bpp);
-    float *scr = s->blur_sigma_px > 0 ? malloc(nscr * sizeof(float)) : NULL;
+    int need = s->blur_sigma_px > 0 || s->motion_px[0] != 0 || s->motion_px[1] != 0;
+    float *scr = need ? malloc(nscr * sizeof(float)) : NULL;
     cdsp_rng rng;
     cdsp_rng_seed(&rng, seed, 7);
-    if (!buf || (s->blur_sigma_px > 0 && !scr) ||
+    if (!buf || (need && !scr) ||
         cdsp_render(s, cam, buf, 0, bits, scr, nscr, &rng) != CDSP_OK) {
         free(buf);
         free(scr);
