@@ -36,9 +36,10 @@ $(eval $(call lib_variant,fuzz,$(CLANG),fuzz_LIB_CFLAGS))
 
 fuzz_HOST_OBJ := $(patsubst tools/common/%.c,$(fuzz_OBJ_DIR)/common/%.o,$(sort $(wildcard tools/common/*.c)))
 # config.o refers to the file source (cdspd_config_finish finds a
-# recording's calibration): the source objects come along, unused
+# recording's calibration) and to the MAVLink output's URL parser and mount
+# presets: those objects come along
 fuzz_DAEMON_OBJ := $(patsubst %,$(fuzz_OBJ_DIR)/daemon/%.o,proto config log src_file source pool \
-                     sim_path src_sim)
+                     sim_path src_sim mavlink mount mavout stats)
 $(fuzz_OBJ_DIR)/common/%.o: tools/common/%.c
 	@mkdir -p $(@D)
 	$(CLANG) $(fuzz_CFLAGS) $(fuzz_INC) -c $< -o $@
@@ -70,8 +71,7 @@ fuzz_DEPS_export := $(fuzz_OBJ_DIR)/tools/tool_export.o $(fuzz_OBJ_DIR)/tools/to
 fuzz_DEPS_overlay := $(fuzz_OBJ_DIR)/tools/tool_overlay.o $(fuzz_HOST_OBJ)
 fuzz_DEPS_frame :=
 fuzz_DEPS_points :=
-fuzz_DEPS_mavlink := $(patsubst %,$(fuzz_OBJ_DIR)/daemon/%.o,mavlink mount mavout stats) $(fuzz_DAEMON_OBJ) \
-                     $(fuzz_HOST_OBJ)
+fuzz_DEPS_mavlink := $(fuzz_DAEMON_OBJ) $(fuzz_HOST_OBJ)
 
 # Executions per target in make check, the corpus replay included, chosen
 # for ~40 s in all under ASan/UBSan on this 2-core machine (exec/s measured
