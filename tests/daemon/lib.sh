@@ -11,6 +11,25 @@ work=$(mktemp -d "${CDSPD_TMP:-/tmp}/$(basename "$0" .sh).XXXXXX") || exit 2
 CALIB=daemon/demo-camera.yaml
 pids=()
 
+# CDSPD_SAN set (daemon/sanitize.mk): cdspd is a sanitizer build. Every
+# finding goes to $work/san.PID (log_path), and a script that leaves one
+# fails at its exit whatever else it checked.
+if [ -n "${CDSPD_SAN:-}" ]; then
+    for v in ASAN_OPTIONS UBSAN_OPTIONS TSAN_OPTIONS; do
+        export "$v=${!v:+${!v}:}log_path=$work/san"
+    done
+fi
+san_reports() {
+    local f found=1
+    for f in "$work"/san.*; do
+        [ -s "$f" ] || continue
+        echo "FAIL: sanitizer report $(basename "$f"):" >&2
+        head -n 60 "$f" >&2
+        found=0
+    done
+    return $found
+}
+
 cleanup() {
     local p
     for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null; done
@@ -19,7 +38,10 @@ cleanup() {
         kill -KILL "$p" 2>/dev/null
         wait "$p" 2>/dev/null
     done
+    local rc=0
+    [ -n "${CDSPD_SAN:-}" ] && san_reports && rc=1
     [ -n "${KEEP_TMP:-}" ] || rm -rf "$work"
+    [ $rc -eq 0 ] || exit 1
 }
 trap cleanup EXIT
 trap 'exit 1' INT TERM HUP
@@ -32,14 +54,16 @@ fail() {
         echo "--- $(basename "$f") (last 25 lines)" >&2
         tail -n 25 "$f" >&2
     done
-    exit 1
+    exit 1    # cleanup (the EXIT trap) shows any sanitizer report
 }
 
 # start_rx NAME ARGS...: cdspd_rx in the background; sets RX_PORT and NAME_pid.
+# Its counts so far are in NAME.progress (wait_rx).
 start_rx() {
     local name=$1; shift
-    rm -f "$work/$name.port"
-    "$CDSPD_RX" --port-file "$work/$name.port" "$@" >"$work/$name.out" 2>"$work/$name.err" &
+    rm -f "$work/$name.port" "$work/$name.progress"
+    "$CDSPD_RX" --port-file "$work/$name.port" --progress "$work/$name.progress" "$@" \
+        >"$work/$name.out" 2>"$work/$name.err" &
     local pid=$!
     pids+=("$pid")
     eval "${name}_pid=$pid"
@@ -60,9 +84,14 @@ start_cdspd() {
     eval "${name}_pid=$pid"
 }
 
+# CDSPD_WAIT_SCALE (integer, default 1): every bound of wait_for and
+# wait_log multiplied by it, for the sanitizer builds (daemon/sanitize.mk),
+# which run several times slower; the waits end as soon as the event comes.
+scale=${CDSPD_WAIT_SCALE:-1}
+
 # wait_for PID SECONDS: its exit status, or 124 (and it is killed) after SECONDS.
 wait_for() {
-    local pid=$1 n=$(( $2 * 10 ))
+    local pid=$1 n=$(( $2 * 10 * scale ))
     while [ $n -gt 0 ]; do
         if ! kill -0 "$pid" 2>/dev/null; then
             wait "$pid"
@@ -78,13 +107,29 @@ wait_for() {
 
 # wait_log FILE PATTERN SECONDS: until grep finds PATTERN in FILE.
 wait_log() {
-    local n=$(( $3 * 10 ))
+    local n=$(( $3 * 10 * scale ))
     while [ $n -gt 0 ]; do
         grep -q -- "$2" "$1" 2>/dev/null && return 0
         sleep 0.1
         n=$((n - 1))
     done
     return 1
+}
+
+# wait_rx NAME COUNT MIN SECONDS: until receiver NAME has counted at least
+# MIN of COUNT (received, poses, statuses, source-down, bad, reconnects), or
+# fail after SECONDS. Tests wait for counts, not for time, so what they
+# assert does not change with the machine's speed (a slow machine only
+# waits longer; SECONDS is a bound on a hang, far above the time needed).
+wait_rx() {
+    local name=$1 key=$2 min=$3 n=$(( $4 * 10 )) v
+    while [ $n -gt 0 ]; do
+        v=$(sed -n "s/.*\(^\| \)$key \([0-9]*\).*/\2/p" "$work/$name.progress" 2>/dev/null)
+        [ -n "$v" ] && [ "$v" -ge "$min" ] && return 0
+        sleep 0.1
+        n=$((n - 1))
+    done
+    fail "$name: $key ${v:-0} after $4 s, expected at least $min"
 }
 
 # expect_rc WANT NAME CMD...: run CMD (bounded 30 s), its exit status must be WANT.
