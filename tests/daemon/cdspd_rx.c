@@ -62,6 +62,7 @@ typedef struct {
     long min_reconnects, min_bad, max_dropped;
     double resume_within;       /* after a source-down status: a pose within this many s */
     const char *compare;        /* --record's .jsonl: frame k of a replay = its line k */
+    const char *progress;       /* rewritten after every datagram: counts so far */
 } rx_options;
 
 /* The records of a --record results file, in order. */
@@ -135,6 +136,9 @@ static void usage(FILE *f, int st)
             "  --allow-seq-gaps       do not fail on missing sequence numbers\n"
             "  --compare-jsonl FILE   a replay of --record's frames: frame k must give the\n"
             "                         result of line k (status equal, pose within 6 sigma)\n"
+            "  --progress FILE        after every datagram, replace FILE by one line of counts\n"
+            "                         'received N poses N statuses N source-down N bad N\n"
+            "                         reconnects N', for a test that waits for counts, not time\n"
             "  --json                 datagrams must be JSON\n"
             "  -v                     one line per datagram\n");
     exit(st);
@@ -155,7 +159,7 @@ static double num(const char *opt, const char *s)
 
 static void parse(int argc, char **argv, rx_options *o)
 {
-    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ, MSL };
+    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ, MSL, PG };
     static const struct option lo[] = {
         {"bind", 1, NULL, B}, {"port-file", 1, NULL, PF}, {"truth", 1, NULL, TR},
         {"config", 1, NULL, CF}, {"set", 1, NULL, ST}, {"calib", 1, NULL, CA},
@@ -164,7 +168,7 @@ static void parse(int argc, char **argv, rx_options *o)
         {"expect-status", 1, NULL, ES}, {"min-expect", 1, NULL, ME}, {"min-status", 1, NULL, MS},
         {"max-status", 1, NULL, XS}, {"min-reconnects", 1, NULL, MRC}, {"min-bad", 1, NULL, MB},
         {"max-dropped", 1, NULL, MD}, {"resume-within", 1, NULL, RW}, {"delta", 1, NULL, DL},
-        {"allow-seq-gaps", 0, NULL, SG}, {"compare-jsonl", 1, NULL, CJ}, {"min-slots", 1, NULL, MSL}, {"json", 0, NULL, JS}, {"help", 0, NULL, 'h'},
+        {"allow-seq-gaps", 0, NULL, SG}, {"compare-jsonl", 1, NULL, CJ}, {"min-slots", 1, NULL, MSL}, {"progress", 1, NULL, PG}, {"json", 0, NULL, JS}, {"help", 0, NULL, 'h'},
         {NULL, 0, NULL, 0}};
     int c;
     memset(o, 0, sizeof *o);
@@ -218,6 +222,7 @@ static void parse(int argc, char **argv, rx_options *o)
         case JS: o->json_expected = 1; break;
         case CJ: o->compare = optarg; break;
         case MSL: o->min_slots = (long)num("--min-slots", optarg); break;
+        case PG: o->progress = optarg; break;
         case 'v': o->verbose = 1; break;
         case 'h': usage(stdout, 0); break;
         default: usage(stderr, 2);
@@ -242,6 +247,23 @@ static int truth_of(const rx_options *o, const cdspd_config *c, uint64_t frame, 
     for (i = 0; i < 3; i++)
         foot[i] = p[i] - t * dir[i];
     return in_view;
+}
+
+/* --progress: the counts so far, written to a temporary name and renamed
+ * over FILE so a reader never sees half a line. */
+static void write_progress(const char *path, long received, long poses, long statuses, long down,
+                           uint32_t bad, uint32_t reconnects)
+{
+    char tmp[4200];
+    FILE *f;
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    f = fopen(tmp, "w");
+    if (!f)
+        return;
+    fprintf(f, "received %ld poses %ld statuses %ld source-down %ld bad %lu reconnects %lu\n", received,
+            poses, statuses, down, (unsigned long)bad, (unsigned long)reconnects);
+    if (fclose(f) == 0)
+        rename(tmp, path);
 }
 
 static double norm3(const double a[3])
@@ -287,7 +309,7 @@ int main(int argc, char **argv)
     double t0, t_last = 0, worst_ratio = 0, worst_dir_ratio = 0, t_down = -1, worst_resume = 0;
     long received = 0, poses = 0, statuses = 0, expect_hits = 0, in_view = 0, in_view_ok = 0;
     long gaps = 0, seq_errors = 0, away_poses = 0, bad_decode = 0, tracked = 0;
-    long compared = 0, cmp_fail = 0, slots_seen = 0;
+    long compared = 0, cmp_fail = 0, slots_seen = 0, progress_at = -1;
     static unsigned char slot_seen[4096];
     long status_by[8] = {0};
     const char *status_names[8] = {"no-pipe", "few-points", "no-frame", "source-down", "bad-frame",
@@ -383,6 +405,10 @@ int main(int argc, char **argv)
         double t;
         if (o.idle > 0 && received && now_s() - t_last > o.idle)
             break;
+        if (o.progress && received != progress_at) {
+            write_progress(o.progress, received, poses, statuses, status_by[3], max_bad, max_reconnects);
+            progress_at = received;
+        }
         if (poll(&pfd, 1, 100) <= 0)
             continue;
         n = recv(fd, buf, sizeof buf - 1, 0);

@@ -36,10 +36,12 @@ fail() {
 }
 
 # start_rx NAME ARGS...: cdspd_rx in the background; sets RX_PORT and NAME_pid.
+# Its counts so far are in NAME.progress (wait_rx).
 start_rx() {
     local name=$1; shift
-    rm -f "$work/$name.port"
-    "$CDSPD_RX" --port-file "$work/$name.port" "$@" >"$work/$name.out" 2>"$work/$name.err" &
+    rm -f "$work/$name.port" "$work/$name.progress"
+    "$CDSPD_RX" --port-file "$work/$name.port" --progress "$work/$name.progress" "$@" \
+        >"$work/$name.out" 2>"$work/$name.err" &
     local pid=$!
     pids+=("$pid")
     eval "${name}_pid=$pid"
@@ -85,6 +87,22 @@ wait_log() {
         n=$((n - 1))
     done
     return 1
+}
+
+# wait_rx NAME COUNT MIN SECONDS: until receiver NAME has counted at least
+# MIN of COUNT (received, poses, statuses, source-down, bad, reconnects), or
+# fail after SECONDS. Tests wait for counts, not for time, so what they
+# assert does not change with the machine's speed (a slow machine only
+# waits longer; SECONDS is a bound on a hang, far above the time needed).
+wait_rx() {
+    local name=$1 key=$2 min=$3 n=$(( $4 * 10 )) v
+    while [ $n -gt 0 ]; do
+        v=$(sed -n "s/.*\(^\| \)$key \([0-9]*\).*/\2/p" "$work/$name.progress" 2>/dev/null)
+        [ -n "$v" ] && [ "$v" -ge "$min" ] && return 0
+        sleep 0.1
+        n=$((n - 1))
+    done
+    fail "$name: $key ${v:-0} after $4 s, expected at least $min"
 }
 
 # expect_rc WANT NAME CMD...: run CMD (bounded 30 s), its exit status must be WANT.

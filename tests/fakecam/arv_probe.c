@@ -356,7 +356,8 @@ int main(int argc, char **argv)
     t0 = now_s();
     deadline = t0 + o.timeout;
 
-    device_id = discover(&o, t0 + (o.timeout < 10 ? o.timeout : 10));
+    /* discovery gets most of the time-out: a loaded machine answers late */
+    device_id = discover(&o, t0 + (o.timeout < 60 ? o.timeout : 60));
     if (!device_id)
         goto done;
     camera = arv_camera_new(device_id, &err);
@@ -400,8 +401,13 @@ int main(int argc, char **argv)
     stream = arv_camera_create_stream(camera, NULL, NULL, &err);
     if (!stream)
         goto fail;
+    /* frame-retention: how long Aravis waits for the rest of a started
+     * frame before it gives the frame up as incomplete (default 100 ms).
+     * On a loaded machine the camera's sending thread can be off the CPU
+     * longer than that in the middle of a frame: a frame given up then is
+     * the machine's speed, not the camera's loss, so wait 5 s. */
     g_object_set(stream, "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_AUTO, "packet-resend",
-                 ARV_GV_STREAM_PACKET_RESEND_NEVER, NULL);
+                 ARV_GV_STREAM_PACKET_RESEND_NEVER, "frame-retention", (guint)5000000, NULL);
     for (i = 0; i < 8; i++)
         arv_stream_push_buffer(stream, arv_buffer_new(payload, NULL));
     arv_camera_start_acquisition(camera, &err);
@@ -411,8 +417,8 @@ int main(int argc, char **argv)
     while (verified < o.frames) {
         ArvBuffer *b;
         if (now_s() > deadline) {
-            fprintf(stderr, "arv_probe: timeout after %g s: %ld of %d frames checked\n", o.timeout,
-                    verified, o.frames);
+            fprintf(stderr, "arv_probe: timeout after %g s: %ld of %d frames checked (%ld received, "
+                    "%ld incomplete)\n", o.timeout, verified, o.frames, received, incomplete);
             goto stop;
         }
         b = arv_stream_timeout_pop_buffer(stream, 1000000);

@@ -11,7 +11,11 @@
  *
  * Usage: cdsp_fakecam [options]   (--help lists them)
  * It prints one line "cdsp_fakecam: ready ..." on stdout when the camera
- * answers, and runs until SIGINT/SIGTERM or --duration.
+ * answers, and runs until SIGINT/SIGTERM or --duration. With --cycle N the
+ * N frames are drawn before that line, at the initial size and in every
+ * format of --formats, so a test that waits for "ready" gets frames at the
+ * asked rate however slow the machine draws them (issue 9: tests must not
+ * depend on the machine's speed).
  * Exit status: 0 stopped by a signal or --duration, 1 the camera could not
  * start (address not local, GVCP port 3956 taken...), 2 usage error.
  */
@@ -47,13 +51,17 @@ typedef struct {
     const char *truth_path;
     double duration;
     unsigned cycle;
+    unsigned prerender_bits;    /* bit set: 1 << 8 Mono8, 1 << 16 Mono16 */
+    const char *cache;          /* --cache DIR, or NULL */
     int verbose;
 } fakecam_options;
 
-/* One rendered frame kept for --cycle. */
+/* One pose rendered for --cycle, at both depths the renderer draws (the
+ * 8-bit frame is not the 16-bit one shifted: noise and rounding differ, and
+ * arv_probe compares pixel for pixel with cdsp_render's own output). */
 typedef struct {
-    uint8_t *data;
-    int w, h, bits;
+    uint8_t *data[2];       /* [0]: 8 bit, [1]: 16 bit; NULL until drawn */
+    int w[2], h[2];
 } fakecam_slot;
 
 /* Renderer state, owned by the fake camera's streaming thread (the callback
@@ -86,6 +94,124 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Draw frame id (its pose and noise: fakecam_path.h) at w x h and bits into
+ * out (w * h pixels of bits / 8 rounded up bytes). The scratch grows once per
+ * larger size. */
+static cdsp_status draw(fakecam_state *st, guint64 id, int w, int h, int bits, void *out)
+{
+    cdsp_camera cam;
+    cdsp_scene scene;
+    cdsp_rng rng;
+    size_t len = cdsp_render_scratch_size(w, h);
+
+    if (len > st->scratch_len) {
+        float *p = realloc(st->scratch, len * sizeof *p);
+        if (!p)
+            return CDSP_E_CAPACITY;
+        st->scratch = p;
+        st->scratch_len = len;
+    }
+    fakecam_frame(id, st->cycle, w, h, &cam, &scene, &rng);
+    return cdsp_render(&scene, &cam, out, 0, bits, st->scratch, st->scratch_len, &rng);
+}
+
+/* Keep a copy of frame id's pixels in its --cycle slot. Returns 0, or -1
+ * out of memory (the frame is then drawn again next time). */
+static int keep(fakecam_state *st, guint64 id, int w, int h, int bits, const void *img)
+{
+    fakecam_slot *sl = &st->slots[(id & 0xFFFFu) % st->cycle];
+    int d = bits > 8;
+    size_t need = (size_t)w * (size_t)h * (size_t)(d ? 2 : 1);
+    uint8_t *p = realloc(sl->data[d], need);
+
+    if (!p)
+        return -1;
+    memcpy(p, img, need);
+    sl->data[d] = p;
+    sl->w[d] = w;
+    sl->h[d] = h;
+    return 0;
+}
+
+/* --cache DIR: the file holding pose i of --cycle n at w x h and bits. */
+static void cache_name(char *buf, size_t len, const char *dir, unsigned i, unsigned n, int w, int h,
+                       int bits)
+{
+    snprintf(buf, len, "%s/pose%u-of%u-%dx%d-%d.raw", dir, i, n, w, h, bits);
+}
+
+/* Read exactly len bytes of a cached pose into img: 0, or -1 (absent or
+ * short: it is drawn again). */
+static int cache_read(const char *path, void *img, size_t len)
+{
+    FILE *f = fopen(path, "rb");
+    int ok;
+    if (!f)
+        return -1;
+    ok = fread(img, 1, len, f) == len && fgetc(f) == EOF;
+    fclose(f);
+    return ok ? 0 : -1;
+}
+
+/* Write a pose to the cache through a temporary name and rename(), so a
+ * camera started beside this one never reads half a file. Failure only
+ * costs a redraw next time: reported, not fatal. */
+static void cache_write(const char *path, const void *img, size_t len)
+{
+    char tmp[4200];
+    FILE *f;
+    snprintf(tmp, sizeof tmp, "%s.%ld.tmp", path, (long)getpid());
+    f = fopen(tmp, "wb");
+    if (!f || fwrite(img, 1, len, f) != len || fclose(f) || rename(tmp, path)) {
+        fprintf(stderr, "cdsp_fakecam: --cache: cannot write %s: %s\n", path, strerror(errno));
+        remove(tmp);
+    }
+}
+
+/* --cycle N: draw the N poses at w x h in every depth of bits_mask before
+ * the camera is announced, or read them from --cache (a test that starts
+ * the camera again, after killing it, does not pay for the drawing twice).
+ * Returns 0, or -1 with a message. */
+static int prerender(fakecam_state *st, int w, int h, unsigned bits_mask, const char *cache,
+                     double *seconds)
+{
+    static const int depths[2] = {8, 16};
+    double t0 = now_s();
+    unsigned i;
+    int d;
+    uint8_t *img = malloc((size_t)w * (size_t)h * 2);
+
+    if (!img) {
+        fprintf(stderr, "cdsp_fakecam: out of memory for a %dx%d frame\n", w, h);
+        return -1;
+    }
+    for (d = 0; d < 2; d++) {
+        size_t len = (size_t)w * (size_t)h * (size_t)(d ? 2 : 1);
+        if (!(bits_mask & (1u << depths[d])))
+            continue;
+        for (i = 0; i < st->cycle; i++) {
+            char path[4096];
+            cdsp_status s = CDSP_OK;
+            if (cache)
+                cache_name(path, sizeof path, cache, i, st->cycle, w, h, depths[d]);
+            if (!cache || cache_read(path, img, len)) {
+                s = draw(st, i, w, h, depths[d], img);
+                if (s == CDSP_OK && cache)
+                    cache_write(path, img, len);
+            }
+            if (s != CDSP_OK || keep(st, i, w, h, depths[d], img)) {
+                fprintf(stderr, "cdsp_fakecam: drawing pose %u of --cycle %u (%dx%d, %d bit): %s\n",
+                        i, st->cycle, w, h, depths[d], s != CDSP_OK ? cdsp_strerror(s) : "out of memory");
+                free(img);
+                return -1;
+            }
+        }
+    }
+    free(img);
+    *seconds = now_s() - t0;
+    return 0;
+}
+
 static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint32 gain,
                        ArvPixelFormat pixel_format)
 {
@@ -99,9 +225,6 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
     int w = arv_buffer_get_image_width(buffer), h = arv_buffer_get_image_height(buffer);
     guint64 id = arv_buffer_get_frame_id(buffer);
     int bits;
-    cdsp_camera cam;
-    cdsp_scene scene;
-    cdsp_rng rng;
     cdsp_status s;
     guint32 period_us;
     double t0, t_draw;
@@ -134,26 +257,15 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
 
     if (st->slots) {
         fakecam_slot *sl = &st->slots[(id & 0xFFFFu) % st->cycle];
-        if (sl->data && sl->w == w && sl->h == h && sl->bits == bits) {
-            memcpy(img, sl->data, need);
+        int d = bits > 8;
+        if (sl->data[d] && sl->w[d] == w && sl->h[d] == h) {
+            memcpy(img, sl->data[d], need);
             goto drawn;
         }
     }
 
     t0 = now_s();
-    fakecam_frame(id, st->cycle, w, h, &cam, &scene, &rng);
-    if (cdsp_render_scratch_size(w, h) > st->scratch_len) {
-        size_t len = cdsp_render_scratch_size(w, h);
-        float *p = realloc(st->scratch, len * sizeof *p);
-        if (!p) {
-            fprintf(stderr, "cdsp_fakecam: out of memory for a %dx%d frame\n", w, h);
-            memset(img, 0, need);
-            return;
-        }
-        st->scratch = p;
-        st->scratch_len = len;
-    }
-    s = cdsp_render(&scene, &cam, img, 0, bits, st->scratch, st->scratch_len, &rng);
+    s = draw(st, id, w, h, bits, img);
     if (s != CDSP_OK) {
         if (!st->warned_render++)
             fprintf(stderr, "cdsp_fakecam: cdsp_render failed for frame %lu (%dx%d, %d bit): %s\n",
@@ -167,22 +279,12 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
         t_draw * 1e6 > (double)period_us) {
         st->warned_slow = 1;
         fprintf(stderr, "cdsp_fakecam: drawing a %dx%d frame takes %.0f ms, longer than the frame "
-                "period of %.0f ms: frames come slower than asked (--cycle N keeps N frames "
-                "drawn)\n", w, h, 1e3 * t_draw, 1e-3 * (double)period_us);
+                "period of %.0f ms: frames come slower than asked (--cycle N with --size and "
+                "--formats of what the client sets keeps N frames drawn)\n", w, h, 1e3 * t_draw,
+                1e-3 * (double)period_us);
     }
-    if (st->slots) {
-        fakecam_slot *sl = &st->slots[(id & 0xFFFFu) % st->cycle];
-        uint8_t *p = realloc(sl->data, need);
-        if (p) {
-            memcpy(p, img, need);
-            sl->data = p;
-            sl->w = w;
-            sl->h = h;
-            sl->bits = bits;
-        } else if (!st->warned_cache++) {
-            fprintf(stderr, "cdsp_fakecam: out of memory for the frame cache: drawing every frame\n");
-        }
-    }
+    if (st->slots && keep(st, id, w, h, bits, img) && !st->warned_cache++)
+        fprintf(stderr, "cdsp_fakecam: out of memory for the frame cache: drawing every frame\n");
 drawn:
     st->frames++;
     if (st->truth) {
@@ -199,7 +301,7 @@ drawn:
 /* ------------------------------------------------------------------------
  * Command line: one table gives the options, their help and defaults.
  * ---------------------------------------------------------------------- */
-enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TRUTH, OPT_DURATION, OPT_CYCLE };
+enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TRUTH, OPT_DURATION, OPT_CYCLE, OPT_FORMATS, OPT_CACHE };
 
 static const cli_option option_table[] = {
     {{"serial", required_argument, NULL, 's'}, "SERIAL",
@@ -219,7 +321,14 @@ static const cli_option option_table[] = {
      "append 'frame_id x y z dx dy dz' (axis point and direction, mm) per frame drawn"},
     {{"cycle", required_argument, NULL, OPT_CYCLE}, "N",
      "show only N poses in turn, each drawn once and kept (0..1000, default 0: "
-     "every frame drawn; see fakecam_path.h)"},
+     "every frame drawn; see fakecam_path.h), drawn before 'ready' at the initial "
+     "size in the formats of --formats"},
+    {{"formats", required_argument, NULL, OPT_FORMATS}, "FMT,...",
+     "with --cycle: the pixel formats clients will set, drawn before 'ready' too "
+     "(default: the initial --pixel-format)"},
+    {{"cache", required_argument, NULL, OPT_CACHE}, "DIR",
+     "with --cycle: read the drawn poses from DIR, or draw and write them there "
+     "(a test starting the camera again draws them once)"},
     {{"duration", required_argument, NULL, OPT_DURATION}, "SECONDS",
      "stop after this long (default 0: until SIGINT/SIGTERM)"},
     {{"verbose", no_argument, NULL, 'v'}, NULL, "more messages (twice: one per frame)"},
@@ -241,6 +350,16 @@ static double parse_number(const char *opt, const char *s, double lo, double hi)
     return cli_number("cdsp_fakecam", opt, s, lo, hi);
 }
 
+static ArvPixelFormat parse_format(const char *opt, const char *s)
+{
+    if (!strcmp(s, "Mono8"))
+        return ARV_PIXEL_FORMAT_MONO_8;
+    if (!strcmp(s, "Mono16"))
+        return ARV_PIXEL_FORMAT_MONO_16;
+    fprintf(stderr, "cdsp_fakecam: %s '%s': expected Mono8 or Mono16\n", opt, s);
+    exit(2);
+}
+
 static void parse_options(int argc, char **argv, fakecam_options *o)
 {
     struct option longopts[N_OPTIONS + 1];
@@ -258,6 +377,8 @@ static void parse_options(int argc, char **argv, fakecam_options *o)
     o->truth_path = NULL;
     o->duration = 0.0;
     o->cycle = 0;
+    o->prerender_bits = 0;
+    o->cache = NULL;
     o->verbose = 0;
 
     while ((c = getopt_long(argc, argv, "s:i:r:vh", longopts, NULL)) != -1) {
@@ -284,20 +405,23 @@ static void parse_options(int argc, char **argv, fakecam_options *o)
             break;
         }
         case OPT_RATE: o->rate = parse_number("rate", optarg, 1.0, 1000.0); break;
-        case OPT_FORMAT:
-            if (!strcmp(optarg, "Mono8"))
-                o->pixel_format = ARV_PIXEL_FORMAT_MONO_8;
-            else if (!strcmp(optarg, "Mono16"))
-                o->pixel_format = ARV_PIXEL_FORMAT_MONO_16;
-            else {
-                fprintf(stderr, "cdsp_fakecam: --pixel-format '%s': expected Mono8 or Mono16\n", optarg);
+        case OPT_FORMAT: o->pixel_format = parse_format("--pixel-format", optarg); break;
+        case OPT_FORMATS: {
+            char list[256], *tok, *save = NULL;
+            snprintf(list, sizeof list, "%s", optarg);
+            for (tok = strtok_r(list, ",", &save); tok; tok = strtok_r(NULL, ",", &save))
+                o->prerender_bits |= 1u << (parse_format("--formats", tok) == ARV_PIXEL_FORMAT_MONO_16 ? 16 : 8);
+            if (!o->prerender_bits) {
+                fprintf(stderr, "cdsp_fakecam: --formats '%s': expected a list of formats\n", optarg);
                 exit(2);
             }
             break;
+        }
         case 'r':
             o->loss_per_thousand = parse_number("gvsp-lost-ratio", optarg, 0.0, 1000.0);
             break;
         case OPT_TRUTH: o->truth_path = optarg; break;
+        case OPT_CACHE: o->cache = optarg; break;
         case OPT_DURATION: o->duration = parse_number("duration", optarg, 0.0, 1e7); break;
         case OPT_CYCLE: o->cycle = (unsigned)parse_number("cycle", optarg, 0.0, 1000.0); break;
         case 'v': o->verbose++; break;
@@ -309,6 +433,8 @@ static void parse_options(int argc, char **argv, fakecam_options *o)
         fprintf(stderr, "cdsp_fakecam: unexpected argument '%s'\n", argv[optind]);
         usage(stderr, 2);
     }
+    if (!o->prerender_bits)
+        o->prerender_bits = 1u << (o->pixel_format == ARV_PIXEL_FORMAT_MONO_16 ? 16 : 8);
 }
 
 /* GigE Vision control (GVCP) listens on UDP port 3956. Aravis binds it with
@@ -342,7 +468,7 @@ int main(int argc, char **argv)
     ArvFakeCamera *fake;
     struct sigaction sa;
     struct timespec tick = {0, 100000000L};
-    double t_end;
+    double t_end, t_prerender = 0;
 
     parse_options(argc, argv, &o);
     memset(&st, 0, sizeof st);
@@ -377,6 +503,9 @@ int main(int argc, char **argv)
                 o.address);
         return 1;
     }
+    /* Before the camera exists: no streaming thread shares st yet. */
+    if (st.slots && prerender(&st, o.width, o.height, o.prerender_bits, o.cache, &t_prerender))
+        return 1;
     gv = arv_gv_fake_camera_new(o.address, o.serial);
     if (!gv || !arv_gv_fake_camera_is_running(gv)) {
         fprintf(stderr, "cdsp_fakecam: the fake camera did not start on '%s' (an address of this "
@@ -396,10 +525,14 @@ int main(int argc, char **argv)
                                    (guint32)(1e6 / o.rate + 0.5));
     arv_fake_camera_set_fill_pattern(fake, fill_frame, &st);
 
-    printf("cdsp_fakecam: ready: Aravis-Fake-%s on %s, %dx%d %s at %g fps, GVSP loss %g/1000\n",
+    printf("cdsp_fakecam: ready: Aravis-Fake-%s on %s, %dx%d %s at %g fps, GVSP loss %g/1000",
            o.serial, o.address, o.width, o.height,
            o.pixel_format == ARV_PIXEL_FORMAT_MONO_16 ? "Mono16" : "Mono8", o.rate,
            o.loss_per_thousand);
+    if (st.slots)
+        printf(", %u poses drawn%s in %.1f s", o.cycle, o.cache ? " (or read from --cache)" : "",
+               t_prerender);
+    printf("\n");
     fflush(stdout);
 
     t_end = o.duration > 0 ? now_s() + o.duration : 0;
@@ -413,8 +546,10 @@ int main(int argc, char **argv)
     free(st.scratch);
     if (st.slots) {
         unsigned i;
-        for (i = 0; i < o.cycle; i++)
-            free(st.slots[i].data);
+        for (i = 0; i < o.cycle; i++) {
+            free(st.slots[i].data[0]);
+            free(st.slots[i].data[1]);
+        }
         free(st.slots);
     }
     if (o.verbose)
