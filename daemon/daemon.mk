@@ -21,7 +21,7 @@ daemon_sys = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(1) 2>/dev/n
 daemon_PKGS := yaml-0.1 spng json-c
 daemon_DEFS :=
 daemon_SRC := config.c log.c proto.c sim_path.c source.c src_sim.c src_file.c pool.c stats.c \
-              sender.c record.c notify.c pipeline.c
+              sender.c record.c notify.c pipeline.c pixfmt.c
 daemon_CXX_SRC :=
 daemon_LINK := $(CC)
 
@@ -87,7 +87,8 @@ ALL_TARGETS += $(daemon_BIN)
 
 # --- tests ---------------------------------------------------------------------
 daemon_TDIR := $(BUILD)/tests/daemon
-daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool
+daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool \
+               $(daemon_TDIR)/test_pixfmt
 daemon_RX := $(daemon_TDIR)/cdspd_rx
 daemon_FEED := $(daemon_TDIR)/v4l2_feed
 daemon_NOTIFY := $(daemon_TDIR)/notify_rx
