@@ -131,6 +131,11 @@ ifneq ($(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),)
 check-daemon-aravis: $(daemon_BIN) $(daemon_RX) $(BUILD)/fakecam/cdsp_fakecam
 	@$(daemon_ENV) $(RUN) "daemon/aravis-fakecam" tests/daemon/aravis_e2e.sh $(BUILD)/fakecam/cdsp_fakecam
 daemon_CHECKS += check-daemon-aravis
+# pixel formats, triggers, camera clock (issue 18)
+.PHONY: check-daemon-aravis-formats
+check-daemon-aravis-formats: $(daemon_BIN) $(daemon_RX) $(BUILD)/fakecam/cdsp_fakecam
+	@$(daemon_ENV) $(RUN) "daemon/aravis-formats" tests/daemon/aravis_formats.sh $(BUILD)/fakecam/cdsp_fakecam
+daemon_CHECKS += check-daemon-aravis-formats
 endif
 
 ifneq ($(filter -DCDSPD_HAVE_V4L2,$(daemon_DEFS)),)

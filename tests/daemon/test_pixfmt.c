@@ -22,6 +22,7 @@
 #include <math.h>
 #include <cmocka.h>
 
+#include "fakecam_pixels.h"
 #include "pixfmt.h"
 
 #define MAXW 64
@@ -117,32 +118,22 @@ static void test_unpack_by_hand(void **state)
 
 /* --- unpackers: against an independent packer ---------------------------- */
 
-/* Write pixel values in format f's packing, bit by bit from its definition. */
+/* Write pixel values in format f's packing: the fake camera's packer
+ * (tests/fakecam/fakecam_pixels.h), bit by bit from the definitions. */
 static size_t pack(const cdspd_pixfmt *f, const uint16_t *px, size_t n, uint8_t *out)
 {
-    size_t i, bytes = cdspd_pixfmt_image_bytes(f, (int)n, 1);
-    memset(out, 0, bytes + 4);
+    size_t i;
+    if (f->packing == CDSPD_PACK_P || f->packing == CDSPD_PACK_GV)
+        return fakecam_pack(px, n, f->bits, f->packing == CDSPD_PACK_P ? 'p' : 'g', out);
     for (i = 0; i < n; i++) {
-        unsigned v = px[i], b;
-        if (f->packing == CDSPD_PACK_P) {
-            for (b = 0; b < f->bits; b++) {
-                size_t k = i * f->bits + b;
-                if (v >> b & 1u)
-                    out[k / 8] |= (uint8_t)(1u << (k % 8));
-            }
-        } else if (f->packing == CDSPD_PACK_GV) {
-            unsigned lo = f->bits - 8;
-            size_t g = 3 * (i / 2);
-            out[g + (i & 1 ? 2 : 0)] = (uint8_t)(v >> lo);
-            out[g + 1] |= (uint8_t)((v & ((1u << lo) - 1u)) << (i & 1 ? 4 : 0));
-        } else if (f->packing == CDSPD_PACK_16) {
-            out[2 * i] = (uint8_t)v;
-            out[2 * i + 1] = (uint8_t)(v >> 8);
+        if (f->packing == CDSPD_PACK_16) {
+            out[2 * i] = (uint8_t)px[i];
+            out[2 * i + 1] = (uint8_t)(px[i] >> 8);
         } else {
-            out[i] = (uint8_t)v;
+            out[i] = (uint8_t)px[i];
         }
     }
-    return bytes;
+    return cdspd_pixfmt_image_bytes(f, (int)n, 1);
 }
 
 static void test_unpack_all_sizes(void **state)
