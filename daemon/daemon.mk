@@ -155,6 +155,19 @@ bench-daemon: $(daemon_BIN) $(daemon_RX) $(if $(filter -DCDSPD_HAVE_ARAVIS,$(dae
 	@$(daemon_ENV) tests/daemon/bench.sh $(if $(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),$(BUILD)/fakecam/cdsp_fakecam)
 BENCH_STEPS += bench-daemon
 
+# pixel-format conversion beside the solve (daemon/pixfmt.c is dependency-free)
+daemon_BENCH_PIXFMT := $(BUILD)/bench/bench_pixfmt
+$(daemon_BENCH_PIXFMT): tests/bench/bench_pixfmt.c daemon/pixfmt.c daemon/pixfmt.h \
+                        tests/fakecam/fakecam_pixels.h tests/lib/support.c $(host_LIB)
+	@mkdir -p $(@D)
+	$(CC) $(HOST_CFLAGS) -O3 -Itests/lib -Idaemon -Itests/fakecam $< daemon/pixfmt.c tests/lib/support.c \
+	    $(host_LIB) -lm -o $@
+.PHONY: bench-pixfmt
+bench-pixfmt: $(daemon_BENCH_PIXFMT)
+	$(daemon_BENCH_PIXFMT)
+BENCH_STEPS += bench-pixfmt
+ALL_TARGETS += $(daemon_BENCH_PIXFMT)
+
 # --- demo ------------------------------------------------------------------------
 # cdspd on its simulated camera and `cdsp_tool listen` beside it, printing
 # poses until Ctrl-C, or for DEMO_SECONDS seconds.
