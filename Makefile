@@ -109,20 +109,36 @@ check-lib-m4f: $(m4f_LIB)
 CHECK_STEPS := check-lib-host check-lib-float check-lib-asan check-lib-symbols \
                check-lib-m4f $(CHECK_STEPS)
 
-all: $(ALL_TARGETS)
+# ---------------------------------------------------------------------------
+# Packages (tests/deps.sh, lists in .ci/packages.d/): `make demo` and
+# `make check` install what they need (root: apt-get; a user: sudo -n;
+# otherwise they print the command and exit 2 before compiling anything);
+# a plain `make` only checks. Each then runs a fresh make, whose
+# $(shell pkg-config ...) sees what was just installed.
+# ---------------------------------------------------------------------------
+DEPS_BUILD := lib tool daemon calib fakecam
 
-check: tests/deps-ok
+all:
+	@tests/deps.sh check $(DEPS_BUILD)
+	@$(MAKE) --no-print-directory build-all
+build-all: $(ALL_TARGETS)
+
+check:
+	@tests/deps.sh ensure all
 	@mkdir -p $(BUILD) && rm -f $(BUILD)/check-results
 	@$(MAKE) --no-print-directory -k check-steps; \
 	 tests/summary.sh $(BUILD)/check-results $$?
 
 check-steps: $(CHECK_STEPS)
 
-tests/deps-ok:
-	@tests/deps.sh check
-
 deps:
-	tests/deps.sh install
+	tests/deps.sh install all
+
+# The quick start on a new minimal bookworm root (debootstrap, chroot; root
+# only, 15-40 minutes): tests/fresh-machine.sh.
+.PHONY: check-fresh
+check-fresh:
+	tests/fresh-machine.sh
 
 # ---------------------------------------------------------------------------
 # Benchmarks: figures, not pass/fail.
@@ -138,16 +154,16 @@ bench-lib: $(BENCH_BIN)
 BENCH_STEPS := bench-lib $(BENCH_STEPS)
 
 bench:
+	@tests/deps.sh check $(DEPS_BUILD)
 	@$(MAKE) --no-print-directory bench-steps
 bench-steps: $(BENCH_STEPS)
 
 # ---------------------------------------------------------------------------
-demo: all
-	@if [ -n "$(DEMO_TARGET)" ]; then $(MAKE) --no-print-directory $(DEMO_TARGET); \
-	 else echo "cdspd is not built yet (issue 4): the demo will run it on its simulated camera."; \
-	      echo "Meanwhile: make bench prints the library's figures."; fi
+demo:
+	@tests/deps.sh ensure demo
+	@$(MAKE) --no-print-directory $(DEMO_TARGET)
 
 clean:
 	rm -rf $(BUILD)
 
-.PHONY: tests/deps-ok
+.PHONY: build-all

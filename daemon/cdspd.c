@@ -59,7 +59,7 @@ static void *signal_thread(void *arg)
 /* ------------------------------------------------------------------------
  * Command line.
  * ---------------------------------------------------------------------- */
-enum { OPT_CALIB = 256, OPT_DURATION, OPT_RECORD, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION };
+enum { OPT_CALIB = 256, OPT_DURATION, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION, OPT_LIST };
 
 static const struct {
     struct option opt;
@@ -75,19 +75,22 @@ static const struct {
     {{"format", required_argument, NULL, 'f'}, "binary|json", "datagram format (key format)"},
     {{"duration", required_argument, NULL, OPT_DURATION}, "SECONDS",
      "stop after this long, counted from the source's opening (key duration)"},
-    {{"record", required_argument, NULL, OPT_RECORD}, "DIR",
-     "save every record_every-th frame and its result there (key record)"},
-    {{"set", required_argument, NULL, 'o'}, "KEY=VALUE", "set any key (repeatable)"},
+    {{"record", required_argument, NULL, 'o'}, "DIR",
+     "save every record_every-th frame, its result and the calibration there (key record; "
+     "-o is the output directory, as in cdsp_tool)"},
+    {{"set", required_argument, NULL, 'k'}, "KEY=VALUE", "set any key (repeatable)"},
     {{"verbose", no_argument, NULL, 'v'}, NULL, "log.level debug"},
     {{"quiet", no_argument, NULL, 'q'}, NULL, "log.level warn (twice: error)"},
     {{"check-config", no_argument, NULL, OPT_CHECK}, NULL,
      "check the configuration, print it as YAML, exit (0 valid, 2 not)"},
     {{"help-keys", no_argument, NULL, OPT_HELP_KEYS}, NULL, "list every configuration key"},
+    {{"list-cameras", no_argument, NULL, OPT_LIST}, NULL,
+     "list the cameras Aravis, V4L2 and libcamera see, as --source values, exit"},
     {{"version", no_argument, NULL, OPT_VERSION}, NULL, "print the version"},
     {{"help", no_argument, NULL, 'h'}, NULL, "this help"},
 };
 #define N_OPTIONS (sizeof option_table / sizeof option_table[0])
-static const char short_opts[] = "+c:s:r:d:f:o:vqh";
+static const char short_opts[] = "+c:s:r:d:f:o:k:vqh";
 
 static void usage(FILE *f)
 {
@@ -95,7 +98,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: cdspd [--config FILE] --source SRC --calib CAM.yaml --radius R\n"
             "             --dest HOST:PORT [--dest HOST:PORT ...] [--format binary|json]\n"
-            "             [--duration SECONDS] [--record DIR] [--set KEY=VALUE] [-v|-q]\n"
+            "             [--duration SECONDS] [-o|--record DIR] [-k|--set KEY=VALUE] [-v|-q]\n"
             "Capture frames, solve the pipe's axis in each (libcdsp %d.%d.%d), stream the poses "
             "over UDP.\n\n",
             CDSP_VERSION_MAJOR, CDSP_VERSION_MINOR, CDSP_VERSION_PATCH);
@@ -120,7 +123,7 @@ typedef struct {
     int argc;
     char **argv;
     const char *config_path;
-    int check, help, help_keys, version;
+    int check, help, help_keys, version, list;
 } cli;
 
 /* Pass 1: what decides the run (help, --config) and usage errors. */
@@ -144,6 +147,7 @@ static int cli_scan(cli *o, int argc, char **argv)
         case 'h': o->help = 1; break;
         case OPT_HELP_KEYS: o->help_keys = 1; break;
         case OPT_VERSION: o->version = 1; break;
+        case OPT_LIST: o->list = 1; break;
         case '?': return -1;
         default: break;
         }
@@ -180,7 +184,14 @@ static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
         case 'r': key = "radius"; break;
         case 'f': key = "format"; break;
         case OPT_DURATION: key = "duration"; break;
-        case OPT_RECORD: key = "record"; break;
+        case 'o':
+            if (strchr(optarg, '=')) { /* -o KEY=VALUE was --set before 0.2: say so, do it */
+                fprintf(stderr, "cdspd: warning: -o %s: -o is --record DIR now (as cdsp_tool's "
+                        "--out); use -k/--set KEY=VALUE\n", optarg);
+                goto set;
+            }
+            key = "record";
+            break;
         case 'v': r = cdspd_config_set(c, "log.level", "debug", "-v", err, errlen); break;
         case 'q':
             quiet++;
@@ -201,7 +212,8 @@ static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
             strcpy(c->dest[c->n_dest++].text, optarg);
             ndest_cli++;
             break;
-        case 'o': {
+        case 'k':
+        set: {
             char kv[CDSPD_STR + 256], *eq;
             snprintf(kv, sizeof kv, "%s", optarg);
             eq = strchr(kv, '=');
@@ -232,6 +244,52 @@ static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
         }
     }
     return 0;
+}
+
+/* --list-cameras: one line per camera, "KIND:ID  description", to paste
+ * into --source; a comment line per source kind that found none or is not
+ * built in. Exit status 0 (none found is an answer, not an error). */
+static int list_cameras(void)
+{
+    static const struct {
+        int kind;
+        const char *name;
+        int (*list)(FILE *, char *, size_t);
+    } kinds[] = {
+#ifdef CDSPD_HAVE_ARAVIS
+        {CDSPD_SRC_ARAVIS, "aravis", cdspd_src_aravis_list},
+#else
+        {CDSPD_SRC_ARAVIS, "aravis", NULL},
+#endif
+#ifdef CDSPD_HAVE_V4L2
+        {CDSPD_SRC_V4L2, "v4l2", cdspd_src_v4l2_list},
+#else
+        {CDSPD_SRC_V4L2, "v4l2", NULL},
+#endif
+#ifdef CDSPD_HAVE_LIBCAMERA
+        {CDSPD_SRC_LIBCAMERA, "libcamera", cdspd_src_libcamera_list},
+#else
+        {CDSPD_SRC_LIBCAMERA, "libcamera", NULL},
+#endif
+    };
+    size_t i;
+    for (i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
+        char err[512] = "";
+        const char *why;
+        int n;
+        if (!kinds[i].list || !cdspd_source_available(kinds[i].kind, &why)) {
+            printf("# %s: %s\n", kinds[i].name,
+                   kinds[i].list ? why : "not built in (cdspd --version lists the sources)");
+            continue;
+        }
+        fflush(stdout);
+        n = kinds[i].list(stdout, err, sizeof err);
+        if (n < 0)
+            printf("# %s: %s\n", kinds[i].name, err);
+        else if (n == 0)
+            printf("# %s: no camera found\n", kinds[i].name);
+    }
+    return fflush(stdout) ? EXIT_RUNTIME : EXIT_OK;
 }
 
 static void apply_log_levels(const cdspd_config *c)
@@ -294,6 +352,10 @@ int main(int argc, char **argv)
         );
         goto out;
     }
+    if (o.list) {
+        rc = list_cameras();
+        goto out;
+    }
     if (o.help_keys) {
         printf("Configuration keys (YAML: nested mappings give the dotted names; "
                "--set KEY=VALUE):\n");
@@ -306,6 +368,14 @@ int main(int argc, char **argv)
         goto out;
     }
     if (o.check) {
+        const char *arg;
+        if (cdspd_source_kind_parse(cfg->source, &arg) == CDSPD_SRC_FILE &&
+            cdspd_src_file_matches(arg) == 0) {
+            /* a run would retry for open_timeout and exit 3: say it now */
+            fprintf(stderr, "cdspd: key 'source': '%s': no file matches '%s'\n", cfg->source, arg);
+            rc = EXIT_CONFIG;
+            goto out;
+        }
         printf("# cdspd: configuration OK: source %s, calibration %s (%dx%d), %d destination%s\n",
                cfg->source, cfg->calib, cfg->cam.width, cfg->cam.height, cfg->n_dest,
                cfg->n_dest > 1 ? "s" : "");
@@ -365,6 +435,7 @@ int main(int argc, char **argv)
         }
         if (st == CDSPD_PIPE_RUNNING && !ready) {
             ready = 1;
+            t_stats = now; /* the first window starts with the stream */
             if (!t_running)
                 t_running = now; /* a reload does not restart --duration */
             snprintf(status, sizeof status, "READY=1\nSTATUS=streaming poses from %s", cfg->source);
@@ -406,7 +477,8 @@ int main(int argc, char **argv)
             cdspd_stats_log(&w, "SIGUSR1: ");
             t_stats = now;
         }
-        if (cfg->stats_interval > 0 && (double)(now - t_stats) * 1e-6 >= cfg->stats_interval) {
+        if (ready && cfg->stats_interval > 0 &&
+            (double)(now - t_stats) * 1e-6 >= cfg->stats_interval) {
             cdspd_stats_window_take(stats, &w);
             cdspd_stats_log(&w, "");
             t_stats = now;

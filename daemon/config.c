@@ -23,6 +23,7 @@
 #include <yaml.h>
 
 #include "cdsp_host.h"
+#include "source.h"
 
 typedef enum {
     K_STR,    /* char[CDSPD_STR] */
@@ -34,8 +35,16 @@ typedef enum {
     K_VEC3,   /* double[3] */
     K_INT4,   /* int[4], each in [min, max] */
     K_DEST,   /* the destination list */
-    K_LEVEL   /* int log level; "default" = -1 (log.level) where allowed */
+    K_LEVEL,  /* int log level; "default" = -1 (log.level) where allowed */
+    K_POLARITY /* int cdsp_pair_params.polarity: bright +1, dark -1, any 0 (cdsp_tool's
+                * words; the numbers are accepted too) */
 } key_type;
+
+/* K_POLARITY's words and values, in cdsp_tool solve --polarity's order. */
+static const struct {
+    const char *word;
+    int value;
+} polarity_words[] = {{"any", 0}, {"bright", 1}, {"dark", -1}};
 
 typedef struct {
     const char *name;
@@ -105,8 +114,9 @@ static const key_def keys[] = {
      "partial-area window half-length, px"},
     {"solver.min_contrast", K_REAL, O(min_contrast), 0, 1, NULL, "0.06",
      "minimum edge step, fraction of full scale"},
-    {"solver.polarity", K_INT, O(polarity), -1, 1, NULL, "0",
-     "0 either, +1 pipe brighter than the background, -1 darker"},
+    {"solver.polarity", K_POLARITY, O(polarity), -1, 1, NULL, "any",
+     "bright: the pipe is brighter than the background, dark: darker, any: either (as cdsp_tool "
+     "solve --polarity; 1, -1, 0 also accepted)"},
     {"solver.roi", K_INT4, O(roi), 0, 65535, NULL, "[0, 0, 0, 0]",
      "region searched [x, y, w, h], px; w or h 0 = whole frame"},
     {"solver.track_band_px", K_REAL, O(track_band_px), 1, 1000, NULL, "12",
@@ -149,6 +159,8 @@ static const key_def keys[] = {
     {"sim.blur", K_REAL, O(sim.blur), 0, 10, NULL, "0.7", "optical blur sigma, px"},
     {"sim.texture", K_REAL, O(sim.texture), 0, 1, NULL, "0.03", "background texture amplitude"},
     {"sim.seed", K_U64, O(sim.seed), 0, 0, NULL, "7", "seed of the rendered noise"},
+    {"sim.truth", K_BOOL, O(sim.truth), 0, 1, NULL, "false",
+     "JSON datagrams carry the frame's ground truth (\"truth\": point, direction, distance)"},
     /* ---- file source ------------------------------------------------------ */
     {"file.rate", K_REAL, O(file.rate), 0, 100000, NULL, "25", "frames per second, 0 = as fast as possible"},
     {"file.loop", K_BOOL, O(file.loop), 0, 1, NULL, "false",
@@ -249,6 +261,7 @@ static const char *type_text(const key_def *k)
     case K_INT4: return "[x, y, w, h]";
     case K_DEST: return "list of HOST:PORT";
     case K_LEVEL: return "level";
+    case K_POLARITY: return "any|bright|dark";
     }
     return "?";
 }
@@ -407,6 +420,19 @@ int cdspd_config_set(cdspd_config *c, const char *key, const char *value, const 
         errf(err, errlen, "%s: key '%s': expected one of %s, got '%s'", where, key, k->choices, value);
         return -1;
     }
+    case K_POLARITY:
+        for (i = 0; i < 3; i++)
+            if (!strcmp(value, polarity_words[i].word)) {
+                *(int *)field = polarity_words[i].value;
+                return 0;
+            }
+        if (parse_long(value, &iv) && iv >= -1 && iv <= 1) { /* the library's numbers */
+            *(int *)field = (int)iv;
+            return 0;
+        }
+        errf(err, errlen, "%s: key '%s': expected any, bright or dark (or 0, 1, -1), got '%s'",
+             where, key, value);
+        return -1;
     case K_LEVEL: {
         int lv = cdspd_log_level_parse(value);
         if (lv < 0 && !strcmp(value, "default") && strcmp(key, "log.level"))
@@ -767,8 +793,13 @@ int cdspd_config_finish(cdspd_config *c, char *err, size_t errlen)
              c->source);
         return -1;
     }
+    /* a replay of a recording needs no --calib: --record saved it beside */
+    if (!*c->calib && kind == CDSPD_SRC_FILE)
+        cdspd_src_file_find_calib(arg, c->calib, sizeof c->calib);
     if (!*c->calib) {
-        errf(err, errlen, "key 'calib': required: the camera calibration (--calib CAM.yaml)");
+        errf(err, errlen, "key 'calib': required: the camera calibration (--calib CAM.yaml%s)",
+             kind == CDSPD_SRC_FILE ? "; none beside the frames either: DIR/RUN.yaml as --record "
+                                      "saves it, or DIR/camera.yaml" : "");
         return -1;
     }
     if (!(c->radius > 0)) {
@@ -919,6 +950,11 @@ static void dump_value(const cdspd_config *c, const key_def *k, FILE *f)
         fputs(lv < 0 ? "default" : cdspd_log_level_name(lv), f);
         break;
     }
+    case K_POLARITY:
+        for (i = 0; i < 3; i++)
+            if (*(const int *)field == polarity_words[i].value)
+                fputs(polarity_words[i].word, f);
+        break;
     case K_VEC3:
         fputc('[', f);
         for (i = 0; i < 3; i++) {

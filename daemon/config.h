@@ -77,6 +77,7 @@ typedef struct {
         double tilt_deg, nod_deg, away;
         double ambient, noise, blur, texture;
         uint64_t seed;
+        int truth;              /* JSON datagrams carry the frame's ground truth */
     } sim;
 
     /* file source */

@@ -7,13 +7,18 @@ set -u
 cdspd=$1 tool=$2 seconds=${3:-0}
 port=${DEMO_PORT:-23770}
 here=$(cd "$(dirname "$0")" && pwd)
-dur=(); ldur=()
-if [ "$seconds" != 0 ]; then dur=(--duration "$seconds"); ldur=(--duration "$((seconds + 8))"); fi
-
-"$tool" listen "127.0.0.1:$port" "${ldur[@]}" &
+dur=()
+# cdspd's --duration counts from the moment its camera is open (after the
+# simulated camera has rendered its frames, which takes a while on a slow
+# machine); the listener runs until cdspd has stopped, however long that is.
+if [ "$seconds" != 0 ]; then dur=(--duration "$seconds"); fi
+args=(--calib "$here/demo-camera.yaml" --radius 10 --dest "127.0.0.1:$port" --set stats_interval=5)
+# cdspd logs "rendering N frames" once; nothing streams until they are ready
+echo "demo: the simulated camera pre-renders its frames (a few seconds), then poses stream;" \
+     "Ctrl-C stops."
+"$tool" listen "127.0.0.1:$port" &
 lpid=$!
-"$cdspd" --calib "$here/demo-camera.yaml" --radius 10 --dest "127.0.0.1:$port" --set stats_interval=5 \
-    "${dur[@]}" &
+"$cdspd" "${args[@]}" "${dur[@]}" &
 dpid=$!
 trap 'kill -TERM $dpid $lpid 2>/dev/null' INT TERM
 wait $dpid

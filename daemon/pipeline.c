@@ -16,6 +16,7 @@
 #include "proto.h"
 #include "record.h"
 #include "sender.h"
+#include "sim_path.h"
 #include "source.h"
 
 /* The capture thread's longest wait inside the source, ms: how quickly it
@@ -133,6 +134,8 @@ static void *capture_main(void *arg)
             continue;
         }
         f = cdspd_pool_back(&p->pool);
+        f->frame_id = f->t_camera_us = 0;
+        f->bad = 0;
         err[0] = 0;
         r = p->src->ops->grab(p->src, f, GRAB_TIMEOUT_MS, err, sizeof err);
         switch (r) {
@@ -146,6 +149,11 @@ static void *capture_main(void *arg)
         case CDSPD_GRAB_BAD: {
             uint64_t now = cdspd_now_us();
             cdspd_stats_add(p->stats, CDSPD_STAT(frames_bad), 1);
+            /* handed on as a marker: receivers get a bad-frame datagram for it
+             * (docs/protocol.md), not silence */
+            f->bad = 1;
+            if (cdspd_pool_publish(&p->pool))
+                cdspd_stats_add(p->stats, CDSPD_STAT(frames_dropped), 1);
             bad_since_log++;
             if (now - last_bad_log >= 10000000u) {
                 LOG_W(SOURCE, "frame skipped: %s (%llu skipped since the last such message)",
@@ -209,10 +217,11 @@ static void send_record(cdspd_pipeline *p, cdspd_record *rec, uint8_t *buf, size
         LOG_E(PROC, "record %lu did not fit its buffer", (unsigned long)rec->seq);
         return;
     }
-    if (cdspd_sender_send(&p->sender, buf, n))
-        cdspd_stats_add(p->stats, CDSPD_STAT(send_errors), 1);
-    else
-        cdspd_stats_add(p->stats, CDSPD_STAT(sent), 1);
+    {
+        uint32_t failed;
+        cdspd_sender_send(&p->sender, buf, n, &failed);
+        cdspd_stats_sent(p->stats, p->sender.n, failed);
+    }
 }
 
 static void *proc_main(void *arg)
@@ -226,6 +235,9 @@ static void *proc_main(void *arg)
     /* wake at least every 100 ms (the watchdog follows the heartbeat) */
     uint64_t wait_us = status_us < 100000u ? status_us : 100000u, last = cdspd_now_us();
     static const size_t cap = 4096;
+    const char *src_arg;
+    int sim_truth = c->sim.truth && c->format == CDSPD_FORMAT_JSON &&
+                    cdspd_source_kind_parse(c->source, &src_arg) == CDSPD_SRC_SIM;
     uint8_t *buf = malloc(cap);
 
     if (!buf) {
@@ -237,10 +249,11 @@ static void *proc_main(void *arg)
     while (!CDSPD_GET(p->stop)) {
         cdspd_frame *f;
         cdspd_record rec;
-        int done;
+        int done, starting;
 
         pthread_mutex_lock(&p->mu);
         done = p->capture_done;
+        starting = p->state == CDSPD_PIPE_STARTING;
         p->heartbeat++;
         pthread_mutex_unlock(&p->mu);
         f = cdspd_pool_take(&p->pool, done ? 1000 : wait_us);
@@ -253,7 +266,10 @@ static void *proc_main(void *arg)
                 set_state(p, CDSPD_PIPE_ENDED);
                 break;
             }
-            if (cdspd_now_us() - last < status_us)
+            /* Nothing is streamed before the source's first opening (a sim
+             * pre-rendering, a camera being found): cdspd's log says what it
+             * waits for, and status datagrams start once it ran. */
+            if (starting || cdspd_now_us() - last < status_us)
                 continue;
             last = cdspd_now_us();
             rec.kind = CDSPD_KIND_STATUS;
@@ -275,9 +291,18 @@ static void *proc_main(void *arg)
         last = cdspd_now_us();
         rec.kind = CDSPD_KIND_FRAME;
         rec.frame_id = f->frame_id;
+        if (sim_truth) {
+            rec.has_truth = 1;
+            rec.truth_in_view = cdspd_sim_truth(c, f->frame_id, rec.truth_point,
+                                                rec.truth_direction, &rec.truth_distance);
+        }
         rec.t_camera_us = f->t_camera_us;
         rec.t_host_us = f->t_ready_us;
-        if (f->width != c->cam.width || f->height != c->cam.height || f->bits < 1 || f->bits > 16) {
+        if (f->bad) { /* counted and logged by the capture thread */
+            rec.status = CDSPD_ST_BAD_FRAME;
+            have_prev = 0;
+        } else if (f->width != c->cam.width || f->height != c->cam.height || f->bits < 1 ||
+                   f->bits > 16) {
             rec.status = CDSPD_ST_BAD_FRAME;
             have_prev = 0;
             cdspd_stats_add(p->stats, CDSPD_STAT(frames_bad), 1);
@@ -310,7 +335,8 @@ static void *proc_main(void *arg)
             }
         }
         cdspd_stats_add(p->stats, CDSPD_STAT(processed), 1);
-        if (cdspd_recorder_wants(&p->rec, processed) && cdspd_recorder_ready(&p->rec))
+        if (rec.status != CDSPD_ST_BAD_FRAME && cdspd_recorder_wants(&p->rec, processed) &&
+            cdspd_recorder_ready(&p->rec))
             rec.flags |= CDSPD_FLAG_RECORDED;
         fill_counters(p, &rec);
         rec.latency_us = (uint32_t)(cdspd_now_us() - f->t_ready_us);
@@ -361,8 +387,10 @@ int cdspd_pipeline_start(cdspd_pipeline **out, const cdspd_config *cfg, cdspd_st
         snprintf(err, errlen, "out of memory for the frame buffers (3 x %zu bytes)", bytes);
         goto fail;
     }
+    cdspd_pool_set_lossless(&p->pool, p->src->replay);
     if (cdspd_sender_open(&p->sender, &p->cfg, err, errlen))
         goto fail;
+    cdspd_stats_set_dests(stats, &p->cfg);
     if (cdspd_recorder_start(&p->rec, &p->cfg, bytes, stats, err, errlen)) {
         cdspd_sender_close(&p->sender);
         goto fail;
@@ -425,9 +453,9 @@ void cdspd_pipeline_stop(cdspd_pipeline *p)
     if (!p)
         return;
     CDSPD_SET(p->stop, 1);
+    cdspd_pool_wake(&p->pool); /* first: a replay's capture thread may wait in publish */
     if (p->have_capture)
         pthread_join(p->capture, NULL);
-    cdspd_pool_wake(&p->pool);
     if (p->have_proc)
         pthread_join(p->proc, NULL);
     cdspd_recorder_stop(&p->rec);

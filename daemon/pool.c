@@ -1,7 +1,8 @@
 /*
  * pool.c - see pool.h. Swapping indices under one mutex: the capture
  * thread never waits for the processing thread and vice versa, except for
- * the few instructions of a swap.
+ * the few instructions of a swap (and a lossless pool's publish, which
+ * waits on purpose).
  */
 #define _POSIX_C_SOURCE 200809L
 #include "pool.h"
@@ -20,6 +21,7 @@ int cdspd_pool_init(cdspd_pool *p, size_t bytes)
     pthread_condattr_init(&ca);
     pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
     pthread_cond_init(&p->cv, &ca);
+    pthread_cond_init(&p->taken, NULL);
     pthread_condattr_destroy(&ca);
     p->inited = 1;
     for (i = 0; i < 3; i++) {
@@ -48,6 +50,7 @@ void cdspd_pool_destroy(cdspd_pool *p)
     if (p->inited) {
         pthread_mutex_destroy(&p->mu);
         pthread_cond_destroy(&p->cv);
+        pthread_cond_destroy(&p->taken);
     }
     memset(p, 0, sizeof *p);
 }
@@ -57,11 +60,25 @@ cdspd_frame *cdspd_pool_back(cdspd_pool *p)
     return &p->slot[p->back]; /* only the capture thread changes back */
 }
 
+void cdspd_pool_set_lossless(cdspd_pool *p, int lossless)
+{
+    pthread_mutex_lock(&p->mu);
+    p->lossless = lossless;
+    pthread_mutex_unlock(&p->mu);
+}
+
 int cdspd_pool_publish(cdspd_pool *p)
 {
     int t, dropped;
-    p->slot[p->back].t_ready_us = cdspd_now_us();
     pthread_mutex_lock(&p->mu);
+    while (p->lossless && p->fresh && !p->stop)
+        pthread_cond_wait(&p->taken, &p->mu);
+    if (p->lossless && p->stop) {
+        pthread_mutex_unlock(&p->mu);
+        return 0;
+    }
+    /* ready when it enters the pool: a lossless wait is not latency */
+    p->slot[p->back].t_ready_us = cdspd_now_us();
     t = p->ready;
     p->ready = p->back;
     p->back = t;
@@ -96,6 +113,7 @@ cdspd_frame *cdspd_pool_take(cdspd_pool *p, uint64_t timeout_us)
         p->ready = t;
         p->fresh = 0;
         f = &p->slot[p->front];
+        pthread_cond_signal(&p->taken);
     }
     pthread_mutex_unlock(&p->mu);
     return f;
@@ -106,6 +124,7 @@ void cdspd_pool_wake(cdspd_pool *p)
     pthread_mutex_lock(&p->mu);
     p->stop = 1;
     pthread_cond_broadcast(&p->cv);
+    pthread_cond_broadcast(&p->taken);
     pthread_mutex_unlock(&p->mu);
 }
 

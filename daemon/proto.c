@@ -277,6 +277,15 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
 /* ------------------------------------------------------------------------
  * JSON.
  * ---------------------------------------------------------------------- */
+static void json_doubles(cdsp_host_json *j, const double *v, int n)
+{
+    int i;
+    cdsp_host_json_begin_array(j);
+    for (i = 0; i < n; i++)
+        cdsp_host_json_number(j, v[i]);
+    cdsp_host_json_end_array(j);
+}
+
 size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
 {
     cdsp_host_json j;
@@ -303,8 +312,6 @@ size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
         /* the token names the status; st only has to be an error */
         cdsp_host_json_pose(&j, CDSP_E_ARG, cdspd_status_token(r->status), NULL,
                             (cdsp_real)r->radius);
-        cdsp_host_json_key(&j, "radius");
-        cdsp_host_json_number(&j, r->radius);
     }
     cdsp_host_json_key(&j, "source_down");
     cdsp_host_json_bool(&j, (r->flags & CDSPD_FLAG_SOURCE_DOWN) != 0);
@@ -322,6 +329,21 @@ size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
     cdsp_host_json_int(&j, r->frames_bad);
     cdsp_host_json_key(&j, "reconnects");
     cdsp_host_json_int(&j, r->reconnects);
+    if (r->has_truth) {
+        cdsp_host_json_key(&j, "truth");
+        cdsp_host_json_begin_object(&j);
+        cdsp_host_json_key(&j, "in_view");
+        cdsp_host_json_bool(&j, r->truth_in_view);
+        if (r->truth_in_view) {
+            cdsp_host_json_key(&j, "point");
+            json_doubles(&j, r->truth_point, 3);
+            cdsp_host_json_key(&j, "direction");
+            json_doubles(&j, r->truth_direction, 3);
+            cdsp_host_json_key(&j, "distance");
+            cdsp_host_json_number(&j, r->truth_distance);
+        }
+        cdsp_host_json_end_object(&j);
+    }
     cdsp_host_json_end_object(&j);
     text = cdsp_host_json_finish(&j);
     return text ? strlen(text) : 0;
@@ -436,7 +458,7 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
         }
         if (jbool(o, "tracked"))
             r->flags |= CDSPD_FLAG_TRACKED;
-        else
+        if (jbool(o, "full_search"))
             r->flags |= CDSPD_FLAG_FULL_SEARCH;
         if (jbool(o, "truncated"))
             r->flags |= CDSPD_FLAG_TRUNCATED;
@@ -459,6 +481,14 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
     r->frames_dropped = (uint32_t)ju64(o, "frames_dropped", &ok);
     r->frames_bad = (uint32_t)ju64(o, "frames_bad", &ok);
     r->reconnects = (uint32_t)ju64(o, "reconnects", &ok);
+    if (json_object_object_get_ex(o, "truth", &x) && json_object_is_type(x, json_type_object)) {
+        r->has_truth = 1;
+        r->truth_in_view = jbool(x, "in_view");
+        if (r->truth_in_view)
+            ok = ok && jkvec(x, "point", r->truth_point, 3) &&
+                 jkvec(x, "direction", r->truth_direction, 3) &&
+                 jnum(x, "distance", &r->truth_distance);
+    }
     json_object_put(o);
     if (!ok) {
         *why = "JSON record lacks a field or has one of the wrong type";

@@ -65,6 +65,10 @@ typedef struct {
     uint32_t frames_dropped;   /* frames replaced in the pool before processing */
     uint32_t frames_bad;       /* incomplete or unusable frames skipped */
     uint32_t reconnects;       /* times the source was reopened */
+    /* JSON only (not in the binary layout): the sim source's ground truth
+     * with sim.truth, as cdspd_sim_truth gives it */
+    int has_truth, truth_in_view;
+    double truth_point[3], truth_direction[3], truth_distance;
 } cdspd_record;
 
 /* Short stable token of a status: the library's (cdsp_status_token) or

@@ -102,6 +102,14 @@ int cdspd_recorder_start(cdspd_recorder *r, const cdspd_config *c, size_t frame_
         r->frame.data = NULL;
         return 0;
     }
+    /* the calibration beside the frames: a replay of DIR needs nothing else
+     * (cdspd --source 'file:DIR/RUN-*.pgm' finds DIR/RUN.yaml) */
+    snprintf(path, sizeof path, "%s/%s.yaml", r->dir, r->run);
+    {
+        cdsp_host_err herr;
+        if (cdsp_host_calib_write(path, &c->cam, "cdspd_record", &herr))
+            LOG_E(RECORD, "%s (a replay will need --calib)", herr.msg);
+    }
     pthread_mutex_init(&r->mu, NULL);
     pthread_cond_init(&r->cv, NULL);
     if (pthread_create(&r->thread, NULL, writer, r)) {
@@ -113,8 +121,8 @@ int cdspd_recorder_start(cdspd_recorder *r, const cdspd_config *c, size_t frame_
     }
     r->have_thread = 1;
     CDSPD_SET(r->disabled, 0);
-    LOG_I(RECORD, "recording every %d%s frame into %s (%s-*.pgm, %s.jsonl)", r->every,
-          r->every == 1 ? "" : "th", r->dir, r->run, r->run);
+    LOG_I(RECORD, "recording every %d%s frame into %s (%s-*.pgm, %s.jsonl, calibration %s.yaml)",
+          r->every, r->every == 1 ? "" : "th", r->dir, r->run, r->run, r->run);
     return 0;
 }
 

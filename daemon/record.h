@@ -2,8 +2,9 @@
  * record.h - --record DIR: every record_every-th processed frame is saved
  * as DIR/<run>-<seq>.pgm (the run's start time, the datagram's sequence
  * number) and its result appended to DIR/<run>.jsonl (the datagram's JSON
- * record plus "file"), for replay with `--source file:DIR/<run>-*.pgm` or
- * `cdsp_tool solve`. A writer thread of its own with one preallocated
+ * record plus "file"), and the calibration is saved as DIR/<run>.yaml, so
+ * `--source file:DIR/<run>-*.pgm` replays it without --calib (as does
+ * `cdsp_tool solve --calib DIR/<run>.yaml`). A writer thread of its own with one preallocated
  * buffer: the processing thread only copies the frame into it, and skips
  * (counts) frames while the writer is still busy. Any write error (a full
  * disk) stops recording for the rest of the run, never the daemon.

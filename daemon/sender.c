@@ -83,9 +83,10 @@ void cdspd_sender_close(cdspd_sender *s)
     s->fd4 = s->fd6 = -1;
 }
 
-int cdspd_sender_send(cdspd_sender *s, const void *buf, size_t len)
+int cdspd_sender_send(cdspd_sender *s, const void *buf, size_t len, uint32_t *failed_mask)
 {
     int i, failed = 0;
+    uint32_t mask = 0;
     for (i = 0; i < s->n; i++) {
         const cdspd_dest *d = &s->dest[i];
         int fd = d->addr.ss_family == AF_INET6 ? s->fd6 : s->fd4;
@@ -107,6 +108,7 @@ int cdspd_sender_send(cdspd_sender *s, const void *buf, size_t len)
             int e = r < 0 ? errno : EMSGSIZE;
             uint64_t now = cdspd_now_us();
             failed++;
+            mask |= 1u << i;
             s->failures[i]++;
             if (e != s->last_errno[i] || now - s->last_log_us[i] >= 10000000u) {
                 LOG_W(NET, "%s: cannot send: %s (%llu failed so far; the daemon keeps running)",
@@ -116,5 +118,7 @@ int cdspd_sender_send(cdspd_sender *s, const void *buf, size_t len)
             }
         }
     }
+    if (failed_mask)
+        *failed_mask = mask;
     return failed;
 }

@@ -26,7 +26,8 @@ typedef struct {
 int cdspd_sender_open(cdspd_sender *s, const cdspd_config *c, char *err, size_t errlen);
 void cdspd_sender_close(cdspd_sender *s);
 
-/* Send to all; returns the number of destinations that failed. */
-int cdspd_sender_send(cdspd_sender *s, const void *buf, size_t len);
+/* Send to all; returns the number of destinations that failed and sets
+ * bit i of *failed_mask (may be NULL) when destination i did. */
+int cdspd_sender_send(cdspd_sender *s, const void *buf, size_t len, uint32_t *failed_mask);
 
 #endif

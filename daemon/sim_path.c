@@ -5,6 +5,8 @@
 
 #include <math.h>
 
+#include "cdsp_host.h"
+
 int cdspd_sim_slot(const cdspd_config *c, uint64_t frame)
 {
     return (int)(frame % (uint64_t)c->sim.frames);
@@ -37,6 +39,16 @@ int cdspd_sim_pose(const cdspd_config *c, int slot, double point[3], double dir[
     dir[1] = d[1] / n;
     dir[2] = d[2] / n;
     return slot < away_from;
+}
+
+int cdspd_sim_truth(const cdspd_config *c, uint64_t frame, double foot[3], double dir[3],
+                    double *distance)
+{
+    double p[3], v[3];
+    if (!cdspd_sim_pose(c, cdspd_sim_slot(c, frame), p, v))
+        return 0;
+    cdsp_host_axis_truth(p, v, foot, dir, distance);
+    return 1;
 }
 
 void cdspd_sim_scene(const cdspd_config *c, int slot, cdsp_scene *s)

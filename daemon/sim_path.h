@@ -24,6 +24,13 @@ int cdspd_sim_slot(const cdspd_config *c, uint64_t frame);
  * the pipe is in view, 0 when the slot is in the away part of the path. */
 int cdspd_sim_pose(const cdspd_config *c, int slot, double point[3], double dir[3]);
 
+/* Ground truth of frame n as the solver reports it: returns 1 and the foot
+ * of the perpendicular from the optical centre (P_C), the unit direction
+ * with the library's sign rule and |P_C| when the pipe is in view, else 0
+ * (nothing filled). cdsp_host_axis_truth does the geometry. */
+int cdspd_sim_truth(const cdspd_config *c, uint64_t frame, double foot[3], double dir[3],
+                    double *distance);
+
 /* The scene of slot k as cdsp_render draws it: the pose above (out of
  * view: the pipe lies behind the camera), radius, and the sim.* look
  * (ambient, noise, blur, texture); libcdsp's defaults otherwise. */

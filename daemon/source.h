@@ -13,6 +13,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "config.h"
 
@@ -27,6 +28,9 @@ typedef struct {
     uint64_t frame_id;     /* the source's frame number */
     uint64_t t_camera_us;  /* the source's timestamp, us; 0 = none */
     uint64_t t_ready_us;   /* host CLOCK_MONOTONIC when it was ready */
+    int bad;               /* set by the capture thread: the source said GRAB_BAD, only
+                            * frame_id, t_camera_us (0 when the source did not set them)
+                            * mean anything; a bad-frame datagram reports it */
 } cdspd_frame;
 
 /* grab() results */
@@ -63,12 +67,33 @@ struct cdspd_source {
     const char *arg;       /* after "kind:" in cfg->source */
     void *priv;
     int *stop;             /* set by the pipeline to abort long waits (CDSPD_GET) */
+    int replay;            /* set by init: frames from storage, every one is processed in
+                            * order (the capture thread waits for the processing thread);
+                            * 0: a live camera, the latest frame wins and others drop */
 };
 
 /* A source for cfg->source (not opened), or NULL with err: kind not built
  * in (exit status 2) or out of memory. */
 cdspd_source *cdspd_source_new(const cdspd_config *cfg, char *err, size_t errlen);
 void cdspd_source_free(cdspd_source *s);
+
+/* How many files the file source's GLOB matches now (0: none, or it cannot
+ * be listed): --check-config refuses a replay of nothing. */
+size_t cdspd_src_file_matches(const char *glob_pattern);
+
+/* The calibration saved beside a recording, for a file: source given no
+ * calib: for the first file GLOB matches, DIR/NAME.pgm, the first that
+ * exists of DIR/RUN.yaml (RUN: NAME up to its last '-', as --record names
+ * frames RUN-SEQ.pgm and saves RUN.yaml) and DIR/camera.yaml (cdsp_tool
+ * sim's). Returns 1 with the path in out, else 0. */
+int cdspd_src_file_find_calib(const char *glob_pattern, char *out, size_t cap);
+
+/* cdspd --list-cameras: the cameras a built-in camera source sees, one line
+ * each on out, "KIND:ID" (what --source takes) then a description; returns
+ * how many (0: none), or -1 with one line in err when it could not look. */
+int cdspd_src_aravis_list(FILE *out, char *err, size_t errlen);
+int cdspd_src_v4l2_list(FILE *out, char *err, size_t errlen);
+int cdspd_src_libcamera_list(FILE *out, char *err, size_t errlen);
 
 /* Whether a kind was built in; the error text when not. */
 int cdspd_source_available(int kind, const char **why);

@@ -486,6 +486,9 @@ static int aravis_grab(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *er
     }
     p->last_buffer_us = cdspd_now_us();
     st = arv_buffer_get_status(b);
+    /* also for a bad frame: its bad-frame datagram carries the camera's number */
+    f->frame_id = arv_buffer_get_frame_id(b);
+    f->t_camera_us = arv_buffer_get_timestamp(b) / 1000u;
     if (st != ARV_BUFFER_STATUS_SUCCESS) {
         snprintf(err, errlen, "aravis: frame %llu incomplete (buffer status %d%s)",
                  (unsigned long long)arv_buffer_get_frame_id(b), (int)st,
@@ -514,8 +517,6 @@ static int aravis_grab(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *er
             f->height = h;
             f->bits = pf->out_bits;
             f->stride = row;
-            f->frame_id = arv_buffer_get_frame_id(b);
-            f->t_camera_us = arv_buffer_get_timestamp(b) / 1000u;
         }
     }
     arv_stream_push_buffer(p->stream, b);
@@ -550,4 +551,22 @@ int cdspd_src_aravis_init(cdspd_source *s, char *err, size_t errlen)
     s->priv = p;
     s->ops = &aravis_ops;
     return 0;
+}
+
+int cdspd_src_aravis_list(FILE *out, char *err, size_t errlen)
+{
+    unsigned i, n;
+    (void)err;
+    (void)errlen;
+    /* GigE Vision discovery (a broadcast on every interface) and USB3 Vision */
+    arv_update_device_list();
+    n = arv_get_n_devices();
+    for (i = 0; i < n; i++) {
+        const char *id = arv_get_device_id(i), *vendor = arv_get_device_vendor(i),
+                   *model = arv_get_device_model(i), *serial = arv_get_device_serial_nbr(i),
+                   *addr = arv_get_device_address(i), *proto = arv_get_device_protocol(i);
+        fprintf(out, "aravis:%-30s %s %s, serial %s, %s %s\n", id ? id : "?", vendor ? vendor : "?",
+                model ? model : "?", serial ? serial : "?", proto ? proto : "?", addr ? addr : "");
+    }
+    return (int)n;
 }

@@ -5,7 +5,9 @@
  * writes frames this reads). When all frames fit in file.cache_mb they are
  * decoded once at open, so replay does not allocate; otherwise each is read
  * (and allocated by the decoder) in turn. A frame that cannot be read is
- * reported and skipped (GRAB_BAD).
+ * reported and skipped (GRAB_BAD). A replay drops nothing: the capture
+ * thread waits for the processing thread (source.h, replay), so file.rate=0
+ * replays as fast as frames are solved.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "source.h"
@@ -163,6 +165,57 @@ static void file_destroy(cdspd_source *s)
 
 static const cdspd_source_ops file_ops = {"file", file_open, file_grab, file_close, file_destroy};
 
+size_t cdspd_src_file_matches(const char *glob_pattern)
+{
+    glob_t g;
+    size_t n = 0;
+    memset(&g, 0, sizeof g); /* globfree is safe whatever glob returned */
+    if (glob(glob_pattern, 0, NULL, &g) == 0)
+        n = g.gl_pathc;
+    globfree(&g);
+    return n;
+}
+
+static int readable(const char *path)
+{
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;
+    fclose(f);
+    return 1;
+}
+
+int cdspd_src_file_find_calib(const char *glob_pattern, char *out, size_t cap)
+{
+    glob_t g;
+    char dir[4096], name[4096], *slash, *dash;
+    int found = 0;
+    memset(&g, 0, sizeof g);
+    if (glob(glob_pattern, 0, NULL, &g) != 0 || g.gl_pathc == 0) {
+        globfree(&g);
+        return 0;
+    }
+    snprintf(dir, sizeof dir, "%s", g.gl_pathv[0]);
+    globfree(&g);
+    slash = strrchr(dir, '/');
+    snprintf(name, sizeof name, "%s", slash ? slash + 1 : dir);
+    if (slash)
+        slash[1] = 0;
+    else
+        dir[0] = 0;
+    dash = strrchr(name, '-');
+    if (dash) {
+        *dash = 0;
+        if ((size_t)snprintf(out, cap, "%s%s.yaml", dir, name) < cap && readable(out))
+            found = 1;
+    }
+    if (!found && (size_t)snprintf(out, cap, "%scamera.yaml", dir) < cap && readable(out))
+        found = 1;
+    if (!found && cap)
+        out[0] = 0;
+    return found;
+}
+
 int cdspd_src_file_init(cdspd_source *s, char *err, size_t errlen)
 {
     file_priv *p = calloc(1, sizeof *p);
@@ -172,5 +225,6 @@ int cdspd_src_file_init(cdspd_source *s, char *err, size_t errlen)
     }
     s->priv = p;
     s->ops = &file_ops;
+    s->replay = 1; /* a recording is replayed whole, in order, whatever file.rate is */
     return 0;
 }

@@ -312,3 +312,21 @@ extern "C" int cdspd_src_libcamera_init(cdspd_source *s, char *err, size_t errle
     s->ops = &lc_ops;
     return 0;
 }
+
+extern "C" int cdspd_src_libcamera_list(FILE *out, char *err, size_t errlen)
+{
+    if (!std::getenv("LIBCAMERA_LOG_LEVELS"))
+        setenv("LIBCAMERA_LOG_LEVELS", "*:ERROR", 0); /* as at open: errors only */
+    CameraManager cm;
+    if (cm.start()) {
+        snprintf(err, errlen, "libcamera: the camera manager did not start");
+        return -1;
+    }
+    int n = 0;
+    for (const auto &cam : cm.cameras()) {
+        fprintf(out, "libcamera:%-29s a libcamera camera\n", cam->id().c_str());
+        n++;
+    }
+    cm.stop();
+    return n;
+}

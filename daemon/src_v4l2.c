@@ -17,6 +17,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <glob.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -341,4 +342,38 @@ int cdspd_src_v4l2_init(cdspd_source *s, char *err, size_t errlen)
     s->priv = p;
     s->ops = &v4l2_ops;
     return 0;
+}
+
+int cdspd_src_v4l2_list(FILE *out, char *err, size_t errlen)
+{
+    glob_t g;
+    size_t i;
+    int n = 0;
+    (void)err;
+    (void)errlen;
+    memset(&g, 0, sizeof g);
+    if (glob("/dev/video*", 0, NULL, &g) != 0) {
+        globfree(&g);
+        return 0;
+    }
+    for (i = 0; i < g.gl_pathc; i++) {
+        struct v4l2_capability cap;
+        int fd = open(g.gl_pathv[i], O_RDWR | O_NONBLOCK | O_CLOEXEC);
+        uint32_t caps;
+        if (fd < 0)
+            continue;
+        memset(&cap, 0, sizeof cap);
+        if (xioctl(fd, VIDIOC_QUERYCAP, &cap) == 0) {
+            caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
+            /* a metadata or output node of the same camera is not a source */
+            if ((caps & V4L2_CAP_VIDEO_CAPTURE) && (caps & V4L2_CAP_STREAMING)) {
+                fprintf(out, "v4l2:%-32s %s (driver %s, %s)\n", g.gl_pathv[i], (const char *)cap.card,
+                        (const char *)cap.driver, (const char *)cap.bus_info);
+                n++;
+            }
+        }
+        close(fd);
+    }
+    globfree(&g);
+    return n;
 }

@@ -6,6 +6,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "stats.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -51,6 +52,43 @@ void cdspd_stats_set_down(cdspd_stats *s, int down)
 {
     pthread_mutex_lock(&s->mu);
     s->source_down = down;
+    pthread_mutex_unlock(&s->mu);
+}
+
+void cdspd_stats_set_dests(cdspd_stats *s, const cdspd_config *c)
+{
+    int i, same;
+    pthread_mutex_lock(&s->mu);
+    same = s->n_dest == c->n_dest;
+    for (i = 0; same && i < c->n_dest; i++)
+        same = !strcmp(s->dest_name[i], c->dest[i].text);
+    if (!same) {
+        memset(s->c.dest_sent, 0, sizeof s->c.dest_sent);
+        memset(s->c.dest_errors, 0, sizeof s->c.dest_errors);
+        memset(s->w0.dest_sent, 0, sizeof s->w0.dest_sent);
+        memset(s->w0.dest_errors, 0, sizeof s->w0.dest_errors);
+        s->n_dest = c->n_dest;
+        for (i = 0; i < c->n_dest; i++)
+            snprintf(s->dest_name[i], sizeof s->dest_name[i], "%s", c->dest[i].text);
+    }
+    pthread_mutex_unlock(&s->mu);
+}
+
+void cdspd_stats_sent(cdspd_stats *s, int n_dest, uint32_t failed_mask)
+{
+    int i, failed = 0;
+    pthread_mutex_lock(&s->mu);
+    for (i = 0; i < n_dest && i < CDSPD_MAX_DEST; i++) {
+        if (failed_mask >> i & 1u) {
+            s->c.dest_errors[i]++;
+            failed++;
+        } else {
+            s->c.dest_sent[i]++;
+        }
+    }
+    s->c.send_errors += (uint64_t)failed;
+    if (failed < n_dest)
+        s->c.sent++;
     pthread_mutex_unlock(&s->mu);
 }
 
@@ -104,6 +142,8 @@ void cdspd_stats_window_take(cdspd_stats *s, cdspd_stats_window *w)
     w->e2e_p50_us = percentile(s->sorted, n, 0.5);
     w->e2e_p99_us = percentile(s->sorted, n, 0.99);
     w->e2e_max_us = n ? s->sorted[n - 1] : 0;
+    w->n_dest = s->n_dest;
+    memcpy(w->dest_name, s->dest_name, sizeof w->dest_name);
     s->w0 = s->c;
     s->w_t0_us = now;
     s->n = 0;
@@ -112,6 +152,7 @@ void cdspd_stats_window_take(cdspd_stats *s, cdspd_stats_window *w)
 
 void cdspd_stats_log(const cdspd_stats_window *w, const char *why)
 {
+    int i;
     double t = w->seconds > 0 ? w->seconds : 1e-9;
     LOG_I(STATS,
           "%s%.1f s: frames in %llu (%.1f/s), processed %llu (%.1f/s), pose %llu, no pipe %llu, "
@@ -128,4 +169,10 @@ void cdspd_stats_log(const cdspd_stats_window *w, const char *why)
           w->e2e_p50_us * 1e-3, w->e2e_p99_us * 1e-3, (unsigned long long)w->samples,
           (unsigned long long)w->total.frames_in, (unsigned long long)w->total.processed,
           (unsigned long long)w->total.frames_dropped, (unsigned long long)w->total.reconnects);
+    /* One line per destination: a dead one is seen beside the live ones. */
+    for (i = 0; i < w->n_dest; i++)
+        LOG_I(STATS, "%sdestination %s: sent %llu, send errors %llu (total: sent %llu, send "
+              "errors %llu)", why, w->dest_name[i], (unsigned long long)w->d.dest_sent[i],
+              (unsigned long long)w->d.dest_errors[i], (unsigned long long)w->total.dest_sent[i],
+              (unsigned long long)w->total.dest_errors[i]);
 }

@@ -12,13 +12,19 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "config.h"
+
 /* Latency samples kept per window (the most recent ones when more came). */
 #define CDSPD_STATS_SAMPLES 16384
 
+/* sent: datagrams that went out to at least one destination; send_errors:
+ * failed sends summed over the destinations; dest_*: per destination, in
+ * the order of the dest key (dest_name). */
 typedef struct {
     uint64_t frames_in, frames_bad, frames_dropped, reconnects;
     uint64_t processed, ok, not_found, status_sent, sent, send_errors;
     uint64_t recorded, record_skipped;
+    uint64_t dest_sent[CDSPD_MAX_DEST], dest_errors[CDSPD_MAX_DEST];
 } cdspd_counts;
 
 typedef struct {
@@ -30,6 +36,8 @@ typedef struct {
     uint32_t sorted[CDSPD_STATS_SAMPLES];
     uint64_t n;            /* samples in the window (may exceed the array) */
     int source_down;       /* the source is being reopened */
+    int n_dest;
+    char dest_name[CDSPD_MAX_DEST][CDSPD_STR]; /* the dest key's texts */
 } cdspd_stats;
 
 typedef struct {
@@ -38,6 +46,8 @@ typedef struct {
     cdspd_counts total;
     double proc_p50_us, proc_p99_us, e2e_p50_us, e2e_p99_us, e2e_max_us;
     uint64_t samples;
+    int n_dest;
+    char dest_name[CDSPD_MAX_DEST][CDSPD_STR];
 } cdspd_stats_window;
 
 void cdspd_stats_init(cdspd_stats *s);
@@ -49,6 +59,11 @@ void cdspd_stats_add(cdspd_stats *s, size_t field, uint64_t n);
 void cdspd_stats_latency(cdspd_stats *s, uint32_t proc_us, uint32_t e2e_us);
 void cdspd_stats_get(cdspd_stats *s, cdspd_counts *c);
 void cdspd_stats_set_down(cdspd_stats *s, int down);
+/* The destinations of the running configuration: a list that differs from
+ * the previous one (a reload) restarts the per-destination counts. */
+void cdspd_stats_set_dests(cdspd_stats *s, const cdspd_config *c);
+/* One datagram's fate: failed_mask bit i set when destination i failed. */
+void cdspd_stats_sent(cdspd_stats *s, int n_dest, uint32_t failed_mask);
 int cdspd_stats_down(cdspd_stats *s);
 
 /* Close the window: its figures, then start a new one. */

@@ -4,7 +4,7 @@
  * libcdsp recovers the 3D axis of a constant-diameter straight pipe from one
  * camera frame and the pipe's known radius (Yao et al. 2024, "Rapid 3D
  * reconstruction of constant-diameter straight pipelines via single-view
- * perspective projection"; equations restated in shared/METHOD.md).
+ * perspective projection"; equations restated in docs/method.md).
  *
  * Where a frame enters and a pose leaves:
  *
@@ -215,8 +215,14 @@ void cdsp_edge_params_default(cdsp_edge_params *p);
  * Rows y = roi.y + k*step are scanned for near-vertical edges and columns
  * for near-horizontal ones; each edge is reported once, by the family whose
  * scan direction is closer to its gradient.
- * Writes at most cap points to out and their number to *n. Returns
- * CDSP_E_CAPACITY (with *n = cap and out filled) when more were found.
+ * Writes at most cap points to out and their number to *n. When more than
+ * cap are found, the buffer filling up does not decide which contours are
+ * seen: the family that does not fit (the one with more points, when rows
+ * and columns fit alone but not together) is scanned again at twice its
+ * step, until both fit; out then holds both families, each over the whole
+ * roi at one uniform step (a power-of-two multiple of p->step), and the
+ * call returns CDSP_E_CAPACITY with *n <= cap. (Only if one line at a step
+ * past the frame's extent still overflows is out a truncated scan.)
  */
 cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p,
                               cdsp_edge *out, size_t cap, size_t *n);
@@ -314,10 +320,12 @@ typedef struct {
 
 #define CDSP_FLAG_TRACKED 1u     /* found in the bands around the prior */
 #define CDSP_FLAG_FULL_SEARCH 2u /* searched the whole frame / ROI */
-#define CDSP_FLAG_TRUNCATED 4u   /* more edges than CDSP_MAX_EDGES were found */
+#define CDSP_FLAG_TRUNCATED 4u   /* more edges than CDSP_MAX_EDGES were found: the
+                                    frame was scanned at a coarser step (see
+                                    cdsp_edges_detect; tracking bands likewise) */
 
 /*
- * The closed form (METHOD.md): from two contour lines (undistorted px), a
+ * The closed form (docs/method.md): from two contour lines (undistorted px), a
  * pixel p_in between them on the pipe, the radius r (> 0).
  * Fills point, direction, distance, alpha, normals, lines; segment is set to
  * point; cov/sigma zero; counts zero.

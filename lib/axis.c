@@ -1,6 +1,6 @@
 /*
  * axis.c - the closed form of the paper (Yao et al. 2024, Eq. 1-6) with the
- * orientation rule of METHOD.md:
+ * orientation rule of docs/method.md §5:
  *   n_i = K^T l_i / |K^T l_i|, signs such that n1.X_in > 0 > n2.X_in;
  *   v_L = n1 x n2 / |n1 x n2|;  n_m = n1 + n2;
  *   alpha = atan2(|n1 x n2|, n1.n2)   (atan2: acos loses digits for small alpha);

@@ -1,6 +1,6 @@
 /*
  * camera.c - the pinhole + plumb_bob camera model (OpenCV/ROS convention,
- * METHOD.md "Frames and camera"): distortion in closed form, undistortion
+ * docs/method.md §1): distortion in closed form, undistortion
  * by Newton's method with a residual measured in distorted pixels.
  */
 #include "internal.h"

@@ -56,6 +56,30 @@ static inline int at(const cdsp_image *img, int horizontal, int s, int t)
     return horizontal ? img_px(img, s, t) : img_px(img, t, s);
 }
 
+/* Intensity at s + pos along the scan (row t across it), interpolated
+ * linearly between pixel centres, with pos clamped to [-lim, lim]: the
+ * caller guarantees lim = h + 1 pixels on both sides of s (the scan keeps
+ * that margin from the frame's border). The second pass samples at
+ * |pos| <= |a| + |b| + (h + 1/2)/2 <= 3.3 for h = 2, one pixel past that
+ * margin; for h >= 3 the bound (3.8 at h = 3, 4.3 at h = 4, ...) stays
+ * inside it, so the clamp changes nothing there. The far neighbour is read
+ * only when its weight is non-zero, so pos = +lim never reads s + lim + 1. */
+static cdsp_real sample_at(const cdsp_image *img, int horizontal, int s, int t, cdsp_real pos, int lim)
+{
+    int i;
+    cdsp_real f;
+    if (pos < -(cdsp_real)lim)
+        pos = -(cdsp_real)lim;
+    if (pos > (cdsp_real)lim)
+        pos = (cdsp_real)lim;
+    i = (int)R_FLOOR(pos);
+    f = pos - (cdsp_real)i;
+    if (f <= R(0))
+        return (cdsp_real)at(img, horizontal, s + i, t);
+    return (R(1) - f) * (cdsp_real)at(img, horizontal, s + i, t) +
+           f * (cdsp_real)at(img, horizontal, s + i + 1, t);
+}
+
 /* Refine candidate (s, t): returns 1 and fills e when the partial-area
  * estimate is a valid edge owned by this scan direction. */
 static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
@@ -104,13 +128,8 @@ static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, in
         cdsp_real sa = R(0), sb = R(0), HH = R(h) + R(0.5), D = HH / R(2);
         for (k = -1; k <= 1; k++) {
             cdsp_real ek = a + (cdsp_real)k * b;
-            cdsp_real pa = ek - D, pb = ek + D;
-            int ia = (int)R_FLOOR(pa), ib = (int)R_FLOOR(pb);
-            cdsp_real fa = pa - (cdsp_real)ia, fb = pb - (cdsp_real)ib;
-            sa += (R(1) - fa) * (cdsp_real)at(img, horizontal, s + ia, t + k) +
-                  fa * (cdsp_real)at(img, horizontal, s + ia + 1, t + k);
-            sb += (R(1) - fb) * (cdsp_real)at(img, horizontal, s + ib, t + k) +
-                  fb * (cdsp_real)at(img, horizontal, s + ib + 1, t + k);
+            sa += sample_at(img, horizontal, s, t + k, ek - D, h + 1);
+            sb += sample_at(img, horizontal, s, t + k, ek + D, h + 1);
         }
         if (R_FABS(sa - sb) >= R(1.5) * (cdsp_real)min_step) {
             diff = (sa - sb) / R(3);
@@ -234,10 +253,10 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
  * each column, but walking the frame row by row so memory is read in order
  * (a column-at-a-time walk touches a new cache line at every pixel).
  */
-static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, int xs, int ncols,
-                              int from, int to, cdsp_edge *out, size_t cap)
+static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, int step, int xs,
+                              int ncols, int from, int to, cdsp_edge *out, size_t cap)
 {
-    int h = p->half_window, step = p->step, y, k;
+    int h = p->half_window, y, k;
     int full = (1 << img->bits) - 1;
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
@@ -301,12 +320,60 @@ cdsp_status cdsp__edge_params_check(const cdsp_edge_params *p)
     return CDSP_OK;
 }
 
+/* Near-vertical edges: rows y0 + 1 + step/2 + k*step of the clipped roi. */
+static size_t scan_rows(const cdsp_image *img, const cdsp_edge_params *p, int step, int x0, int y0,
+                        int x1, int y1, cdsp_edge *out, size_t cap)
+{
+    int h = p->half_window, t;
+    int from = x0 > h + 1 ? x0 : h + 1, to = x1 < img->width - h - 1 ? x1 : img->width - h - 1;
+    size_t count = 0;
+    for (t = (y0 > 1 ? y0 : 1) + step / 2; t < y1 - 1 && t < img->height - 1; t += step) {
+        count += cdsp__edges_scan_segment(img, p, 1, t, from, to, out + count, cap - count);
+        if (count == cap)
+            break;
+    }
+    return count;
+}
+
+/* Near-horizontal edges: the same over columns, CHUNK columns at a time. */
+static size_t scan_cols(const cdsp_image *img, const cdsp_edge_params *p, int step, int x0, int y0,
+                        int x1, int y1, cdsp_edge *out, size_t cap)
+{
+    int h = p->half_window, t;
+    int first = (x0 > 1 ? x0 : 1) + step / 2;
+    int last = (x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1); /* exclusive */
+    int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
+    size_t count = 0;
+    if (cap == 0)
+        return 0;
+    for (t = first; t < last && from < to; t += CHUNK * step) {
+        int ncols = (last - 1 - t) / step + 1;
+        if (ncols > CHUNK)
+            ncols = CHUNK;
+        count += scan_cols_block(img, p, step, t, ncols, from, to, out + count, cap - count);
+        if (count == cap)
+            break;
+    }
+    return count;
+}
+
+/*
+ * When more edges are found than `cap` holds, the family that does not fit
+ * is scanned again at twice its step (and again, until it fits), so that the
+ * buffer filling up never decides which contours are seen: each family is
+ * scanned over the whole roi at one uniform step, and the family with fewer
+ * edges keeps its resolution. Rows go first; if rows alone overflow, their
+ * step doubles. If rows fit but rows + columns do not, the family with more
+ * points (the columns' count is at least what they wrote) is coarsened. A
+ * step that has passed the frame's extent reads one line only; if even that
+ * overflows (cap smaller than one line's edges) the points found are kept.
+ */
 cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
                               size_t cap, size_t *n)
 {
-    int x0, y0, x1, y1, t, h;
-    size_t count = 0;
-    cdsp_status st;
+    int x0, y0, x1, y1, srow, scol, extent, rows_at = 0;
+    size_t nr = 0, nc;
+    cdsp_status st, result = CDSP_OK;
     if (!p || !out || !n)
         return CDSP_E_ARG;
     *n = 0;
@@ -316,35 +383,31 @@ cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, 
     st = cdsp__edge_params_check(p);
     if (st != CDSP_OK)
         return st;
-    h = p->half_window;
     clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
-    /* the window needs h + 1 pixels beyond the candidate along the scan and
-     * one line on each side across it */
-    /* rows: near-vertical edges */
-    for (t = (y0 > 1 ? y0 : 1) + p->step / 2; t < y1 - 1 && t < img->height - 1; t += p->step) {
-        int from = x0 > h + 1 ? x0 : h + 1, to = x1 < img->width - h - 1 ? x1 : img->width - h - 1;
-        count += cdsp__edges_scan_segment(img, p, 1, t, from, to, out + count, cap - count);
-        if (count == cap) {
-            *n = count;
-            return CDSP_E_CAPACITY;
+    extent = img->width > img->height ? img->width : img->height;
+    srow = scol = p->step;
+    for (;;) {
+        /* a step may double while it stays within the frame (no overflow) */
+        int can_r = srow <= extent / 2, can_c = scol <= extent / 2;
+        if (rows_at != srow) /* rows already in out[0, nr) at this step are kept */
+            nr = scan_rows(img, p, srow, x0, y0, x1, y1, out, cap);
+        rows_at = srow;
+        if (nr == cap && can_r) {
+            srow *= 2;
+            result = CDSP_E_CAPACITY;
+            continue;
         }
+        nc = scan_cols(img, p, scol, x0, y0, x1, y1, out + nr, cap - nr);
+        if (nr + nc < cap)
+            break;
+        result = CDSP_E_CAPACITY;
+        if (can_c && (nc >= nr || !can_r))
+            scol *= 2;
+        else if (can_r)
+            srow *= 2;
+        else
+            break;
     }
-    /* columns: near-horizontal edges, CHUNK columns at a time */
-    {
-        int first = (x0 > 1 ? x0 : 1) + p->step / 2;
-        int last = (x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1); /* exclusive */
-        int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
-        for (t = first; t < last && from < to; t += CHUNK * p->step) {
-            int ncols = (last - 1 - t) / p->step + 1;
-            if (ncols > CHUNK)
-                ncols = CHUNK;
-            count += scan_cols_block(img, p, t, ncols, from, to, out + count, cap - count);
-            if (count == cap) {
-                *n = count;
-                return CDSP_E_CAPACITY;
-            }
-        }
-    }
-    *n = count;
-    return CDSP_OK;
+    *n = nr + nc;
+    return result;
 }

@@ -34,8 +34,8 @@ static int crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal
     return R_FINITE(*s_out);
 }
 
-static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
-                          const cdsp_result *prior, cdsp_edge *out, size_t cap)
+static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                          int step, const cdsp_result *prior, cdsp_edge *out, size_t cap)
 {
     int x0 = 0, y0 = 0, x1 = img->width, y1 = img->height, k, h = p->edge.half_window;
     int band = (int)R_CEIL(p->track_band_px);
@@ -55,8 +55,7 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
         int other = horizontal ? img->height : img->width;   /* across */
         int smin = horizontal ? x0 : y0, smax = horizontal ? x1 : y1;
         int t;
-        for (t = (lo > 1 ? lo : 1) + p->edge.step / 2; t < hi - 1 && t < other - 1;
-             t += p->edge.step) {
+        for (t = (lo > 1 ? lo : 1) + step / 2; t < hi - 1 && t < other - 1; t += step) {
             cdsp_real sc;
             int from, to;
             if (!crossing(cam, l, horizontal, t, &sc))
@@ -77,6 +76,22 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
             if (n == cap)
                 return n;
         }
+    }
+    return n;
+}
+
+/* The bands around both contours; when they hold more edges than cap, both
+ * are read again at twice the step until they fit, so the first contour's
+ * band never fills the buffer before the second is read (*truncated set). */
+static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                          const cdsp_result *prior, cdsp_edge *out, size_t cap, int *truncated)
+{
+    int step = p->edge.step, extent = img->width > img->height ? img->width : img->height;
+    size_t n;
+    *truncated = 0;
+    while ((n = track_bands(img, cam, p, step, prior, out, cap)) == cap && step <= extent / 2) {
+        step *= 2;
+        *truncated = 1;
     }
     return n;
 }
@@ -110,11 +125,12 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
         return CDSP_E_ARG;
 
     if (prior && v3_finite(prior->lines[0]) && v3_finite(prior->lines[1])) {
-        n = track_edges(img, cam, p, prior, ws->edge, CDSP_MAX_EDGES);
+        int truncated;
+        n = track_edges(img, cam, p, prior, ws->edge, CDSP_MAX_EDGES, &truncated);
         st = solve_edges(cam, radius, ws, n, p, prior, rng, out);
         if (st == CDSP_OK && out->inliers[0] >= (uint32_t)p->track_min_inliers &&
             out->inliers[1] >= (uint32_t)p->track_min_inliers) {
-            out->flags = CDSP_FLAG_TRACKED;
+            out->flags = CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u);
             return CDSP_OK;
         }
     }

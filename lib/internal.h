@@ -144,6 +144,9 @@ cdsp_status cdsp__params_check(const cdsp_params *p);
 /* The checks every solve entry point makes: camera, radius, parameters. */
 cdsp_status cdsp__solve_args_check(const cdsp_camera *cam, cdsp_real radius, const cdsp_params *p);
 cdsp_status cdsp__edge_params_check(const cdsp_edge_params *p);
+/* lines.c: floor(0.618034 n) without overflow for any size_t width (the
+ * start of RANSAC's golden-ratio subsample stride); tested on its own. */
+size_t cdsp__golden_start(size_t n);
 size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p,
                                 int horizontal, int line, int from, int to,
                                 cdsp_edge *out, size_t cap);

@@ -2,7 +2,7 @@
  * lines.c - straight contour lines from edge points.
  *
  * Fit: total least squares, i.e. the right singular vector of the smallest
- * singular value of the N x 3 matrix [u v 1] (METHOD.md step 3), computed on
+ * singular value of the N x 3 matrix [u v 1] (docs/method.md §3), computed on
  * Hartley-normalized points (centroid at the origin, RMS distance sqrt(2);
  * Hartley 1997) so the 3x3 problem is well conditioned. The 3x3 normal matrix
  * of the normalized points is built in one pass from moments about a nearby
@@ -31,12 +31,23 @@
  * golden-ratio sequence has the lowest discrepancy), whatever the order of
  * the points. A plain stride aliases with ordered input, e.g. points that
  * alternate between two lines. */
+/* floor(0.618034 n), exactly, without overflow where size_t is 32 bits
+ * (n * 618034 wraps past n = 6949, below the Cortex-M builds' 16384
+ * edges): with n = 10^6 a + 10^3 b + c (b, c < 1000),
+ *   0.618034 n = 618034 a + 618 b + (34000 b + 618034 c) / 10^6,
+ * the first two terms integers and the last numerator below 6.6e8. */
+size_t cdsp__golden_start(size_t n)
+{
+    size_t a = n / 1000000u, b = (n / 1000u) % 1000u, c = n % 1000u;
+    return 618034u * a + 618u * b + (34000u * b + 618034u * c) / 1000000u;
+}
+
 static size_t golden_stride(size_t n)
 {
     size_t g, a, b;
     if (n < 2)
         return 0;
-    for (g = (n * 618034u) / 1000000u; g < n; g++) {
+    for (g = cdsp__golden_start(n); g < n; g++) {
         for (a = n, b = g; b;) { /* gcd(n, g) */
             size_t t = a % b;
             a = b;

@@ -98,7 +98,8 @@ static void usage(FILE *f)
             "EXIT STATUS\n"
             "    0  done (count or duration reached, or SIGINT/SIGTERM)\n"
             "    1  some datagram could not be decoded\n"
-            "    2  usage error, or the address cannot be bound\n",
+            "    2  usage error, or the address cannot be bound (a unicast port takes one\n"
+            "       listener: a second listen on it fails; a multicast group is shared)\n",
             LISTEN_DEFAULT_PORT, LISTEN_DEFAULT_PORT, LISTEN_DEFAULT_PORT);
 }
 
@@ -156,7 +157,6 @@ static int open_socket(const struct sockaddr_storage *ss, socklen_t len, const c
         fprintf(stderr, "cdsp_tool listen: socket: %s\n", strerror(errno));
         return -1;
     }
-    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
     setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &rcv, sizeof rcv);
     if (ss->ss_family == AF_INET) {
         struct sockaddr_in *s4 = (struct sockaddr_in *)&bind_addr;
@@ -165,8 +165,18 @@ static int open_socket(const struct sockaddr_storage *ss, socklen_t len, const c
         struct sockaddr_in6 *s6 = (struct sockaddr_in6 *)&bind_addr;
         multicast = s6->sin6_addr.s6_addr[0] == 0xFF;
     }
+    /* Only a multicast group is shared (every member gets every datagram).
+     * Two unicast listeners on one port would split the stream unseen
+     * (SO_REUSEADDR hands each datagram to one of them): the second fails. */
+    if (multicast)
+        setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
     if (bind(fd, (struct sockaddr *)&bind_addr, len)) {
-        fprintf(stderr, "cdsp_tool listen: cannot listen on %s: %s\n", text, strerror(errno));
+        int e = errno;
+        fprintf(stderr, "cdsp_tool listen: cannot listen on %s: %s%s\n", text, strerror(e),
+                e == EADDRINUSE ? " (another program, perhaps another cdsp_tool listen, has this "
+                                  "port; a unicast port has one listener, use a multicast "
+                                  "address to share a stream)"
+                                : "");
         close(fd);
         return -1;
     }

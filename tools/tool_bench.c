@@ -1,6 +1,6 @@
 /*
  * tool_bench.c - `cdsp_tool bench`: the accuracy study of the paper
- * (Yao et al. 2024, section 4; METHOD.md) on simulated data, with the
+ * (Yao et al. 2024, section 4; docs/method.md) on simulated data, with the
  * paper's figures printed beside ours:
  *   1. axis RMSE against Gaussian noise of 0..3 px on the contour points,
  *      10 trials per level, the paper's four pipes p1..p4;
@@ -278,8 +278,8 @@ static int cmp_double(const void *a, const void *b)
 
 static const char bench_description[] =
     "    Repeats the accuracy study of the paper (Yao et al. 2024, section 4;\n"
-    "    figures restated in METHOD.md) with libcdsp on simulated data and prints\n"
-    "    each table beside the paper's figures:\n"
+    "    figures restated in docs/method.md) with libcdsp on simulated data\n"
+    "    and prints each table beside the paper's figures:\n"
     "\n"
     "    1. Axis RMSE against Gaussian noise of 0..3 px added to the contour\n"
     "       points, --trials trials per level, for the paper's four pipes p1..p4\n"
@@ -396,7 +396,7 @@ int tool_bench_main(int argc, char **argv)
     }
     cdsp_params_default(&params);
 
-    printf("cdsp_tool bench: the accuracy study of Yao et al. 2024 (METHOD.md), simulated\n"
+    printf("cdsp_tool bench: the accuracy study of Yao et al. 2024 (docs/method.md), simulated\n"
            "camera %dx%d, fx = fy = %.2f px; pipes p1..p4, r = %g mm, 500 mm long, at\n"
            "%.1f / %.1f / %.1f / %.1f mm; visible contours %.0f / %.0f / %.0f / %.0f px long,\n"
            "%zu / %zu / %zu / %zu points per line (at most --points; the points path takes\n"

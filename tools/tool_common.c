@@ -588,21 +588,7 @@ void tool_paper_pipe(int k, double point[3], double dir[3], double *half_length)
 void tool_axis_truth(const double point[3], const double dir[3], double foot[3],
                      double unit[3], double *distance)
 {
-    double t;
-    int i, big = 0;
-    for (i = 0; i < 3; i++)
-        unit[i] = dir[i];
-    unit3(unit);
-    for (i = 1; i < 3; i++)
-        if (fabs(unit[i]) > fabs(unit[big]))
-            big = i;
-    if (unit[big] < 0)
-        for (i = 0; i < 3; i++)
-            unit[i] = -unit[i];
-    t = dot3(point, unit);
-    for (i = 0; i < 3; i++)
-        foot[i] = point[i] - t * unit[i];
-    *distance = sqrt(dot3(foot, foot));
+    cdsp_host_axis_truth(point, dir, foot, unit, distance); /* defined once, shared with cdspd */
 }
 
 double tool_line_distance(const double X[3], const double q[3], const double v[3])

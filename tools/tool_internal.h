@@ -119,7 +119,7 @@ void tool_progress_end(tool_progress *p);
 /* ------------------------------------------------------------------------
  * Geometry helpers shared by sim, bench and export.
  * ---------------------------------------------------------------------- */
-/* The paper's simulated camera (METHOD.md): 2448 x 2048, 3.45 um pixels,
+/* The paper's simulated camera (docs/method.md): 2448 x 2048, 3.45 um pixels,
  * f = 12 mm, principal point at the centre, no distortion. */
 void tool_paper_camera(cdsp_camera *cam);
 

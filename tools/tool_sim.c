@@ -3,7 +3,7 @@
  * (libcdsp's cdsp_render: exact area anti-aliasing, lens distortion, blur,
  * sensor noise), the matching calibration YAML and a ground-truth JSON, so
  * that anyone can try `solve` without a camera. --preset paper renders the
- * four pipes of the paper's simulation (METHOD.md).
+ * four pipes of the paper's simulation (docs/method.md).
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tool_internal.h"
@@ -41,7 +41,7 @@ static const char sim_description[] =
     "    same whatever N is.\n"
     "\n"
     "    --preset paper renders the paper's simulation instead (Yao et al. 2024,\n"
-    "    METHOD.md): a 2448 x 2048 camera with 3.45 um pixels and f = 12 mm\n"
+    "    docs/method.md): a 2448 x 2048 camera with 3.45 um pixels and f = 12 mm\n"
     "    (fx = fy = 3478.26 px), principal point at the centre, no distortion;\n"
     "    four pipes of radius 8 mm and length 500 mm in the world plane Z_W = 0\n"
     "    (p1 along X_W through the origin, p2 = p1 moved -100 mm along Y_W, p3\n"
@@ -55,7 +55,8 @@ static const char sim_after[] =
     "      calibration  \"camera.yaml\"\n"
     "      radius       R\n"
     "      frames       one object per frame:\n"
-    "        frame        the file name, in DIR\n"
+    "        frame        its index, from 0 (solve's \"frame\" of it)\n"
+    "        file         the file name, in DIR\n"
     "        pipe         \"p1\" .. \"p4\" with --preset paper\n"
     "        axis_point, axis_dir, half_length   the simulated cylinder\n"
     "        point, direction, distance          what solve should report: the\n"
@@ -322,7 +323,9 @@ int tool_sim_main(int argc, char **argv)
         }
         tool_axis_truth(point, dir, foot, unit, &dist);
         cdsp_host_json_begin_object(&j);
-        cdsp_host_json_key(&j, "frame");
+        cdsp_host_json_key(&j, "frame"); /* the index, as in solve's records */
+        cdsp_host_json_int(&j, (long long)k);
+        cdsp_host_json_key(&j, "file");
         cdsp_host_json_string(&j, name);
         if (o.preset == 1) {
             char pn[4] = {'p', (char)('1' + k), 0, 0};

@@ -139,14 +139,22 @@ static void solve_frame(const job *J, slot *s, cdsp_frame_ws *ws, const cdsp_res
     cdsp_host_image_free(&s->img);
 }
 
-static void csv_header(void)
+/* CSV: the JSON record's fields in its order, flattened as fields.c says;
+ * empty cells where the JSON record has no field. */
+static void csv_header(const job *J)
 {
-    printf("frame,status,error,point_x,point_y,point_z,direction_x,direction_y,direction_z,"
-           "distance,alpha,inliers_1,inliers_2,rms_1,rms_2,"
-           "segment_0_x,segment_0_y,segment_0_z,segment_1_x,segment_1_y,segment_1_z,"
-           "sigma_point_x,sigma_point_y,sigma_point_z,"
-           "sigma_direction_x,sigma_direction_y,sigma_direction_z,sigma_distance,"
-           "line_1_a,line_1_b,line_1_c,line_2_a,line_2_b,line_2_c,edges,tracked,time_us\n");
+    const cdsp_host_field *f;
+    size_t n, i;
+    int c;
+    char name[96];
+    printf("frame,file,status,error,radius,message");
+    f = cdsp_host_pose_fields(&n);
+    for (i = 0; i < n; i++)
+        for (c = 0; c < cdsp_host_field_columns(&f[i]); c++) {
+            cdsp_host_field_column_name(&f[i], c, name, sizeof name);
+            printf(",%s", name);
+        }
+    printf("%s,time_us\n", J->overlay ? ",overlay" : "");
 }
 
 /* A CSV field: quoted (RFC 4180) when it holds a comma, quote or newline. */
@@ -169,44 +177,29 @@ static size_t csv_text(char *out, size_t cap, const char *s)
 static void format_csv(const job *J, slot *s)
 {
     const char *path = J->frames.path[s->index];
-    size_t cap = 6 * strlen(path) + 2048, k;
+    const cdsp_host_field *f;
+    size_t nf, i, cap = 6 * (strlen(path) + strlen(s->message) + strlen(s->overlay_path)) + 4096, k;
     char *t = malloc(cap), b[32];
-    const cdsp_result *r = &s->res;
-    int i;
+    int c;
     if (!t)
         return;
-    k = csv_text(t, cap, path);
-    k += (size_t)snprintf(t + k, cap - k, ",%s,%s", s->error_token ? "error" : "ok",
+    k = (size_t)snprintf(t, cap, "%zu,", s->index);
+    k += csv_text(t + k, cap - k, path);
+    k += (size_t)snprintf(t + k, cap - k, ",%s,%s,", s->error_token ? "error" : "ok",
                           s->error_token ? s->error_token : "");
-    if (!s->error_token) {
-        const cdsp_real *v[] = {r->point, r->direction, &r->distance, &r->alpha};
-        const int nv[] = {3, 3, 1, 1};
-        for (i = 0; i < 4; i++) {
-            int c;
-            for (c = 0; c < nv[i]; c++)
-                k += (size_t)snprintf(t + k, cap - k, ",%s", cdsp_host_fmt_real(b, v[i][c]));
-        }
-        k += (size_t)snprintf(t + k, cap - k, ",%u,%u", (unsigned)r->inliers[0],
-                              (unsigned)r->inliers[1]);
-        for (i = 0; i < 2; i++)
-            k += (size_t)snprintf(t + k, cap - k, ",%s", cdsp_host_fmt_real(b, r->rms[i]));
-        for (i = 0; i < 6; i++)
-            k += (size_t)snprintf(t + k, cap - k, ",%s",
-                                  cdsp_host_fmt_real(b, r->segment[i / 3][i % 3]));
-        for (i = 0; i < 3; i++)
-            k += (size_t)snprintf(t + k, cap - k, ",%s", cdsp_host_fmt_real(b, r->sigma_point[i]));
-        for (i = 0; i < 3; i++)
-            k += (size_t)snprintf(t + k, cap - k, ",%s",
-                                  cdsp_host_fmt_real(b, r->sigma_direction[i]));
-        k += (size_t)snprintf(t + k, cap - k, ",%s", cdsp_host_fmt_real(b, r->sigma_distance));
-        for (i = 0; i < 6; i++)
-            k += (size_t)snprintf(t + k, cap - k, ",%s",
-                                  cdsp_host_fmt_real(b, r->lines[i / 3][i % 3]));
-        k += (size_t)snprintf(t + k, cap - k, ",%u,%d", (unsigned)r->n_edges,
-                              (r->flags & CDSP_FLAG_TRACKED) != 0);
-    } else {
-        for (i = 0; i < 33; i++)
+    k += (size_t)snprintf(t + k, cap - k, "%s,", cdsp_host_fmt_real(b, J->radius));
+    if (s->error_token)
+        k += csv_text(t + k, cap - k, s->message);
+    f = cdsp_host_pose_fields(&nf);
+    for (i = 0; i < nf; i++)
+        for (c = 0; c < cdsp_host_field_columns(&f[i]); c++) {
             t[k++] = ',';
+            if (!s->error_token)
+                k += cdsp_host_field_csv(&f[i], &s->res, c, t + k, cap - k);
+        }
+    if (J->overlay) {
+        t[k++] = ',';
+        k += csv_text(t + k, cap - k, s->overlay_path);
     }
     if (J->no_time)
         k += (size_t)snprintf(t + k, cap - k, ",\n");
@@ -226,7 +219,9 @@ static void format_json(const job *J, slot *s)
         return;
     cdsp_host_json_init(&j, t, cap - 1);
     cdsp_host_json_begin_object(&j);
-    cdsp_host_json_key(&j, "frame");
+    cdsp_host_json_key(&j, "frame"); /* an index, as cdspd's frame number */
+    cdsp_host_json_int(&j, (long long)s->index);
+    cdsp_host_json_key(&j, "file");
     cdsp_host_json_string(&j, path);
     cdsp_host_json_pose(&j, s->error_token ? CDSP_E_NO_PIPE : CDSP_OK, s->error_token,
                         s->error_token ? NULL : &s->res, (cdsp_real)J->radius);
@@ -338,7 +333,7 @@ static int run(job *J)
     if (!ws)
         return tool_usage_error(J->cmd, "out of memory for the workspace");
     if (J->csv)
-        csv_header();
+        csv_header(J);
     tool_progress_start(&prog, J->cmd, J->frames.n, J->quiet);
     if (J->threads <= 1) {
         slot *s = malloc(sizeof *s);
@@ -467,13 +462,14 @@ static const char overlay_description[] =
 static const char solve_after[] =
     "OUTPUT\n"
     "    JSON Lines (default): one object per frame, in input order:\n"
-    "      frame      the path as given\n"
+    "      frame      its index in the input, from 0 (as cdspd's frame number)\n"
+    "      file       the path as given\n"
     "      status     \"ok\" or \"error\"\n"
     "      error      (errors only) a short reason: bad-frame (unreadable, corrupt\n"
     "                 or unsupported file), size-mismatch (frame size differs from\n"
     "                 the calibration's), no-pipe, few-points, degenerate, ...\n"
-    "      message    (errors only) the same in words, naming the file\n"
     "      radius     R as given\n"
+    "      message    (errors only) the same in words, naming the file\n"
     "      point      [x, y, z]: P_C, the foot of the perpendicular from the\n"
     "                 optical centre onto the axis\n"
     "      direction  [x, y, z]: unit axis direction (largest component > 0, or\n"
@@ -490,13 +486,16 @@ static const char solve_after[] =
     "                 deviations propagated from the line fits\n"
     "      edges      edge points considered\n"
     "      tracked    true when found near the previous frame's pipe (--track)\n"
+    "      full_search  true when found by searching the whole frame or ROI\n"
     "      truncated  true when the frame had more edges than the solver keeps\n"
     "      overlay    (overlay only) the picture written\n"
     "      time_us    processing time of the frame in the library, microseconds\n"
     "                 (omitted with --no-time)\n"
-    "    With --csv: a header line, then one line per frame with the same fields\n"
-    "    flattened (point_x, ..., sigma_distance, line_1_a, ...); empty fields\n"
-    "    for errors.\n"
+    "    With --csv: a header line, then one line per frame with every field of\n"
+    "    the JSON record, in its order, flattened: vectors _x _y _z, one per\n"
+    "    contour _1 _2 (lines_1_a .. lines_2_c, segment_1_x .. segment_2_z),\n"
+    "    sigma.point as sigma_point_x ...; booleans true/false; cells empty\n"
+    "    where the JSON record has no field (the pose of an error).\n"
     "\n"
     "EXAMPLES\n"
     "    cdsp_tool solve --calib cam.yaml --radius 8 frames/ > poses.jsonl\n"

@@ -1,7 +1,7 @@
 /*
  * bench_lib.c - `make bench`: the library's speed and accuracy figures on
  * this machine, single core, as a table beside the targets of issue 2 and
- * the paper's figures (METHOD.md). Times are medians (and p99) of repeated
+ * the paper's figures (docs/method.md). Times are medians (and p99) of repeated
  * runs; accuracy is the paper's RMSE metric (Eq. 17-21) in mm.
  * Compare figures within one run; the machine is shared.
  */

@@ -829,7 +829,7 @@ static int read_solves(const char *text, pipe_pose *p, int n)
     return k == n;
 }
 
-/* The paper's accuracy metric (METHOD.md, Eq. 17-21): RMS distance from
+/* The paper's accuracy metric (docs/method.md §8, Eq. 17-21): RMS distance from
  * 100 points of the segment to the line (P, v). */
 static double segment_rmse(const double a[3], const double b[3], const double P[3],
                            const double v[3])

@@ -4,7 +4,8 @@
 # exists (so any other address is unreachable: sendto fails at once) and a
 # tiny tmpfs can be mounted:
 #   1. one unreachable and one reachable destination: the daemon warns about
-#      the first, keeps sending to the second, exits 0;
+#      the first, keeps sending to the second, counts each apart (SIGUSR1's
+#      and the final statistics), exits 0;
 #   2. broadcast (127.255.255.255) and multicast (239.255.77.1, routed via lo);
 #   3. --record into a 1 MiB tmpfs: the disk fills, recording stops with a
 #      message, the datagrams go on.
@@ -18,12 +19,23 @@ sim=(--calib "$CALIB" --radius 10 --set sim.frames=8 --set sim.rate=50 --set sim
 echo "--- unreachable destination"
 start_rx rx1 --duration 30 --idle 2
 start_cdspd d1 "${sim[@]}" --dest 10.77.0.1:5000 --dest 127.0.0.1:$RX_PORT --duration 2
+wait_log "$work/d1.log" "sim: open" 20 || fail "cdspd (unreachable) did not start"
+sleep 0.5
+kill -USR1 "$d1_pid"
 wait_for "$d1_pid" 30; rc=$?
 [ $rc -eq 0 ] || fail "cdspd with an unreachable destination: exit status $rc"
 grep -F "10.77.0.1:5000: cannot send: Network is unreachable" "$work/d1.log" | head -1
 grep -qF "10.77.0.1:5000: cannot send: Network is unreachable" "$work/d1.log" || fail "no warning"
 [ "$(grep -c "cannot send" "$work/d1.log")" -le 2 ] || fail "send errors are not rate-limited"
 grep -q "send errors [1-9]" "$work/d1.log" || fail "send errors not counted"
+# counted per destination, in SIGUSR1's report and the final one
+for why in "SIGUSR1: " "final: "; do
+    grep -F "${why}destination " "$work/d1.log"
+    grep -qE "${why}destination 10\.77\.0\.1:5000: sent 0, send errors [1-9]" "$work/d1.log" ||
+        fail "$why: the unreachable destination's errors are not its own"
+    grep -qE "${why}destination 127\.0\.0\.1:$RX_PORT: sent [1-9][0-9]*, send errors 0 " \
+        "$work/d1.log" || fail "$why: the reachable destination's datagrams are not counted as sent"
+done
 wait_for "$rx1_pid" 10 || fail "the reachable destination lost datagrams"
 cat "$work/rx1.out"
 

@@ -146,6 +146,24 @@ static void test_file(void **state)
     assert_true(c.sim.center[2] == 6);
     assert_int_equal(cdspd_config_set(&c, "sim.center", "7,8,9", "--set", err, sizeof err), 0);
     assert_true(c.sim.center[0] == 7);
+    /* polarity: cdsp_tool's words, the library's numbers as aliases */
+    {
+        static const struct {
+            const char *text;
+            int ok, value;
+        } pol[] = {{"bright", 1, 1}, {"dark", 1, -1}, {"any", 1, 0}, {"1", 1, 1}, {"-1", 1, -1},
+                   {"0", 1, 0},      {"2", 0, 0},     {"Bright", 0, 0}, {"", 0, 0}};
+        size_t i;
+        for (i = 0; i < sizeof pol / sizeof pol[0]; i++) {
+            c.polarity = 7;
+            assert_int_equal(cdspd_config_set(&c, "solver.polarity", pol[i].text, "--set", err,
+                                              sizeof err), pol[i].ok ? 0 : -1);
+            if (pol[i].ok)
+                assert_int_equal(c.polarity, pol[i].value);
+            else
+                assert_non_null(strstr(err, "expected any, bright or dark"));
+        }
+    }
     /* an empty file is all defaults */
     cdspd_config_defaults(&c);
     path = write_file("empty.yaml", "# nothing\n");

@@ -2,7 +2,9 @@
  * test_pool.c - the frame pool (daemon/pool.c): latest frame wins, every
  * replaced frame is counted as dropped, a take times out when nothing
  * comes, and under two threads frames arrive in order, each at most once,
- * with taken + dropped = published.
+ * with taken + dropped = published. A lossless pool (a replay) hands over
+ * every frame in order and never drops, and a wake releases a publisher
+ * waiting for the taker.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <stdarg.h>
@@ -101,11 +103,64 @@ static void test_two_threads(void **state)
     cdspd_pool_destroy(&p);
 }
 
+static void test_lossless_two_threads(void **state)
+{
+    cdspd_pool p;
+    pthread_t th;
+    uint64_t want = 1;
+    (void)state;
+    assert_int_equal(cdspd_pool_init(&p, 4096), 0);
+    cdspd_pool_set_lossless(&p, 1);
+    assert_int_equal(pthread_create(&th, NULL, producer, &p), 0);
+    while (want <= N_FRAMES) {
+        cdspd_frame *f = cdspd_pool_take(&p, 2000000);
+        size_t k;
+        assert_non_null(f);
+        if (f->frame_id != want)
+            fail_msg("frame %llu where %llu was due", (unsigned long long)f->frame_id,
+                     (unsigned long long)want);
+        for (k = 0; k < f->cap; k++)
+            if (f->data[k] != (uint8_t)(f->frame_id & 0xFF))
+                fail_msg("frame %llu torn at byte %zu", (unsigned long long)f->frame_id, k);
+        want++;
+    }
+    pthread_join(th, NULL);
+    assert_int_equal(cdspd_pool_dropped(&p), 0);
+    assert_null(cdspd_pool_take(&p, 0));
+    cdspd_pool_destroy(&p);
+}
+
+static void *publish_two(void *arg)
+{
+    cdspd_pool *p = arg;
+    publish_id(p, 1);
+    publish_id(p, 2); /* waits: frame 1 is not taken */
+    return NULL;
+}
+
+static void test_lossless_wake(void **state)
+{
+    cdspd_pool p;
+    pthread_t th;
+    (void)state;
+    assert_int_equal(cdspd_pool_init(&p, 64), 0);
+    cdspd_pool_set_lossless(&p, 1);
+    assert_int_equal(pthread_create(&th, NULL, publish_two, &p), 0);
+    /* whatever the scheduling, the publisher cannot finish before a wake or
+     * a take: the join below returns only because of the wake */
+    cdspd_pool_wake(&p);
+    pthread_join(th, NULL);
+    assert_int_equal(cdspd_pool_dropped(&p), 0);
+    cdspd_pool_destroy(&p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_latest_wins),
         cmocka_unit_test(test_two_threads),
+        cmocka_unit_test(test_lossless_two_threads),
+        cmocka_unit_test(test_lossless_wake),
     };
     return cmocka_run_group_tests_name("daemon-pool", tests, NULL, NULL);
 }

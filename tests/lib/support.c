@@ -83,7 +83,7 @@ void sup_world_to_camera(const double Xw[3], double Xc[3])
 void sup_paper_pipe(int i, double point[3], double dir[3])
 {
     /* p1 along X_W through the origin; p2 = p1 moved -100 along Y_W (away
-     * from the camera, METHOD.md); p3 along Y_W; p4 = p3 moved -100 along X_W */
+     * from the camera, docs/method.md); p3 along Y_W; p4 = p3 moved -100 along X_W */
     double pw[3] = {0, 0, 0}, dw[3] = {0, 0, 0}, Rm[3][3], C[3];
     int k;
     if (i == 0 || i == 1) {

@@ -27,7 +27,7 @@
 int sup_contour_lines(const cdsp_camera *cam, const double point[3], const double dir[3],
                       double radius, double l[2][3], double p_in[2]);
 
-/* The paper's simulated camera (METHOD.md): 2448 x 2048, 3.45 um pixels,
+/* The paper's simulated camera (docs/method.md): 2448 x 2048, 3.45 um pixels,
  * f = 12 mm -> fx = fy = 3478.26 px, principal point at the centre. */
 void sup_paper_camera(cdsp_camera *cam, double k1, double k2);
 /* A camera of any size with the same field of view ratio. */

@@ -59,7 +59,7 @@ static void solve_known(const cdsp_camera *cam, const double P[3], const double 
             fail_msg("distance %.17g vs %.17g", (double)res.distance, d);
         if (sup_axis_angle(dir, vv) > tol)
             fail_msg("direction off by %.3g rad > %.3g", sup_axis_angle(dir, vv), tol);
-        /* sign rules of METHOD.md: n1.P = +r, n2.P = -r, v = n1 x n2 */
+        /* sign rules of docs/method.md §5: n1.P = +r, n2.P = -r, v = n1 x n2 */
         {
             double n1p = 0, n2p = 0;
             for (i = 0; i < 3; i++) {

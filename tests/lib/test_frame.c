@@ -257,6 +257,42 @@ static void test_16bit(void **state)
     }
 }
 
+/* More edges than the workspace holds (issue 9): vertical stripes above and
+ * below the pipe give ~23000 row points at step 1, the horizontal pipe
+ * (its contours read by the column scan) ~1200. Filling up must
+ * not decide which contours are seen: the rows are re-read at a coarser
+ * step, the pipe keeps its points and is found, with the truncation
+ * flagged. Before the fix the row scan filled the buffer and the columns
+ * were never read: no pipe. */
+static void test_edge_buffer_full(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_result r;
+    cdsp_image img;
+    cdsp_params prm;
+    cdsp_rng rng;
+    double P[3] = {0, 0, 400}, v[3] = {1, 0.05, 0.1};
+    uint8_t *px;
+    int x, y;
+    (void)state;
+    sup_camera(&cam, W, H, F, -0.15, 0.02);
+    sup_scene(&s, P, v, 8);
+    s.ambient = 1;
+    px = sup_render(&s, &cam, 8, 77, &img);
+    assert_non_null(px);
+    for (y = 0; y < H; y++)
+        for (x = 0; x < W && abs(y - H / 2) > 60; x++) /* 10 px: wider than the window */
+            px[(size_t)y * img.stride + (size_t)x] = (uint8_t)((x / 10) % 2 ? 210 : 30);
+    cdsp_params_default(&prm);
+    prm.edge.step = 1;
+    cdsp_rng_seed(&rng, 77, 3);
+    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+    assert_true(r.flags & CDSP_FLAG_TRUNCATED);
+    check_pose("stripes beside a horizontal pipe", &r, P, v, 8, 0.0);
+    free(px);
+}
+
 static void test_args(void **state)
 {
     cdsp_camera cam, other;
@@ -317,6 +353,7 @@ int main(void)
         cmocka_unit_test(test_tracking_sequence),
         cmocka_unit_test(test_tracking_fallback),
         cmocka_unit_test(test_16bit),
+        cmocka_unit_test(test_edge_buffer_full),
         cmocka_unit_test(test_args),
     };
     return cmocka_run_group_tests_name("frame", tests, NULL, NULL);

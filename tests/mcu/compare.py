@@ -68,10 +68,10 @@ def parse(path):
             lines = f.read().splitlines()
     except OSError as e:
         raise Malformed(f"{path}: cannot read: {e.strerror}")
-    head, results, end = None, [], None
+    head, results, end, goldens = None, [], None, []
     for no, line in enumerate(lines, 1):
         words = line.split()
-        if not words or words[0] not in ("fw", "result", "end"):
+        if not words or words[0] not in ("fw", "result", "end", "golden"):
             continue  # other output (QEMU, semihosting) is not ours
         rec = {}
         for w in words[1:]:
@@ -81,6 +81,11 @@ def parse(path):
             rec[k] = v
         if words[0] == "fw":
             head = rec
+        elif words[0] == "golden":
+            try:
+                goldens.append((int(rec["n"]), int(rec["start"]), no))
+            except (KeyError, ValueError):
+                raise Malformed(f"{path}:{no}: golden record without integer n= and start=")
         elif words[0] == "end":
             end = rec
         else:
@@ -94,7 +99,21 @@ def parse(path):
         raise Malformed(f"{path}: no 'end' line: output truncated (crash, fault or timeout?)")
     if str(len(results)) != end.get("results"):
         raise Malformed(f"{path}: {len(results)} result lines, 'end' says {end.get('results')}")
+    if str(len(goldens)) != end.get("goldens"):
+        raise Malformed(f"{path}: {len(goldens)} golden lines, 'end' says {end.get('goldens')}")
+    head["_goldens"] = goldens
     return head, results
+
+
+def golden_problems(path, goldens):
+    """lines.c's stride start must be floor(618034 n / 10^6) exactly, for every
+    size printed (on a 32-bit target a naive n * 618034 wraps past 6949)."""
+    out = []
+    for n, start, no in goldens:
+        want = n * 618034 // 1000000
+        if start != want:
+            out.append(f"{path}:{no}: golden start for n={n} is {start}, exact value {want}")
+    return out
 
 
 def reals(path, rec, key, n):
@@ -186,6 +205,12 @@ def main(argv):
         print(f"compare.py: {e}", file=sys.stderr)
         return 2
 
+    gold = golden_problems(hpath, hhead["_goldens"]) + golden_problems(mpath, mhead["_goldens"])
+    if [g[:2] for g in hhead["_goldens"]] != [g[:2] for g in mhead["_goldens"]] and not gold:
+        gold.append(f"{mpath}: golden records differ from {hpath}'s")
+    for msg in gold:
+        print(f"  DISAGREE golden: {msg}")
+
     real = mhead["real"]
     u = U[real]
     target = mhead.get("target", "?")
@@ -223,6 +248,7 @@ def main(argv):
         for p in problems:
             print(f"    DISAGREE {name}: {p}")
         bad += len(problems)
+    bad += len(gold)
     if bad:
         print(f"compare.py: {bad} disagreement(s) between {hpath} and {mpath}")
         return 1

@@ -13,7 +13,8 @@
  *          sigma_direction=<3> sigma_distance=<s> rms=<2>
  *          truth_point=<3> truth_direction=<3> truth_tol=<point>,<angle>
  *          stack=<bytes used by the call; 0 on the host>
- *   end results=<n> stack_size=<bytes>
+ *   golden n=<n> start=<floor(0.618034 n) as the library computes it>
+ *   end results=<n> goldens=<n> stack_size=<bytes>
  * Exit status 0 when every record was produced (agreement is judged by
  * compare.py, not here), 1 when the stack overflowed its block.
  */
@@ -178,6 +179,24 @@ static int run_frame(void)
     return 2;
 }
 
+/* lines.c's golden-ratio stride start, floor(0.618034 n), at the sizes
+ * that matter on a 32-bit target: past 6949 the naive n * 618034 wraps,
+ * the default CDSP_MAX_EDGES (16384) and SIZE_MAX. compare.py checks each
+ * against exact integer arithmetic. Internal to the library, declared here. */
+size_t cdsp__golden_start(size_t n);
+
+static int run_golden(void)
+{
+    static const unsigned long ns[] = {0, 1, 2, 999, 1000, 6949, 6950, 16384, 65535, 1000000,
+                                       1234567, 4294967295ul};
+    size_t i;
+    for (i = 0; i < sizeof ns / sizeof ns[0]; i++) {
+        size_t n = (size_t)ns[i];
+        printf("golden n=%lu start=%lu\n", (unsigned long)n, (unsigned long)cdsp__golden_start(n));
+    }
+    return (int)i;
+}
+
 int main(void)
 {
     int n;
@@ -189,7 +208,7 @@ int main(void)
            (unsigned long)CDSP_MAX_EDGES, (unsigned long)CDSP_MAX_POINTS);
     n = run_points();
     n += run_frame();
-    printf("end results=%d stack_size=%lu\n", n, stack_size);
+    printf("end results=%d goldens=%d stack_size=%lu\n", n, run_golden(), stack_size);
     if (fw_overflow) {
         printf("fw: the stack reached the end of its %lu-byte block\n", stack_size);
         return 1;

@@ -397,12 +397,12 @@ static void check_pose_b(const truth *t, json_object *tf, json_object *rec, doub
         fprintf(stderr,
                 "%s: |dP| %.4f (tol %.4f), offset %.4f (tol %.4f), |dd| %.4f (tol %.4f), "
                 "angle %.3g (tol %.3g)\n",
-                str(key(rec, "frame")), dP, tol.point, off, tol.offset, fabs(dist - tdist),
+                str(key(rec, "file")), dP, tol.point, off, tol.offset, fabs(dist - tdist),
                 tol.distance, ang, tol.angle);
     if (dP > tol.point || off > tol.offset || fabs(dist - tdist) > tol.distance || ang > tol.angle)
         fail_msg("%s: |dP| %.4f (tol %.4f), offset %.4f (tol %.4f), |dd| %.4f (tol %.4f), "
                  "angle %.3g (tol %.3g) rad",
-                 str(key(rec, "frame")), dP, tol.point, off, tol.offset, fabs(dist - tdist),
+                 str(key(rec, "file")), dP, tol.point, off, tol.offset, fabs(dist - tdist),
                  tol.distance, ang, tol.angle);
     /* the tolerances are not vacuous: the axis within a radius of the truth,
      * the distance within 2 %, the direction within 2 degrees */
@@ -487,8 +487,8 @@ static void solve_and_check(const char *dir, const char *extra1, const char *ext
     for (i = 0; i < n; i++) {
         json_object *tf = truth_frame(&t, (size_t)i);
         char want[700];
-        snprintf(want, sizeof want, "%s/%s", dir, str(key(tf, "frame")));
-        assert_string_equal(str(key(recs[i], "frame")), want); /* input order */
+        snprintf(want, sizeof want, "%s/%s", dir, str(key(tf, "file")));
+        assert_string_equal(str(key(recs[i], "file")), want); /* input order */
         check_pose(&t, tf, recs[i]);
         assert_true(num(key(recs[i], "time_us")) >= 0);
     }
@@ -565,7 +565,7 @@ static void paper_preset(void **state)
     assert_int_equal(t.cam.width, 2448);
     assert_int_equal(t.cam.height, 2048);
     assert_true(fabs((double)t.cam.fx - 3478.26) < 0.01);
-    /* the paper's distances from the camera to p1..p4 (METHOD.md geometry) */
+    /* the paper's distances from the camera to p1..p4 (docs/method.md §9 geometry) */
     {
         static const double want[4] = {360.5551, 424.2641, 335.4102, 390.5125};
         for (i = 0; i < 4; i++)
@@ -668,19 +668,21 @@ static void csv_matches_json(void **state)
     line = strtok_r(c.out, "\n", &save);
     nh = split(line, h, 64);
     assert_string_equal(h[0], "frame");
+    assert_string_equal(h[1], "file");
     assert_string_equal(h[nh - 1], "time_us");
     while ((line = strtok_r(NULL, "\n", &save)) != NULL) {
         double p[3], l[3];
         assert_int_equal(split(line, f, 64), nh);
         assert_true(row < n);
-        assert_string_equal(f[0], str(key(recs[row], "frame")));
-        assert_string_equal(f[1], "ok");
+        assert_int_equal(strtol(f[0], NULL, 10), json_object_get_int(key(recs[row], "frame")));
+        assert_string_equal(f[1], str(key(recs[row], "file")));
+        assert_string_equal(f[2], "ok");
         vec(key(recs[row], "point"), p, 3);
         vec(json_object_array_get_idx(key(recs[row], "lines"), 1), l, 3);
         for (i = 0; i < nh; i++) {
             if (strcmp(h[i], "point_y") == 0)
                 assert_true(strtod(f[i], NULL) == p[1]);
-            if (strcmp(h[i], "line_2_c") == 0)
+            if (strcmp(h[i], "lines_2_c") == 0)
                 assert_true(strtod(f[i], NULL) == l[2]);
             if (strcmp(h[i], "distance") == 0)
                 assert_true(strtod(f[i], NULL) == num(key(recs[row], "distance")));
@@ -818,7 +820,7 @@ static void bad_frames_get_error_records(void **state)
         for (i = 0; i < 8; i++) {
             json_object *rec = recs[i + 1];
             const char *msg;
-            assert_string_equal(str(key(rec, "frame")), p[i]);
+            assert_string_equal(str(key(rec, "file")), p[i]);
             assert_string_equal(str(key(rec, "status")), "error");
             assert_false(has(rec, "point"));
             msg = str(key(rec, "message"));
@@ -1176,7 +1178,7 @@ static void bench_files(void **state)
     tt_assert_contains(r.out, "Table 2.");
     tt_assert_contains(r.out, "Table 3.");
     run_free(&r);
-    /* the radius table is exact: |dr| / r x distance (METHOD.md) */
+    /* the radius table is exact: |dr| / r x distance (docs/method.md) */
     snprintf(path, sizeof path, "%s/bench_radius.csv", out);
     text = slurp(path, NULL);
     line = strtok_r(text, "\n", &save);

@@ -1,7 +1,9 @@
 /*
  * cdsp_host.h - host-side code shared by cdsp_tool and cdspd: frame files
  * (PGM P5 read by hand, PNG through libspng), the ROS camera_info YAML
- * calibration (libyaml), and the JSON record both programs emit for a pose.
+ * calibration (libyaml), the JSON record both programs emit for a pose and
+ * its field table (fields.c: JSON, CSV and the manuals' field lists), and
+ * the ground truth of an axis as the solver reports it (truth.c).
  * Built as build/libcdsp_host.a; link it with -lspng -lyaml and libcdsp.
  *
  * Conventions:
@@ -170,19 +172,61 @@ const char *cdsp_host_json_finish(cdsp_host_json *j);
 const char *cdsp_host_fmt_real(char buf[32], double v);
 
 /*
- * The pose fields of a record, written into an open object; the same names
+ * The pose fields of a record (fields.c): one table, iterated by the JSON
+ * writer below, cdsp_tool solve's CSV writer and the tests comparing the
+ * manuals with the code. A name "group.key" is key inside the JSON object
+ * "group" (consecutive rows share it).
+ */
+typedef enum {
+    CDSP_HOST_FIELD_REAL,   /* cdsp_real */
+    CDSP_HOST_FIELD_VEC3,   /* cdsp_real[3]: [x, y, z]; CSV _x _y _z */
+    CDSP_HOST_FIELD_PAIR,   /* cdsp_real[2], one per contour: [r1, r2]; CSV _1 _2 */
+    CDSP_HOST_FIELD_COUNT,  /* uint32_t */
+    CDSP_HOST_FIELD_COUNT2, /* uint32_t[2], one per contour; CSV _1 _2 */
+    CDSP_HOST_FIELD_LINES,  /* cdsp_real[2][3] lines: [[a,b,c],[a,b,c]]; CSV _1_a .. _2_c */
+    CDSP_HOST_FIELD_POINTS, /* cdsp_real[2][3] points: [[x,y,z],[x,y,z]]; CSV _1_x .. _2_z */
+    CDSP_HOST_FIELD_FLAG    /* bool: the uint32_t at offset has mask set */
+} cdsp_host_field_kind;
+
+typedef struct {
+    const char *name;           /* JSON key ("sigma.point": nested) */
+    cdsp_host_field_kind kind;
+    size_t offset;              /* in cdsp_result */
+    uint32_t mask;              /* FLAG: the CDSP_FLAG_* bit */
+    const char *doc;            /* one line for the manuals */
+} cdsp_host_field;
+
+/* The table, in output order; *n rows. */
+const cdsp_host_field *cdsp_host_pose_fields(size_t *n);
+/* CSV columns a field flattens to, the name of column col (0-based) and
+ * its value for r (text as in JSON: shortest round-trip numbers, true and
+ * false); both return the length written (snprintf's). */
+int cdsp_host_field_columns(const cdsp_host_field *f);
+size_t cdsp_host_field_column_name(const cdsp_host_field *f, int col, char *buf, size_t cap);
+size_t cdsp_host_field_csv(const cdsp_host_field *f, const cdsp_result *r, int col, char *buf,
+                           size_t cap);
+
+/*
+ * The pose part of a record, written into an open object; the same names
  * in cdsp_tool solve and cdspd --format json:
  *   "status": "ok" | "error"
  *   "error": token (only when status is "error"): error_token if not NULL,
  *            else cdsp_status_token(st)
- *   and only when st == CDSP_OK (r != NULL):
- *   "radius", "point" [x,y,z], "direction" [x,y,z], "distance", "alpha",
- *   "lines" [[a,b,c],[a,b,c]], "inliers" [n1,n2], "rms" [r1,r2],
- *   "segment" [[x,y,z],[x,y,z]], "sigma" {"point": [..], "direction": [..],
- *   "distance": s}, "edges" n, "tracked" bool, "truncated" bool.
+ *   "radius": always
+ *   and only when st == CDSP_OK (r != NULL) the fields of
+ *   cdsp_host_pose_fields() in order ("point", "direction", ..., "sigma"
+ *   {"point", "direction", "distance"}, "edges", "tracked", "full_search",
+ *   "truncated").
  */
 void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_token,
                          const cdsp_result *r, cdsp_real radius);
+
+/* Ground truth of an axis through point with direction dir (any length):
+ * the foot of the perpendicular from the optical centre (P_C), the unit
+ * direction with cdsp_result's sign rule (largest-magnitude component
+ * positive) and |P_C|. */
+void cdsp_host_axis_truth(const double point[3], const double dir[3], double foot[3],
+                          double unit[3], double *distance);
 
 /* Bytes the pose fields take at most (every number at its longest); size
  * a record buffer as this plus the caller's own fields. */

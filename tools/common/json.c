@@ -10,6 +10,7 @@
 #include "cdsp_host.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -221,55 +222,64 @@ const char *cdsp_host_json_finish(cdsp_host_json *j)
 void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_token,
                          const cdsp_result *r, cdsp_real radius)
 {
+    const cdsp_host_field *f;
+    size_t n, i;
+    const char *group = NULL; /* the nested object open now, e.g. "sigma" */
+    size_t group_len = 0;
+
+    cdsp_host_json_key(j, "status");
     if (st != CDSP_OK || !r) {
-        cdsp_host_json_key(j, "status");
         cdsp_host_json_string(j, "error");
         cdsp_host_json_key(j, "error");
         cdsp_host_json_string(j, error_token ? error_token : cdsp_status_token(st));
-        return;
+    } else {
+        cdsp_host_json_string(j, "ok");
     }
-    cdsp_host_json_key(j, "status");
-    cdsp_host_json_string(j, "ok");
     cdsp_host_json_key(j, "radius");
     cdsp_host_json_number(j, (double)radius);
-    cdsp_host_json_key(j, "point");
-    cdsp_host_json_reals(j, r->point, 3);
-    cdsp_host_json_key(j, "direction");
-    cdsp_host_json_reals(j, r->direction, 3);
-    cdsp_host_json_key(j, "distance");
-    cdsp_host_json_number(j, (double)r->distance);
-    cdsp_host_json_key(j, "alpha");
-    cdsp_host_json_number(j, (double)r->alpha);
-    cdsp_host_json_key(j, "lines");
-    cdsp_host_json_begin_array(j);
-    cdsp_host_json_reals(j, r->lines[0], 3);
-    cdsp_host_json_reals(j, r->lines[1], 3);
-    cdsp_host_json_end_array(j);
-    cdsp_host_json_key(j, "inliers");
-    cdsp_host_json_begin_array(j);
-    cdsp_host_json_int(j, r->inliers[0]);
-    cdsp_host_json_int(j, r->inliers[1]);
-    cdsp_host_json_end_array(j);
-    cdsp_host_json_key(j, "rms");
-    cdsp_host_json_reals(j, r->rms, 2);
-    cdsp_host_json_key(j, "segment");
-    cdsp_host_json_begin_array(j);
-    cdsp_host_json_reals(j, r->segment[0], 3);
-    cdsp_host_json_reals(j, r->segment[1], 3);
-    cdsp_host_json_end_array(j);
-    cdsp_host_json_key(j, "sigma");
-    cdsp_host_json_begin_object(j);
-    cdsp_host_json_key(j, "point");
-    cdsp_host_json_reals(j, r->sigma_point, 3);
-    cdsp_host_json_key(j, "direction");
-    cdsp_host_json_reals(j, r->sigma_direction, 3);
-    cdsp_host_json_key(j, "distance");
-    cdsp_host_json_number(j, (double)r->sigma_distance);
-    cdsp_host_json_end_object(j);
-    cdsp_host_json_key(j, "edges");
-    cdsp_host_json_int(j, r->n_edges);
-    cdsp_host_json_key(j, "tracked");
-    cdsp_host_json_bool(j, (r->flags & CDSP_FLAG_TRACKED) != 0);
-    cdsp_host_json_key(j, "truncated");
-    cdsp_host_json_bool(j, (r->flags & CDSP_FLAG_TRUNCATED) != 0);
+    if (st != CDSP_OK || !r)
+        return;
+    f = cdsp_host_pose_fields(&n);
+    for (i = 0; i < n; i++) {
+        const char *dot = strchr(f[i].name, '.'), *key = dot ? dot + 1 : f[i].name;
+        const char *base = (const char *)r + f[i].offset;
+        const cdsp_real *v = (const cdsp_real *)(const void *)base;
+        const uint32_t *u = (const uint32_t *)(const void *)base;
+        if (group && (!dot || (size_t)(dot - f[i].name) != group_len ||
+                      strncmp(f[i].name, group, group_len))) {
+            cdsp_host_json_end_object(j);
+            group = NULL;
+        }
+        if (dot && !group) {
+            char g[64];
+            group = f[i].name;
+            group_len = (size_t)(dot - f[i].name);
+            snprintf(g, sizeof g, "%.*s", (int)group_len, group);
+            cdsp_host_json_key(j, g);
+            cdsp_host_json_begin_object(j);
+        }
+        cdsp_host_json_key(j, key);
+        switch (f[i].kind) {
+        case CDSP_HOST_FIELD_REAL: cdsp_host_json_number(j, (double)v[0]); break;
+        case CDSP_HOST_FIELD_VEC3: cdsp_host_json_reals(j, v, 3); break;
+        case CDSP_HOST_FIELD_PAIR: cdsp_host_json_reals(j, v, 2); break;
+        case CDSP_HOST_FIELD_COUNT: cdsp_host_json_int(j, u[0]); break;
+        case CDSP_HOST_FIELD_COUNT2:
+            cdsp_host_json_begin_array(j);
+            cdsp_host_json_int(j, u[0]);
+            cdsp_host_json_int(j, u[1]);
+            cdsp_host_json_end_array(j);
+            break;
+        case CDSP_HOST_FIELD_LINES:
+        case CDSP_HOST_FIELD_POINTS:
+            cdsp_host_json_begin_array(j);
+            cdsp_host_json_reals(j, v, 3);
+            cdsp_host_json_reals(j, v + 3, 3);
+            cdsp_host_json_end_array(j);
+            break;
+        case CDSP_HOST_FIELD_FLAG: cdsp_host_json_bool(j, (u[0] & f[i].mask) != 0); break;
+        }
+    }
+    if (group)
+        cdsp_host_json_end_object(j);
 }
