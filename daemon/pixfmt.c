@@ -162,12 +162,31 @@ int cdspd_pixfmt_channel_means(const cdspd_pixfmt *f, const void *src, size_t sr
             }
             cnt[0] += (uint64_t)w;
         } else {
+            /* even and odd columns apart: each is one colour */
             const uint8_t *col = bayer_colour[f->order][(y + y_parity) & 1];
-            for (x = 0; x < w; x++) {
-                c = col[(x + x_parity) & 1];
-                sum[c] += sample_at(s, f->packing, row + (size_t)x);
-                cnt[c]++;
+            uint64_t se = 0, so = 0;
+            if (f->packing == CDSPD_PACK_8) {
+                const uint8_t *p = s + row;
+                for (x = 0; x + 1 < w; x += 2) {
+                    se += p[x];
+                    so += p[x + 1];
+                }
+                if (x < w)
+                    se += p[x];
+            } else {
+                for (x = 0; x + 1 < w; x += 2) {
+                    se += sample_at(s, f->packing, row + (size_t)x);
+                    so += sample_at(s, f->packing, row + (size_t)x + 1);
+                }
+                if (x < w)
+                    se += sample_at(s, f->packing, row + (size_t)x);
             }
+            c = col[x_parity & 1];
+            sum[c] += se;
+            cnt[c] += (uint64_t)(w + 1) / 2;
+            c = col[(x_parity + 1) & 1];
+            sum[c] += so;
+            cnt[c] += (uint64_t)w / 2;
         }
     }
     if (f->family == CDSPD_PIX_RGB)
@@ -207,28 +226,40 @@ static void channel_factors(const cdspd_pixfmt *f, const void *src, size_t src_l
 }
 
 /* Row r of a Bayer image, balanced (4 fractional bits) and filtered with
- * [1 2 1] along x (reflected borders), into out[0..w). */
+ * [1 2 1] along x (reflected borders), into out[0..w). Two passes over
+ * the row, each a plain loop the compiler vectorises: balance (the gain
+ * alternates with x), then the filter in place. */
 static void bayer_hrow(const cdspd_pixfmt *f, const uint8_t *s, int w, int r, int xp, int yp,
                        const uint32_t k[3], uint32_t *out)
 {
     const uint8_t *col = bayer_colour[f->order][(r + yp) & 1];
-    size_t row = (size_t)r * (size_t)w;
-    /* balanced sample at x: (v * k_c) >> 12 keeps 4 fractional bits */
-    uint32_t k0 = k[col[xp & 1]], k1 = k[col[(xp + 1) & 1]];
-    uint32_t prev, cur, next;
+    const uint8_t *row8 = s + (size_t)r * (size_t)w * (f->packing == CDSPD_PACK_8 ? 1u : 2u);
+    /* balanced sample: (v * k_c) >> 12 keeps 4 fractional bits; v * k_c
+     * < 2^16 * 2^16 + 1 fits 32 bits only just, so 64-bit products */
+    uint64_t kk[2];
+    uint32_t prev, cur;
     int x;
 
-#define BAL(xx) ((uint32_t)(((uint64_t)sample_at(s, f->packing, row + (size_t)(xx)) * \
-                             (((xx) & 1) ? k1 : k0)) >> 12))
-    cur = BAL(0);
-    prev = w > 1 ? BAL(1) : cur;
-    for (x = 0; x < w; x++) {
-        next = x + 1 < w ? BAL(x + 1) : (w > 1 ? prev : cur);
-        out[x] = prev + 2 * cur + next;
-        prev = cur;
-        cur = next;
+    kk[0] = k[col[xp & 1]];
+    kk[1] = k[col[(xp + 1) & 1]];
+    if (f->packing == CDSPD_PACK_8)
+        for (x = 0; x < w; x++)
+            out[x] = (uint32_t)(((uint64_t)row8[x] * kk[x & 1]) >> 12);
+    else
+        for (x = 0; x < w; x++)
+            out[x] = (uint32_t)((((uint64_t)row8[2 * x] | (uint64_t)row8[2 * x + 1] << 8) * kk[x & 1]) >> 12);
+    if (w == 1) {
+        out[0] *= 4;
+        return;
     }
-#undef BAL
+    /* in place: out[x] = b[x-1] + 2 b[x] + b[x+1], b[-1] = b[1], b[w] = b[w-2] */
+    prev = out[1];
+    for (x = 0; x < w - 1; x++) {
+        cur = out[x];
+        out[x] = prev + 2 * cur + out[x + 1];
+        prev = cur;
+    }
+    out[w - 1] = 2 * prev + 2 * out[w - 1];
 }
 
 int cdspd_pixfmt_convert(const cdspd_pixfmt *f, const void *src, size_t src_len, int w, int h,
