@@ -60,6 +60,7 @@ typedef struct {
     size_t scratch_len;
     int externally_triggered; /* no frame is not a loss (see the top) */
     uint64_t trigger_period_us, next_trigger_us; /* software trigger, 0: none */
+    uint64_t triggers_sent;
     uint64_t last_alive_check_us;
 } arv_priv;
 
@@ -115,6 +116,8 @@ static void close_camera(arv_priv *p)
          * fault); failures: incomplete frames (the network's) */
         LOG_I(SOURCE, "aravis: stream statistics: %llu frames complete, %llu failed, %llu underruns",
               (unsigned long long)done, (unsigned long long)failures, (unsigned long long)underruns);
+        if (p->trigger_period_us)
+            LOG_I(SOURCE, "aravis: %llu software triggers sent", (unsigned long long)p->triggers_sent);
         arv_stream_set_emit_signals(p->stream, FALSE);
         g_object_unref(p->stream);
         p->stream = NULL;
@@ -183,6 +186,7 @@ static int set_trigger(arv_priv *p, const cdspd_config *c, char *err, size_t err
 
     p->externally_triggered = 0;
     p->trigger_period_us = 0;
+    p->triggers_sent = 0;
     if (c->aravis.trigger_mode == 0 && !*c->aravis.trigger_source && !*c->aravis.trigger_activation &&
         c->aravis.trigger_rate <= 0)
         return CDSPD_OPEN_OK;
@@ -446,6 +450,7 @@ static int aravis_grab(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *er
         if (now >= p->next_trigger_us) {
             GError *e = NULL;
             arv_camera_software_trigger(p->camera, &e);
+            p->triggers_sent++;
             if (e) {
                 LOG_D(SOURCE, "aravis: software trigger: %s", e->message);
                 g_clear_error(&e);
