@@ -486,9 +486,11 @@ int main(int argc, char **argv)
             if (r.status == CDSPD_ST_SOURCE_DOWN && t_down < 0)
                 t_down = t;
         }
-        if (r.kind == CDSPD_KIND_FRAME && (o.camera_clock_us > 0 || o.min_interval_us > 0)) {
+        if (r.kind == CDSPD_KIND_FRAME && r.status != CDSPD_ST_BAD_FRAME &&
+            (o.camera_clock_us > 0 || o.min_interval_us > 0)) {
             /* the camera's clock: ahead of the host's by the offset, less
-             * the transfer (the camera stamps first); increasing */
+             * the transfer (the camera stamps first); increasing. Not for
+             * bad-frame datagrams: an incomplete frame may lack its stamp */
             double lead = (double)r.t_camera_us - (double)r.t_host_us;
             if (o.camera_clock_us > 0 && (lead > o.camera_clock_us || lead < o.camera_clock_us - 10e6)) {
                 fprintf(stderr, "cdspd_rx: FAIL: frame %llu: t_camera_us - t_host_us = %.0f us, not "
