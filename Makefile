@@ -151,7 +151,18 @@ $(BENCH_BIN): tests/bench/bench_lib.c tests/lib/support.c $(host_LIB)
 .PHONY: bench-lib
 bench-lib: $(BENCH_BIN)
 	$(BENCH_BIN)
-BENCH_STEPS := bench-lib $(BENCH_STEPS)
+
+# The accuracy study of issue 12 (tests/bench/bench_accuracy.c): about a
+# minute on one core; every cell of its grid goes to accuracy_cells.csv.
+ACC_BIN := $(BUILD)/bench/bench_accuracy
+$(ACC_BIN): tests/bench/bench_accuracy.c tests/lib/support.c tests/lib/support.h $(host_LIB)
+	@mkdir -p $(@D)
+	$(CC) $(HOST_CFLAGS) -O3 -Itests/lib $< tests/lib/support.c $(host_LIB) -lm -o $@
+
+.PHONY: bench-accuracy
+bench-accuracy: $(ACC_BIN)
+	$(ACC_BIN) $(BUILD)/bench/accuracy_cells.csv
+BENCH_STEPS := bench-lib bench-accuracy $(BENCH_STEPS)
 
 bench:
 	@tests/deps.sh check $(DEPS_BUILD)

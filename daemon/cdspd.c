@@ -59,7 +59,8 @@ static void *signal_thread(void *arg)
 /* ------------------------------------------------------------------------
  * Command line.
  * ---------------------------------------------------------------------- */
-enum { OPT_CALIB = 256, OPT_DURATION, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION, OPT_LIST };
+enum { OPT_CALIB = 256, OPT_DURATION, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION, OPT_LIST,
+       OPT_MAVLINK };
 
 static const struct {
     struct option opt;
@@ -73,6 +74,9 @@ static const struct {
     {{"dest", required_argument, NULL, 'd'}, "HOST:PORT",
      "send datagrams there; repeatable (key dest; the first --dest replaces the file's list)"},
     {{"format", required_argument, NULL, 'f'}, "binary|json", "datagram format (key format)"},
+    {{"mavlink", required_argument, NULL, OPT_MAVLINK}, "URL",
+     "also send MAVLink: udpout://HOST:PORT or serial:///dev/ttyX:BAUD; repeatable (key mavlink; "
+     "docs/mavlink.md)"},
     {{"duration", required_argument, NULL, OPT_DURATION}, "SECONDS",
      "stop after this long, counted from the source's opening (key duration)"},
     {{"record", required_argument, NULL, 'o'}, "DIR",
@@ -98,7 +102,8 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: cdspd [--config FILE] --source SRC --calib CAM.yaml --radius R\n"
             "             --dest HOST:PORT [--dest HOST:PORT ...] [--format binary|json]\n"
-            "             [--duration SECONDS] [-o|--record DIR] [-k|--set KEY=VALUE] [-v|-q]\n"
+            "             [--mavlink URL ...] [--duration SECONDS] [-o|--record DIR]\n"
+            "             [-k|--set KEY=VALUE] [-v|-q]\n"
             "Capture frames, solve the pipe's axis in each (libcdsp %d.%d.%d), stream the poses "
             "over UDP.\n\n",
             CDSP_VERSION_MAJOR, CDSP_VERSION_MINOR, CDSP_VERSION_PATCH);
@@ -164,7 +169,7 @@ static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
 {
     struct option longopts[N_OPTIONS + 1];
     size_t i;
-    int ch, ndest_cli = 0, quiet = 0;
+    int ch, ndest_cli = 0, nmav_cli = 0, quiet = 0;
     char where[64];
 
     cdspd_config_defaults(c);
@@ -211,6 +216,20 @@ static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
             memset(&c->dest[c->n_dest], 0, sizeof c->dest[0]);
             strcpy(c->dest[c->n_dest++].text, optarg);
             ndest_cli++;
+            break;
+        case OPT_MAVLINK:
+            if (nmav_cli++ == 0)
+                c->n_mavlink = 0;
+            if (c->n_mavlink >= CDSPD_MAX_MAVLINK) {
+                snprintf(err, errlen, "--mavlink: at most %d links", CDSPD_MAX_MAVLINK);
+                return -1;
+            }
+            if (strlen(optarg) >= CDSPD_STR || !*optarg || strchr(optarg, ',')) {
+                snprintf(err, errlen, "--mavlink '%s': expected udpout://HOST:PORT or "
+                         "serial:///dev/DEVICE:BAUD", optarg);
+                return -1;
+            }
+            strcpy(c->mavlink[c->n_mavlink++], optarg);
             break;
         case 'k':
         set: {
@@ -376,9 +395,10 @@ int main(int argc, char **argv)
             rc = EXIT_CONFIG;
             goto out;
         }
-        printf("# cdspd: configuration OK: source %s, calibration %s (%dx%d), %d destination%s\n",
+        printf("# cdspd: configuration OK: source %s, calibration %s (%dx%d), %d destination%s, "
+               "%d MAVLink link%s\n",
                cfg->source, cfg->calib, cfg->cam.width, cfg->cam.height, cfg->n_dest,
-               cfg->n_dest > 1 ? "s" : "");
+               cfg->n_dest == 1 ? "" : "s", cfg->n_mavlink, cfg->n_mavlink == 1 ? "" : "s");
         cdspd_config_dump(cfg, stdout);
         goto out;
     }

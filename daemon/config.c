@@ -23,6 +23,8 @@
 #include <yaml.h>
 
 #include "cdsp_host.h"
+#include "mavout.h"
+#include "mount.h"
 #include "source.h"
 
 typedef enum {
@@ -36,6 +38,8 @@ typedef enum {
     K_INT4,   /* int[4], each in [min, max] */
     K_DEST,   /* the destination list */
     K_LEVEL,  /* int log level; "default" = -1 (log.level) where allowed */
+    K_MAVLINK,/* the MAVLink URL list */
+    K_MOUNT,  /* double[6]: PRESET | [PRESET, x, y, z] | [roll, pitch, yaw, x, y, z] */
     K_POLARITY /* int cdsp_pair_params.polarity: bright +1, dark -1, any 0 (cdsp_tool's
                 * words; the numbers are accepted too) */
 } key_type;
@@ -67,7 +71,8 @@ static const key_def keys[] = {
     {"radius", K_REAL, O(radius), 0, 1e9, NULL, "0",
      "pipe radius, in the unit the poses are reported in (mm); required (--radius)"},
     {"dest", K_DEST, 0, 0, 0, NULL, "",
-     "UDP destinations HOST:PORT (unicast, broadcast or multicast), a list; at least one (--dest)"},
+     "UDP destinations HOST:PORT (unicast, broadcast or multicast), a list; at least one, or a "
+     "mavlink link (--dest)"},
     {"format", K_CHOICE, O(format), 0, 0, "binary|json", "binary",
      "datagram format: binary (docs/protocol.md) or json (one JSON object) (--format)"},
     {"duration", K_REAL, O(duration), 0, 1e9, NULL, "0",
@@ -93,6 +98,8 @@ static const key_def keys[] = {
      "periodic statistics (logged at info)"},
     {"log.record", K_LEVEL, O(log_cat[CDSPD_LOGC_RECORD]), 0, 0, NULL, "default",
      "--record messages"},
+    {"log.mavlink", K_LEVEL, O(log_cat[CDSPD_LOGC_MAVLINK]), 0, 0, NULL, "default",
+     "MAVLink links (open, lost, reopened; write errors are rate-limited)"},
     /* ---- operation ------------------------------------------------------ */
     {"stats_interval", K_REAL, O(stats_interval), 0, 1e6, NULL, "10",
      "seconds between statistics lines, 0 = only on SIGUSR1"},
@@ -128,6 +135,9 @@ static const key_def keys[] = {
     {"solver.max_distance", K_REAL, O(max_distance), 0, 1e12, NULL, "0",
      "plausible |P_C| upper bound, radius units, 0 = none"},
     {"solver.seed", K_U64, O(seed), 0, 0, NULL, "1", "seed of the solver's RANSAC generator"},
+    /* ---- solver: detection (issue 10) -------------------------------------- */
+    {"solver.min_confidence", K_REAL, O(min_confidence), 0, 1, NULL, "0",
+     "poses with a lower confidence (0..1) are sent as no-pipe"},
     /* ---- net -------------------------------------------------------------- */
     {"net.ttl", K_INT, O(ttl), 0, 255, NULL, "1", "multicast TTL (hops)"},
     {"net.multicast_loop", K_BOOL, O(multicast_loop), 0, 1, NULL, "true",
@@ -214,6 +224,23 @@ static const key_def keys[] = {
     {"libcamera.format", K_STR, O(libcamera.format), 0, 0, NULL, "auto",
      "R8 | R10 | R12 | YUYV | NV12 | YUV420 | auto (the first the camera takes)"},
     {"libcamera.buffers", K_INT, O(libcamera.buffers), 2, 32, NULL, "4", "frame buffers"},
+    /* ---- MAVLink and the mounting (docs/mavlink.md) ---------------------------- */
+    {"mavlink", K_MAVLINK, 0, 0, 0, NULL, "",
+     "MAVLink links: udpout://HOST:PORT | serial:///dev/DEVICE:BAUD | "
+     "serial_flowcontrol:///dev/DEVICE:BAUD, a list (--mavlink)"},
+    {"mavlink_system_id", K_INT, O(mavlink_system_id), 1, 255, NULL, "1",
+     "MAVLink system id cdspd sends as (the vehicle's, usually 1)"},
+    {"mavlink_component_id", K_INT, O(mavlink_component_id), 1, 255, NULL, "191",
+     "MAVLink component id cdspd sends as (191 = MAV_COMP_ID_ONBOARD_COMPUTER)"},
+    {"mavlink_rate", K_REAL, O(mavlink_rate), 0, 1000, NULL, "0",
+     "at most this many LANDING_TARGET per second, 0 = one per frame with a pipe"},
+    {"mavlink_position", K_BOOL, O(mavlink_position_valid), 0, 1, NULL, "true",
+     "LANDING_TARGET carries the body-frame position (ArduPilot); false: angles only, "
+     "position_valid 0 (PX4's IRLock-style path)"},
+    {"mount", K_MOUNT, O(mount), -1e9, 1e9, NULL, "forward",
+     "camera on the vehicle, optical -> body FRD: forward | down | down-right | down-aft | "
+     "down-left, [PRESET, x, y, z] or [roll, pitch, yaw, x, y, z] (degrees; x, y, z of the "
+     "optical centre in mm)"},
 };
 
 #define N_KEYS (sizeof keys / sizeof keys[0])
@@ -261,6 +288,8 @@ static const char *type_text(const key_def *k)
     case K_INT4: return "[x, y, w, h]";
     case K_DEST: return "list of HOST:PORT";
     case K_LEVEL: return "level";
+    case K_MAVLINK: return "list of URLs";
+    case K_MOUNT: return "preset or list";
     case K_POLARITY: return "any|bright|dark";
     }
     return "?";
@@ -490,6 +519,58 @@ int cdspd_config_set(cdspd_config *c, const char *key, const char *value, const 
             strcpy(c->dest[i].text, items[i]);
         }
         return 0;
+    case K_MAVLINK:
+        n = split_list(value, buf, sizeof buf, items, CDSPD_MAX_MAVLINK);
+        if (n < 0 || n > CDSPD_MAX_MAVLINK) {
+            errf(err, errlen, "%s: key 'mavlink': at most %d links, each shorter than %d characters",
+                 where, CDSPD_MAX_MAVLINK, CDSPD_STR);
+            return -1;
+        }
+        for (i = 0; i < n; i++) {
+            cdspd_mavlink_url u;
+            char e[CDSPD_STR + 256];
+            if (!*items[i] || strlen(items[i]) >= CDSPD_STR) {
+                errf(err, errlen, "%s: key 'mavlink': item %d: expected a URL, got '%s'", where,
+                     i + 1, items[i]);
+                return -1;
+            }
+            /* the syntax here, with the file's line; the host in finish */
+            if (cdspd_mavlink_url_parse(items[i], &u, 0, e, sizeof e)) {
+                errf(err, errlen, "%s: key 'mavlink': %s", where, e);
+                return -1;
+            }
+        }
+        c->n_mavlink = n;
+        for (i = 0; i < n; i++)
+            strcpy(c->mavlink[i], items[i]);
+        return 0;
+    case K_MOUNT: {
+        double m[6] = {0, 0, 0, 0, 0, 0};
+        int first = 0;
+        n = split_list(value, buf, sizeof buf, items, 6);
+        if (n == 1 || n == 4) {
+            if (cdspd_mount_preset(items[0], m)) {
+                errf(err, errlen, "%s: key 'mount': unknown preset '%s' (expected %s, or "
+                     "[roll, pitch, yaw, x, y, z])", where, items[0], cdspd_mount_preset_names());
+                return -1;
+            }
+            first = 3;
+        } else if (n != 6) {
+            errf(err, errlen, "%s: key 'mount': expected PRESET, [PRESET, x, y, z] or "
+                 "[roll, pitch, yaw, x, y, z], got '%s'", where, value);
+            return -1;
+        }
+        for (i = n == 6 ? 0 : 1; i < n; i++) {
+            if (!parse_real(items[i], &v) || v < k->min || v > k->max) {
+                errf(err, errlen, "%s: key 'mount': item %d: expected a number, got '%s'", where,
+                     i + 1, items[i]);
+                return -1;
+            }
+            m[n == 6 ? i : first + i - 1] = v;
+        }
+        memcpy(field, m, sizeof m);
+        return 0;
+    }
     }
     return -1;
 }
@@ -560,7 +641,8 @@ static int walk_mapping(yaml_walk *w, yaml_node_t *map, const char *prefix)
                      name);
                 return -1;
             }
-            if (k->type != K_VEC3 && k->type != K_INT4 && k->type != K_DEST) {
+            if (k->type != K_VEC3 && k->type != K_INT4 && k->type != K_DEST &&
+                k->type != K_MAVLINK && k->type != K_MOUNT) {
                 errf(w->err, w->errlen, "%s: key '%s': expected %s, got a list", where, name,
                      type_text(k));
                 return -1;
@@ -806,9 +888,18 @@ int cdspd_config_finish(cdspd_config *c, char *err, size_t errlen)
         errf(err, errlen, "key 'radius': required: the pipe radius, a positive number (--radius R)");
         return -1;
     }
-    if (c->n_dest < 1) {
-        errf(err, errlen, "key 'dest': required: at least one HOST:PORT to send poses to (--dest)");
+    if (c->n_dest < 1 && c->n_mavlink < 1) {
+        errf(err, errlen, "key 'dest': required: at least one HOST:PORT to send poses to (--dest), "
+             "or a MAVLink link (--mavlink)");
         return -1;
+    }
+    for (i = 0; i < c->n_mavlink; i++) {
+        cdspd_mavlink_url u;
+        char e[CDSPD_STR + 256];
+        if (cdspd_mavlink_url_parse(c->mavlink[i], &u, 1, e, sizeof e)) {
+            errf(err, errlen, "key 'mavlink': %s", e);
+            return -1;
+        }
     }
     if (c->retry_min > c->retry_max) {
         errf(err, errlen, "key 'retry_min': %g is more than retry_max (%g)", c->retry_min, c->retry_max);
@@ -885,6 +976,7 @@ void cdspd_config_params(const cdspd_config *c, cdsp_params *p)
     p->edge.step = c->step;
     p->edge.half_window = c->half_window;
     p->edge.min_contrast = (cdsp_real)c->min_contrast;
+    p->min_confidence = (cdsp_real)c->min_confidence;
     p->edge.roi.x = c->roi[0];
     p->edge.roi.y = c->roi[1];
     p->edge.roi.w = c->roi[2];
@@ -922,6 +1014,32 @@ static void yaml_quote(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* A YAML flow list of n quoted texts, stride bytes apart from first. */
+static void dump_texts(FILE *f, const char *first, size_t stride, int n)
+{
+    int i;
+    fputc('[', f);
+    for (i = 0; i < n; i++) {
+        if (i)
+            fputs(", ", f);
+        yaml_quote(f, first + (size_t)i * stride);
+    }
+    fputc(']', f);
+}
+
+/* A YAML flow list of n numbers. */
+static void dump_reals(FILE *f, const double *v, int n)
+{
+    char b[32];
+    int i;
+    fputc('[', f);
+    for (i = 0; i < n; i++) {
+        fmt_real(b, sizeof b, v[i]);
+        fprintf(f, "%s%s", i ? ", " : "", b);
+    }
+    fputc(']', f);
+}
+
 static void dump_value(const cdspd_config *c, const key_def *k, FILE *f)
 {
     const void *field = (const char *)c + k->off;
@@ -956,25 +1074,20 @@ static void dump_value(const cdspd_config *c, const key_def *k, FILE *f)
                 fputs(polarity_words[i].word, f);
         break;
     case K_VEC3:
-        fputc('[', f);
-        for (i = 0; i < 3; i++) {
-            fmt_real(b, sizeof b, ((const double *)field)[i]);
-            fprintf(f, "%s%s", i ? ", " : "", b);
-        }
-        fputc(']', f);
+        dump_reals(f, field, 3);
         break;
     case K_INT4:
         fprintf(f, "[%d, %d, %d, %d]", ((const int *)field)[0], ((const int *)field)[1],
                 ((const int *)field)[2], ((const int *)field)[3]);
         break;
     case K_DEST:
-        fputc('[', f);
-        for (i = 0; i < c->n_dest; i++) {
-            if (i)
-                fputs(", ", f);
-            yaml_quote(f, c->dest[i].text);
-        }
-        fputc(']', f);
+        dump_texts(f, c->dest[0].text, sizeof c->dest[0], c->n_dest);
+        break;
+    case K_MAVLINK:
+        dump_texts(f, c->mavlink[0], sizeof c->mavlink[0], c->n_mavlink);
+        break;
+    case K_MOUNT:
+        dump_reals(f, field, 6);
         break;
     }
 }

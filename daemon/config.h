@@ -25,6 +25,7 @@
 #include "log.h"
 
 #define CDSPD_MAX_DEST 16
+#define CDSPD_MAX_MAVLINK 8
 #define CDSPD_STR 1024
 #define CDSPD_DEFAULT_PORT 23770
 
@@ -61,6 +62,7 @@ typedef struct {
     /* solver: cdsp_params */
     int step, half_window, polarity, track_min_inliers;
     double min_contrast, track_band_px, min_distance, max_distance;
+    double min_confidence; /* solver.min_confidence (issue 10) */
     int roi[4];
     uint64_t seed;
 
@@ -117,6 +119,14 @@ typedef struct {
         char format[CDSPD_STR]; /* "auto" or a libcamera pixel format name (K_STR) */
         int buffers;
     } libcamera;
+
+    /* MAVLink output and the camera's mounting (docs/mavlink.md) */
+    int n_mavlink;
+    char mavlink[CDSPD_MAX_MAVLINK][CDSPD_STR]; /* URLs: udpout://, serial://, serial_flowcontrol:// */
+    int mavlink_system_id, mavlink_component_id;
+    double mavlink_rate;           /* LANDING_TARGET per second at most, 0 = every frame */
+    int mavlink_position_valid;    /* LANDING_TARGET with x, y, z, q (else angles only) */
+    double mount[6];               /* roll, pitch, yaw (degrees), x, y, z (pose unit): mount.h */
 
     /* filled by cdspd_config_finish */
     cdsp_camera cam;

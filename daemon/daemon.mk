@@ -21,7 +21,7 @@ daemon_sys = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(1) 2>/dev/n
 daemon_PKGS := yaml-0.1 spng json-c
 daemon_DEFS :=
 daemon_SRC := config.c log.c proto.c sim_path.c source.c src_sim.c src_file.c pool.c stats.c \
-              sender.c record.c notify.c pipeline.c pixfmt.c
+              sender.c record.c notify.c pipeline.c mavlink.c mount.c mavout.c pixfmt.c
 daemon_CXX_SRC :=
 daemon_LINK := $(CC)
 
@@ -90,8 +90,9 @@ ALL_TARGETS += $(daemon_BIN)
 # --- tests ---------------------------------------------------------------------
 daemon_TDIR := $(BUILD)/tests/daemon
 daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool \
-               $(daemon_TDIR)/test_pixfmt
+               $(daemon_TDIR)/test_mavlink $(daemon_TDIR)/test_mount $(daemon_TDIR)/test_pixfmt
 daemon_RX := $(daemon_TDIR)/cdspd_rx
+daemon_MAVRX := $(daemon_TDIR)/mavlink_rx
 daemon_FEED := $(daemon_TDIR)/v4l2_feed
 daemon_NOTIFY := $(daemon_TDIR)/notify_rx
 daemon_MCOUNT := $(daemon_TDIR)/malloc_count.so
@@ -134,7 +135,12 @@ check-daemon-ux: $(daemon_BIN) $(daemon_RX) $(daemon_TOOL) $(daemon_FAKECAM)
 	@$(daemon_ENV) CDSP_TOOL=$(daemon_TOOL) FAKECAM=$(daemon_FAKECAM) $(RUN) "daemon/ux" tests/daemon/ux.sh
 	@$(daemon_ENV) CDSP_TOOL=$(daemon_TOOL) $(RUN) "daemon/fields" tests/daemon/fields.sh
 
-daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors check-daemon-ux
+.PHONY: check-daemon-mavlink
+check-daemon-mavlink: $(daemon_BIN) $(daemon_RX) $(daemon_MAVRX)
+	@$(daemon_ENV) MAVLINK_RX=$(daemon_MAVRX) $(RUN) "daemon/mavlink" tests/daemon/mavlink_e2e.sh
+
+daemon_CHECKS := check-daemon-unit check-daemon-sim check-daemon-errors check-daemon-ux \
+                 check-daemon-mavlink
 
 ifneq ($(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),)
 .PHONY: check-daemon-aravis

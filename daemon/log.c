@@ -14,10 +14,11 @@
 #include <string.h>
 #include <unistd.h>
 
-static volatile int levels[CDSPD_LOGC_COUNT] = {2, 2, 2, 2, 2, 2, 2};
+static volatile int levels[CDSPD_LOGC_COUNT] = {2, 2, 2, 2, 2, 2, 2, 2};
 
 static const char *const cat_names[CDSPD_LOGC_COUNT] = {"main", "config", "source", "proc",
-                                                         "net", "stats", "record"};
+                                                         "net", "stats", "record",
+                                                         "mavlink"};
 static const char *const level_names[] = {"error", "warn", "info", "debug"};
 
 const char *cdspd_log_cat_name(int cat)

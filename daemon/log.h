@@ -22,6 +22,7 @@ typedef enum {
     CDSPD_LOGC_NET,      /* the UDP sender */
     CDSPD_LOGC_STATS,    /* periodic statistics */
     CDSPD_LOGC_RECORD,   /* --record */
+    CDSPD_LOGC_MAVLINK,  /* the MAVLink links */
     CDSPD_LOGC_COUNT
 } cdspd_log_cat;
 

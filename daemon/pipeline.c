@@ -12,6 +12,8 @@
 
 #include "cdsp.h"
 #include "log.h"
+#include "mavout.h"
+#include "mount.h"
 #include "pool.h"
 #include "proto.h"
 #include "record.h"
@@ -30,6 +32,8 @@ struct cdspd_pipeline {
     cdspd_source *src;
     cdspd_pool pool;
     cdspd_sender sender;
+    cdspd_mavout *mav;         /* NULL without mavlink links */
+    cdspd_mount mount;
     cdspd_recorder rec;
     cdsp_frame_ws *ws;
     cdsp_params params;
@@ -230,6 +234,7 @@ static void *proc_main(void *arg)
     const cdspd_config *c = &p->cfg;
     cdsp_rng rng;
     cdsp_result res, prev;
+    cdspd_body_pose body;
     int have_prev = 0;
     uint64_t processed = 0, status_us = (uint64_t)(c->status_interval * 1e6);
     /* wake at least every 100 ms (the watchdog follows the heartbeat) */
@@ -326,6 +331,9 @@ static void *proc_main(void *arg)
             rec.proc_us = (uint32_t)(t1 - t0);
             if (st == CDSP_OK) {
                 cdspd_record_set_result(&rec, &res);
+                cdspd_mount_apply(&p->mount, rec.point, rec.direction, &body);
+                memcpy(rec.point_body, body.point, sizeof rec.point_body);
+                memcpy(rec.direction_body, body.direction, sizeof rec.direction_body);
                 prev = res;
                 have_prev = 1;
                 cdspd_stats_add(p->stats, CDSPD_STAT(ok), 1);
@@ -341,6 +349,7 @@ static void *proc_main(void *arg)
         fill_counters(p, &rec);
         rec.latency_us = (uint32_t)(cdspd_now_us() - f->t_ready_us);
         send_record(p, &rec, buf, cap);
+        cdspd_mavout_frame(p->mav, &rec, &body);
         cdspd_stats_latency(p->stats, rec.proc_us, (uint32_t)(cdspd_now_us() - f->t_ready_us));
         if (rec.flags & CDSPD_FLAG_RECORDED)
             cdspd_recorder_offer(&p->rec, f, &rec);
@@ -391,7 +400,13 @@ int cdspd_pipeline_start(cdspd_pipeline **out, const cdspd_config *cfg, cdspd_st
     if (cdspd_sender_open(&p->sender, &p->cfg, err, errlen))
         goto fail;
     cdspd_stats_set_dests(stats, &p->cfg);
+    cdspd_mount_from_euler(&p->mount, p->cfg.mount, p->cfg.mount + 3);
+    if (cdspd_mavout_start(&p->mav, &p->cfg, stats, err, errlen)) {
+        cdspd_sender_close(&p->sender);
+        goto fail;
+    }
     if (cdspd_recorder_start(&p->rec, &p->cfg, bytes, stats, err, errlen)) {
+        cdspd_mavout_stop(p->mav);
         cdspd_sender_close(&p->sender);
         goto fail;
     }
@@ -459,6 +474,7 @@ void cdspd_pipeline_stop(cdspd_pipeline *p)
     if (p->have_proc)
         pthread_join(p->proc, NULL);
     cdspd_recorder_stop(&p->rec);
+    cdspd_mavout_stop(p->mav);
     cdspd_sender_close(&p->sender);
     cdspd_source_free(p->src);
     cdspd_pool_destroy(&p->pool);

@@ -21,10 +21,13 @@ enum {
     OFF_POINT = 56, OFF_DIR = 80, OFF_DIST = 104, OFF_ALPHA = 112, OFF_LINES = 120,
     OFF_SEGMENT = 168, OFF_SIG_P = 216, OFF_SIG_D = 240, OFF_SIG_DIST = 264, OFF_RMS = 272,
     OFF_INLIERS = 288, OFF_PROC = 296, OFF_LAT = 300, OFF_IN = 304, OFF_DROP = 308, OFF_BAD = 312,
-    OFF_RECON = 316, OFF_END = 320
+    OFF_RECON = 316, OFF_END_V1 = 320,
+    /* version 2 */
+    OFF_POINT_BODY = 320, OFF_DIR_BODY = 344, OFF_CONF = 368, OFF_END = 376
 };
 
 typedef char proto_size_check[OFF_END == CDSPD_PROTO_SIZE ? 1 : -1];
+typedef char proto_size_v1_check[OFF_END_V1 == CDSPD_PROTO_SIZE_V1 ? 1 : -1];
 
 const char *cdspd_status_token(int status)
 {
@@ -76,6 +79,7 @@ void cdspd_record_set_result(cdspd_record *r, const cdsp_result *res)
     r->inliers[0] = res->inliers[0];
     r->inliers[1] = res->inliers[1];
     r->n_edges = res->n_edges;
+    r->confidence = (double)res->confidence;
     r->flags &= ~(CDSPD_FLAG_TRACKED | CDSPD_FLAG_FULL_SEARCH | CDSPD_FLAG_TRUNCATED);
     if (res->flags & CDSP_FLAG_TRACKED)
         r->flags |= CDSPD_FLAG_TRACKED;
@@ -107,6 +111,7 @@ void cdspd_record_to_result(const cdspd_record *r, cdsp_result *res)
     res->inliers[0] = r->inliers[0];
     res->inliers[1] = r->inliers[1];
     res->n_edges = r->n_edges;
+    res->confidence = (cdsp_real)r->confidence;
     if (r->flags & CDSPD_FLAG_TRACKED)
         res->flags |= CDSP_FLAG_TRACKED;
     if (r->flags & CDSPD_FLAG_FULL_SEARCH)
@@ -216,6 +221,9 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
     put_u32(b + OFF_DROP, r->frames_dropped);
     put_u32(b + OFF_BAD, r->frames_bad);
     put_u32(b + OFF_RECON, r->reconnects);
+    put_f64s(b + OFF_POINT_BODY, r->point_body, 3);
+    put_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
+    put_f64(b + OFF_CONF, r->confidence);
     return CDSPD_PROTO_SIZE;
 }
 
@@ -229,12 +237,12 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         *why = "not a cdspd datagram (no CDSP magic)";
         return -1;
     }
-    if (b[OFF_VERSION] != CDSPD_PROTO_VERSION) {
+    if (b[OFF_VERSION] != CDSPD_PROTO_VERSION && b[OFF_VERSION] != 1) {
         *why = "unsupported protocol version";
         return -1;
     }
     length = get_u16(b + OFF_LENGTH);
-    if (length < CDSPD_PROTO_SIZE || len < length) {
+    if (length < (b[OFF_VERSION] == 1 ? CDSPD_PROTO_SIZE_V1 : CDSPD_PROTO_SIZE) || len < length) {
         *why = "truncated datagram";
         return -1;
     }
@@ -271,12 +279,19 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
     r->frames_dropped = get_u32(b + OFF_DROP);
     r->frames_bad = get_u32(b + OFF_BAD);
     r->reconnects = get_u32(b + OFF_RECON);
+    if (r->version >= 2) {
+        get_f64s(b + OFF_POINT_BODY, r->point_body, 3);
+        get_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
+        r->confidence = get_f64(b + OFF_CONF);
+    }
     return 0;
 }
 
 /* ------------------------------------------------------------------------
  * JSON.
  * ---------------------------------------------------------------------- */
+/* An array of doubles at full precision (cdsp_host_json_reals takes
+ * cdsp_real, which may be float). */
 static void json_doubles(cdsp_host_json *j, const double *v, int n)
 {
     int i;
@@ -329,6 +344,18 @@ size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
     cdsp_host_json_int(&j, r->frames_bad);
     cdsp_host_json_key(&j, "reconnects");
     cdsp_host_json_int(&j, r->reconnects);
+    /* the pose in the body frame (mount key), null without a pose */
+    cdsp_host_json_key(&j, "body");
+    if (ok) {
+        cdsp_host_json_begin_object(&j);
+        cdsp_host_json_key(&j, "point");
+        json_doubles(&j, r->point_body, 3);
+        cdsp_host_json_key(&j, "direction");
+        json_doubles(&j, r->direction_body, 3);
+        cdsp_host_json_end_object(&j);
+    } else {
+        cdsp_host_json_null(&j);
+    }
     if (r->has_truth) {
         cdsp_host_json_key(&j, "truth");
         cdsp_host_json_begin_object(&j);
@@ -462,6 +489,7 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
             r->flags |= CDSPD_FLAG_FULL_SEARCH;
         if (jbool(o, "truncated"))
             r->flags |= CDSPD_FLAG_TRUNCATED;
+        ok = ok && jnum(o, "confidence", &r->confidence);
     } else {
         int st = 0;
         if (!json_object_object_get_ex(o, "error", &x) ||
@@ -481,6 +509,10 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
     r->frames_dropped = (uint32_t)ju64(o, "frames_dropped", &ok);
     r->frames_bad = (uint32_t)ju64(o, "frames_bad", &ok);
     r->reconnects = (uint32_t)ju64(o, "reconnects", &ok);
+    /* the body-frame pose: absent from a datagram of an older cdspd */
+    if (r->status == 0 && json_object_object_get_ex(o, "body", &x) &&
+        json_object_is_type(x, json_type_object))
+        ok = ok && jkvec(x, "point", r->point_body, 3) && jkvec(x, "direction", r->direction_body, 3);
     if (json_object_object_get_ex(o, "truth", &x) && json_object_is_type(x, json_type_object)) {
         r->has_truth = 1;
         r->truth_in_view = jbool(x, "in_view");

@@ -18,8 +18,9 @@
 #include "cdsp.h"
 
 #define CDSPD_PROTO_MAGIC "CDSP"
-#define CDSPD_PROTO_VERSION 1
-#define CDSPD_PROTO_SIZE 320     /* bytes of a version-1 record */
+#define CDSPD_PROTO_VERSION 2
+#define CDSPD_PROTO_SIZE 376     /* bytes of a version-2 record */
+#define CDSPD_PROTO_SIZE_V1 320  /* bytes of a version-1 record (still decoded) */
 
 /* kind */
 #define CDSPD_KIND_FRAME 1       /* the result of one frame */
@@ -65,10 +66,15 @@ typedef struct {
     uint32_t frames_dropped;   /* frames replaced in the pool before processing */
     uint32_t frames_bad;       /* incomplete or unusable frames skipped */
     uint32_t reconnects;       /* times the source was reopened */
+    /* the pose in the vehicle's body frame FRD through the mount key
+     * (daemon/mount.h), meaningful when status == 0, zero otherwise */
+    double point_body[3];      /* axis point nearest the body origin, pose unit (mm) */
+    double direction_body[3];  /* unit, signed to point forward */
     /* JSON only (not in the binary layout): the sim source's ground truth
      * with sim.truth, as cdspd_sim_truth gives it */
     int has_truth, truth_in_view;
     double truth_point[3], truth_direction[3], truth_distance;
+    double confidence;         /* version 2: cdsp_result.confidence, 0..1 (0 unless status == 0) */
 } cdspd_record;
 
 /* Short stable token of a status: the library's (cdsp_status_token) or
@@ -88,8 +94,9 @@ void cdspd_record_to_result(const cdspd_record *r, cdsp_result *res);
 size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *buf, size_t cap);
 
 /* Binary: 0 and *r filled, or -1 with *why set ("bad magic", ...).
- * Accepts version 1 records of CDSPD_PROTO_SIZE bytes or longer (later
- * additions append fields). */
+ * Accepts version 2 records of CDSPD_PROTO_SIZE bytes or longer (later
+ * additions append fields), and version 1 records of CDSPD_PROTO_SIZE_V1
+ * bytes or longer (the body-frame fields then zero). */
 int cdspd_proto_decode(const uint8_t *buf, size_t len, cdspd_record *r, const char **why);
 
 /* JSON (no trailing newline, NUL-terminated): returns the length, or 0 if

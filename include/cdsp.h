@@ -70,9 +70,15 @@ typedef double cdsp_real;
 #define CDSP_MAX_POINTS 2048
 #endif
 
-/* Candidate lines RANSAC extracts before the pair is chosen. */
+/* Candidate lines RANSAC extracts before the pair is chosen (the most
+ * max_lines may ask for). Each costs one pass over the points. */
 #ifndef CDSP_MAX_LINES
-#define CDSP_MAX_LINES 8
+#define CDSP_MAX_LINES 24
+#endif
+
+/* Ranked pipe candidates kept in the workspaces (the chosen one first). */
+#ifndef CDSP_MAX_CANDIDATES
+#define CDSP_MAX_CANDIDATES 8
 #endif
 
 /* ------------------------------------------------------------------------
@@ -270,8 +276,14 @@ typedef struct {
                                  line normal, degrees. Default 20 */
     cdsp_real confidence;     /* RANSAC success probability for the adaptive
                                  iteration count. Default 0.999 */
-    int max_iterations;       /* hard cap per line. Default 300 */
-    int max_lines;            /* candidate lines (<= CDSP_MAX_LINES). Default 6 */
+    int max_iterations;       /* hard cap of hypotheses per line. Default 300.
+                                 Half of them are guided (a second point on
+                                 the first one's edge direction, see
+                                 lib/lines.c), so a short contour among long
+                                 clutter edges is still sampled. */
+    int max_lines;            /* candidate lines (<= CDSP_MAX_LINES). Default
+                                 24; when reached while significant points
+                                 remain, CDSP_FLAG_CAPPED is set */
     int min_inliers;          /* a line needs at least this many. Default 12 */
     cdsp_real min_overlap;    /* a pair's contours must overlap along the pipe
                                  by this fraction of the shorter one. Default 0.5 */
@@ -280,7 +292,12 @@ typedef struct {
     int polarity;             /* 0 either; +1 pipe brighter than background;
                                  -1 darker. Default 0 */
     cdsp_real min_distance, max_distance; /* plausible |P_C|, radius units;
-                                 0 = no bound. Default 0, 0 */
+                                 0 = no bound. Default 0, 0. With a bound,
+                                 no pose outside it is ever reported. */
+    cdsp_real min_support;    /* fraction of the overlap each contour's inliers
+                                 must cover (in 32 bins along it): support all
+                                 on one short piece is not a contour. Default
+                                 0.35 */
 } cdsp_pair_params;
 
 void cdsp_pair_params_default(cdsp_pair_params *p);
@@ -316,6 +333,24 @@ typedef struct {
                                 marks the inliers of contour k (valid until the
                                 workspace is used again); 0 from cdsp_axis_solve */
     uint32_t flags;          /* CDSP_FLAG_* */
+    /* The edge-profile model (frame path, CDSP_FLAG_PROFILE): how far each
+     * contour was moved from the detector's line to the modelled silhouette
+     * (undistorted px, + toward the pipe; 0 when not applied) and the edge
+     * spread measured on it (sigma, px; 0 when not applied). */
+    cdsp_real edge_offset[2];
+    cdsp_real edge_blur[2];
+    /* Since issue 10: how sure, and on what evidence. */
+    cdsp_real confidence;    /* in [0, 1]: how likely this is the pipe, from the
+                                pair's evidence and its margin over the best
+                                rival (see "The pair score" below); calibrated
+                                on `make bench-detect`. 0 from cdsp_axis_solve */
+    cdsp_real score;         /* the pair score the pose won with (below) */
+    cdsp_real noise;         /* frame path: the frame's measured noise sigma,
+                                gray levels (0 on the points path) */
+    cdsp_real min_step;      /* frame path: the edge step required, gray levels */
+    uint32_t n_lines;        /* candidate contour lines considered */
+    uint32_t n_candidates;   /* plausible pipe candidates found (>= 1 on CDSP_OK);
+                                the ranked list is in the workspace */
 } cdsp_result;
 
 #define CDSP_FLAG_TRACKED 1u     /* found in the bands around the prior */
@@ -323,6 +358,42 @@ typedef struct {
 #define CDSP_FLAG_TRUNCATED 4u   /* more edges than CDSP_MAX_EDGES were found: the
                                     frame was scanned at a coarser step (see
                                     cdsp_edges_detect; tracking bands likewise) */
+#define CDSP_FLAG_PROFILE 8u     /* the edge-profile model fitted both contours
+                                    (edge_offset: how far each was moved) */
+#define CDSP_FLAG_CAPPED 16u     /* max_lines lines were extracted while enough
+                                    free points for another remained: a contour
+                                    may not have been considered */
+
+/*
+ * The pair score (issue 10; lib/pair.c). Every pair of candidate lines that
+ * passes the plausibility tests (opposite polarity forming a band, within
+ * max_contour_angle, overlapping by min_overlap, not crossing inside their
+ * stretch, a band at least as wide as the edge window 2 half_window + 1,
+ * each contour's support covering min_support of the overlap, the closed
+ * form's distance inside [min_distance, max_distance], no contour of the
+ * opposite polarity inside the band: two objects and the gap between them)
+ * is scored by its weaker contour
+ *   S = min(n1 c1 q1, n2 c2 q2) * T
+ * with, per contour k: n_k its inliers on the common stretch, c_k its mean
+ * edge step divided by the frame's step threshold (contrast), q_k the
+ * fraction of the overlap its inliers cover (spread, not one short piece):
+ * the longest, clearest band wins, and a gap borrowing one strong edge of a
+ * neighbour does not win on that edge; T, in tracking, 1 + 2 exp(-e^2 / 2)
+ * with e the pair's offset from the prior's contours in units of
+ * track_band_px (the pipe being followed wins over a newcomer). A contour
+ * belongs to one pipe: pairs are taken best first and a pair sharing a line
+ * with a better one is dropped; a pair is also passed over when each of its
+ * two lines forms a pair at least as good with another line (the gap
+ * between two pipes of a rack, each pipe as good as the gap). The
+ * survivors, ranked, are the candidates (the workspace's cand[], first =
+ * the pose returned; "every pipe in view" can take them all).
+ * confidence = E * M, E = (1 - exp(-min(n1 q1, n2 q2) / 25)) * min(1, c / 4)
+ * (evidence: supported points and contrast c = min(c1, c2)), M = (1 - (S2 /
+ * S1)^2) / N (margin over the best rival candidate S2, among N candidates;
+ * M = 1 when there is none). Calibration on `make bench-detect` (issue 10):
+ * NOT yet at its target (>= 99 % right among confidence >= 0.9); see the
+ * figures it prints. Alternatives' confidences are their evidence E alone.
+ */
 
 /*
  * The closed form (docs/method.md): from two contour lines (undistorted px), a
@@ -341,6 +412,106 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3],
 /* ------------------------------------------------------------------------
  * Points -> pose and frame -> pose.
  * ---------------------------------------------------------------------- */
+/* ------------------------------------------------------------------------
+ * Edge-profile model (lib/profile.c): where a contour's silhouette is, from
+ * the intensity profile across it accumulated along the whole contour.
+ * The detector's points sit where its partial-area window puts the edge;
+ * on a shaded limb, a blur wider than its window or a contour that is not
+ * axis-aligned that is off the silhouette by up to a few tenths of a pixel
+ * (motion blur: pixels). The model takes the profile (pixel centres at
+ * their signed distance u from the fitted line, in 1/4 px bins over
+ * hundreds of scanlines) as a step blurred by a symmetric kernel of unknown
+ * width (optics, motion, the pixel's footprint) between a background side
+ * D + E u and a pipe side A + B s + C sqrt(s (2 Rc - s)) (s = distance
+ * from the silhouette, Rc the pipe's image radius: a Lambertian cylinder's
+ * shading, ~ sqrt(s) at the limb), and solves the area balance
+ * (blur moves intensity across the silhouette, never out of a window wider
+ * than the blur) for the silhouette. Details and limits: lib/profile.c,
+ * docs/method.md.
+ * ---------------------------------------------------------------------- */
+#ifndef CDSP_PROFILE_RANGE_PX
+#define CDSP_PROFILE_RANGE_PX 24   /* largest half-width of a profile, px */
+#endif
+#define CDSP_PROFILE_BINS_PER_PX 4
+#define CDSP_PROFILE_NBINS (2 * CDSP_PROFILE_RANGE_PX * CDSP_PROFILE_BINS_PER_PX)
+
+/* Bins of one contour's profile (caller-owned scratch; contents undefined
+ * between calls). Sums are exact integers for 8..16-bit pixels up to
+ * max_rows = 4096. */
+typedef struct {
+    uint32_t count[CDSP_PROFILE_NBINS];
+    uint32_t sum[CDSP_PROFILE_NBINS];
+    uint64_t sumsq[CDSP_PROFILE_NBINS];
+    cdsp_real sum_u[CDSP_PROFILE_NBINS];
+    cdsp_real mean_u[CDSP_PROFILE_NBINS], mean_v[CDSP_PROFILE_NBINS]; /* the fit's
+                               bins (here, not on an MCU's small stack) */
+} cdsp_profile_ws;
+
+typedef struct {
+    int enable;                  /* frame path: move each contour to its
+                                    modelled silhouette. Default 0 (opt-in:
+                                    see make bench's accuracy study for
+                                    where it helps and where not yet) */
+    int max_rows;                /* scanlines sampled per contour (16..4096):
+                                    the frame path takes each sampled
+                                    inlier's scanline and its two
+                                    neighbours, inliers spread evenly.
+                                    Default 2048 */
+    cdsp_real max_half_width_px; /* profile half-width, px (6..CDSP_PROFILE_RANGE_PX;
+                                    also kept inside 0.9 of the pipe's
+                                    half-width). Default 20: a 15 px motion
+                                    blur or a 3 px optical one plus the
+                                    fit zones */
+    cdsp_real max_fit_chi2;      /* frame path: a contour whose pipe side fits
+                                    worse than this (fit_chi2) keeps the
+                                    detector's line (a limb in shadow, a
+                                    highlight, a plateau). Default 0.25:
+                                    on the paper's rendered scene good
+                                    contours give 0.01-0.03, shadowed limbs
+                                    0.6-0.8 */
+} cdsp_profile_params;
+
+void cdsp_profile_params_default(cdsp_profile_params *p);
+
+typedef struct {
+    cdsp_real offset;       /* modelled silhouette minus the given line, px
+                               along the normal, positive toward the pipe */
+    cdsp_real sigma_offset; /* its standard deviation from the pixels' noise, px */
+    cdsp_real blur;         /* measured sigma of the edge spread (optics,
+                               motion, the pixel's footprint), px */
+    cdsp_real contrast;     /* pipe minus background at the silhouette, gray levels */
+    cdsp_real half_width;   /* window half-width used, px */
+    cdsp_real fit_chi2;     /* pipe side's chi-square per degree of freedom
+                               against the pixels' noise (<~1: the model fits) */
+    int flat;               /* 1: the limb term is not significant
+                               (F-test): the pipe side is a straight ramp,
+                               which the detector handles exactly */
+    int saturated;          /* 1: part of the profile sits at full scale */
+    uint32_t rows;          /* scanlines accumulated */
+} cdsp_profile;
+
+/*
+ * Fit the profile model to the frame along the straight line `line` (frame
+ * px, a u + b v + c = 0, any scale) between the projections of ends[0] and
+ * ends[1] onto it; p_in is the pipe's middle (its distance from the line
+ * is taken as the limb's radius Rc, px). Scanlines whose
+ * window leaves the frame are skipped. CDSP_E_FEW_POINTS when fewer than
+ * 16 scanlines fit, CDSP_E_NOCONVERGE when the model does not fit (no edge,
+ * or the silhouette more than half the window away), CDSP_E_ARG for bad
+ * arguments.
+ */
+cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3],
+                             const cdsp_real p_in[2], const cdsp_real ends[2][2],
+                             const cdsp_profile_params *pp, cdsp_profile_ws *ws,
+                             cdsp_profile *out);
+
+/* Whether the frame path moves a contour by pr->offset: 1 when the model
+ * fits (fit_chi2 <= pp->max_fit_chi2, not saturated) and is needed (a limb term, or a
+ * blur wider than the detector's window of half-width detector_half_window);
+ * 0 keeps the detector's line. */
+int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp,
+                         int detector_half_window);
+
 typedef struct {
     cdsp_edge_params edge;
     cdsp_pair_params pair;
@@ -348,13 +519,35 @@ typedef struct {
                                  predicted contour in tracking mode. Default 12 */
     int track_min_inliers;    /* below this per contour, tracking falls back to a
                                  full search. Default 30 */
+    cdsp_profile_params profile; /* the edge-profile model (frame path) */
+    cdsp_real noise_factor;   /* frame path: an edge needs a step of at least
+                                 min(edge.min_contrast * range, max(noise_factor
+                                 * sigma, 2)) gray levels, sigma the frame's
+                                 measured noise, range the data's real range
+                                 (2^b - 1 for the largest value seen, so Mono10/12
+                                 in 16-bit containers count as 10/12 bit).
+                                 0 = the fixed fraction alone. Default 10 */
+    cdsp_real min_confidence; /* a pose with a lower confidence is reported as
+                                 CDSP_E_NO_PIPE. Default 0 (every pose) */
 } cdsp_params;
 
 void cdsp_params_default(cdsp_params *p);
 
 /* Workspace of the points path: one label byte per point. */
+/* A ranked pipe candidate: its two contour lines (undistorted px, as in
+ * cdsp_result.lines), a pixel between them, its score and confidence, and
+ * the labels of its inliers in the workspace's label array. */
+typedef struct {
+    cdsp_real lines[2][3];
+    cdsp_real p_in[2];
+    cdsp_real score, confidence;
+    uint8_t label[2];
+} cdsp_candidate;
+
 typedef struct {
     uint8_t label[CDSP_MAX_POINTS];
+    cdsp_candidate cand[CDSP_MAX_CANDIDATES]; /* ranked, best first; result.n_candidates
+                                                 of them (at most CDSP_MAX_CANDIDATES) */
 } cdsp_points_ws;
 
 /* Workspace of the frame path. Large (CDSP_MAX_EDGES * (4 reals + 1));
@@ -362,6 +555,8 @@ typedef struct {
 typedef struct {
     cdsp_edge edge[CDSP_MAX_EDGES];
     uint8_t label[CDSP_MAX_EDGES];
+    cdsp_profile_ws profile;
+    cdsp_candidate cand[CDSP_MAX_CANDIDATES]; /* as in cdsp_points_ws */
 } cdsp_frame_ws;
 
 /*
@@ -429,12 +624,30 @@ typedef struct {
     int n_clutter;             /* <= CDSP_RENDER_MAX_CLUTTER, behind or in front */
     cdsp_clutter clutter[CDSP_RENDER_MAX_CLUTTER];
     uint32_t texture_seed;
+    /* Added for the detection tests and benchmark (issue 10); all 0 in
+     * cdsp_scene_default, and 0 leaves a frame bit-identical to before. */
+    cdsp_real background_ramp[2]; /* background brightness slope, fraction of
+                                  full scale per undistorted px along u and v,
+                                  about the principal point: a ramp that
+                                  crosses the pipe's level flips the contrast
+                                  along a contour */
+    cdsp_real specular;        /* Blinn-Phong highlight on the pipe body:
+                                  specular * max(0, n.h)^specular_exp added
+                                  (fraction of full scale; values above full
+                                  scale saturate) */
+    cdsp_real specular_exp;    /* its exponent (>= 1 when specular > 0) */
+    cdsp_real motion_px[2];    /* linear motion blur: the image moves by this
+                                  vector (distorted px) during the exposure;
+                                  |motion| <= CDSP_RENDER_MAX_MOTION_PX */
 } cdsp_scene;
+
+#define CDSP_RENDER_MAX_MOTION_PX 64
 
 void cdsp_scene_default(cdsp_scene *s);
 
-/* Floats of scratch cdsp_render needs for a w x h frame (blur buffer and a
- * line buffer); 0 is fine when blur_sigma_px == 0. */
+/* Floats of scratch cdsp_render needs for a w x h frame (two frame buffers,
+ * the second for motion blur, and a line buffer); 0 is fine when
+ * blur_sigma_px == 0 and motion_px is zero. */
 size_t cdsp_render_scratch_size(int width, int height);
 
 /*
@@ -443,7 +656,8 @@ size_t cdsp_render_scratch_size(int width, int height);
  * otherwise). Anti-aliased by exact area coverage along the pipe's contours
  * (supersampled near end caps and clutter), with the camera's distortion.
  * rng supplies sensor noise (may be NULL when noise_sigma == 0).
- * scratch: cdsp_render_scratch_size() floats, or NULL without blur.
+ * scratch: cdsp_render_scratch_size() floats, or NULL without blur (optical
+ * or motion).
  */
 cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out,
                         size_t stride, int out_bits, float *scratch, size_t scratch_len,

@@ -6,6 +6,14 @@
  * predicted contour are read (the prior's undistorted line, distorted back
  * into the frame), far fewer pixels than a full search. If the band search
  * finds no pipe, or too few inliers on either contour, a full search runs.
+ *
+ * Edge threshold from the frame (issue 10): the step an edge needs is
+ *   min_step = min(min_contrast * range, max(noise_factor * sigma, 2))
+ * gray levels, where range is the data's real range (a 16-bit container
+ * holding Mono10/12 data has range 1023/4095, not 65535) and sigma the
+ * frame's measured noise: so a faint pipe on a quiet frame is found, and a
+ * noisy frame is held to the fixed fraction as before. 2 levels is the
+ * floor below which quantization alone makes steps.
  */
 #include "internal.h"
 
@@ -34,8 +42,98 @@ static int crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal
     return R_FINITE(*s_out);
 }
 
+/* Rows sampled for the noise estimate, and the histogram of |differences|
+ * (bins of 2^shift gray levels; the last bin holds everything above). */
+#define NOISE_ROWS 32
+#define NOISE_BINS 256
+
+/*
+ * The frame's noise and the data's real range, from NOISE_ROWS evenly
+ * spaced rows (every other pixel): horizontal neighbour differences
+ * d = I(x+1) - I(x) of Gaussian noise sigma have sd sqrt(2) sigma, so
+ * median |d| = 0.6745 sqrt(2) sigma (0.6745: the normal's quartile). The
+ * median ignores the few differences that straddle edges and texture. The
+ * median comes from a histogram, interpolated within its bin (integer |d|
+ * = k stands for [k - 1/2, k + 1/2)). Range: the smallest 2^b - 1 (b >= 8)
+ * holding the largest value seen, for containers wider than 8 bits.
+ */
+static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
+{
+    uint32_t hist[NOISE_BINS], total = 0, cum = 0;
+    int full = (1 << img->bits) - 1, maxv = 0, r, x, b, shift = 0, rows;
+    cdsp_real med = R(0);
+    rows = img->height < NOISE_ROWS ? img->height : NOISE_ROWS;
+    for (r = 0; r < rows; r++) {
+        int y = (int)(((long)r * 2 + 1) * img->height / (2L * rows));
+        for (x = 0; x < img->width; x += 2) {
+            int v = img_px(img, x, y);
+            maxv = v > maxv ? v : maxv;
+        }
+    }
+    *range = 255;
+    if (img->bits > 8) {
+        while (*range < maxv && *range < full)
+            *range = *range * 2 + 1;
+        if (*range > full)
+            *range = full;
+    } else {
+        *range = full;
+    }
+    /* bins of 2^shift levels: 1/4096 of the range, and never wider */
+    while ((*range >> shift) > 4095)
+        shift++;
+    for (b = 0; b < NOISE_BINS; b++)
+        hist[b] = 0;
+    for (r = 0; r < rows; r++) {
+        int y = (int)(((long)r * 2 + 1) * img->height / (2L * rows));
+        for (x = 0; x + 1 < img->width; x += 2) {
+            int d = iabs(img_px(img, x + 1, y) - img_px(img, x, y)) >> shift;
+            hist[d < NOISE_BINS ? d : NOISE_BINS - 1]++;
+            total++;
+        }
+    }
+    if (total == 0) {
+        *sigma = R(0);
+        return;
+    }
+    for (b = 0; b < NOISE_BINS; b++) {
+        if (cum + hist[b] >= (total + 1) / 2) {
+            cdsp_real lo = b == 0 ? R(0) : (cdsp_real)b - R(0.5), wid = b == 0 ? R(0.5) : R(1);
+            med = lo + wid * ((cdsp_real)((total + 1) / 2 - cum) / (cdsp_real)hist[b]);
+            break;
+        }
+        cum += hist[b];
+    }
+    *sigma = med * (cdsp_real)(1 << shift) / (R(0.6745) * R(1.4142135623730951));
+}
+
+/* The edge parameters actually used on this frame (see the top): the same
+ * as p->edge with min_contrast rewritten as min_step / full scale, the
+ * fraction cdsp_edges_detect applies. */
+static void frame_edge_params(const cdsp_image *img, const cdsp_params *p, cdsp_real sigma,
+                              int range, cdsp_edge_params *e, cdsp_real *min_step)
+{
+    cdsp_real full = (cdsp_real)((1 << img->bits) - 1), fixed = p->edge.min_contrast * (cdsp_real)range;
+    cdsp_real step = fixed;
+    *e = p->edge;
+    if (p->noise_factor > R(0)) {
+        cdsp_real nz = p->noise_factor * sigma;
+        if (nz < R(2))
+            nz = R(2);
+        if (nz < step)
+            step = nz;
+    }
+    if (step < R(1))
+        step = R(1);
+    *min_step = step;
+    e->min_contrast = step / full;
+    if (!(e->min_contrast < R(1)))
+        e->min_contrast = R(0.999);
+}
+
 static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
-                          int step, const cdsp_result *prior, cdsp_edge *out, size_t cap)
+                          const cdsp_edge_params *edge, int step, const cdsp_result *prior,
+                          cdsp_edge *out, size_t cap)
 {
     int x0 = 0, y0 = 0, x1 = img->width, y1 = img->height, k, h = p->edge.half_window;
     int band = (int)R_CEIL(p->track_band_px);
@@ -72,7 +170,7 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
                 from = h + 1;
             if (to > ext - h - 1)
                 to = ext - h - 1;
-            n += cdsp__edges_scan_segment(img, &p->edge, horizontal, t, from, to, out + n, cap - n);
+            n += cdsp__edges_scan_segment(img, edge, horizontal, t, from, to, out + n, cap - n);
             if (n == cap)
                 return n;
         }
@@ -84,26 +182,28 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
  * are read again at twice the step until they fit, so the first contour's
  * band never fills the buffer before the second is read (*truncated set). */
 static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
-                          const cdsp_result *prior, cdsp_edge *out, size_t cap, int *truncated)
+                          const cdsp_edge_params *edge, const cdsp_result *prior, cdsp_edge *out,
+                          size_t cap, int *truncated)
 {
     int step = p->edge.step, extent = img->width > img->height ? img->width : img->height;
     size_t n;
     *truncated = 0;
-    while ((n = track_bands(img, cam, p, step, prior, out, cap)) == cap && step <= extent / 2) {
+    while ((n = track_bands(img, cam, p, edge, step, prior, out, cap)) == cap && step <= extent / 2) {
         step *= 2;
         *truncated = 1;
     }
     return n;
 }
 
-static cdsp_status solve_edges(const cdsp_camera *cam, cdsp_real radius, cdsp_frame_ws *ws,
-                               size_t n, const cdsp_params *p, const cdsp_result *prior,
-                               cdsp_rng *rng, cdsp_result *out)
+static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                               cdsp_frame_ws *ws, size_t n, const cdsp_params *p, cdsp_real min_step,
+                               const cdsp_result *prior, cdsp_rng *rng, cdsp_result *out)
 {
     cdsp_status st = cdsp_camera_undistort_edges(cam, ws->edge, &n);
     if (st != CDSP_OK)
         return st;
-    return cdsp__pair_solve(cam, radius, ws->edge, n, ws->label, p, prior, rng, out);
+    return cdsp__pair_solve(cam, radius, ws->edge, n, ws->label, ws->cand, p, min_step, prior,
+                            rng, img, &ws->profile, out);
 }
 
 cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
@@ -113,6 +213,9 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
     cdsp_status st;
     size_t n = 0;
     uint32_t flags = CDSP_FLAG_FULL_SEARCH;
+    cdsp_edge_params edge;
+    cdsp_real sigma = R(0), min_step;
+    int range = 0;
     if (!img || !cam || !p || !ws || !rng || !out)
         return CDSP_E_ARG;
     st = cdsp_image_check(img);
@@ -124,24 +227,52 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
     if (img->width != cam->width || img->height != cam->height)
         return CDSP_E_ARG;
 
+    /* The prior's noise figure stands for this frame's while tracking (the
+     * same camera a frame later); a full search measures it. */
+    if (prior && R_FINITE(prior->noise) && prior->noise > R(0) && prior->min_step > R(0)) {
+        sigma = prior->noise;
+        range = 0;
+    } else {
+        frame_noise(img, &sigma, &range);
+    }
+    if (range == 0) {
+        /* tracking: the range is not re-measured either; the prior's step
+         * and noise give the same threshold back */
+        cdsp_real full = (cdsp_real)((1 << img->bits) - 1);
+        edge = p->edge;
+        min_step = prior->min_step;
+        edge.min_contrast = min_step / full;
+    } else {
+        frame_edge_params(img, p, sigma, range, &edge, &min_step);
+    }
+
     if (prior && v3_finite(prior->lines[0]) && v3_finite(prior->lines[1])) {
         int truncated;
-        n = track_edges(img, cam, p, prior, ws->edge, CDSP_MAX_EDGES, &truncated);
-        st = solve_edges(cam, radius, ws, n, p, prior, rng, out);
+        n = track_edges(img, cam, p, &edge, prior, ws->edge, CDSP_MAX_EDGES, &truncated);
+        st = solve_edges(img, cam, radius, ws, n, p, min_step, prior, rng, out);
         if (st == CDSP_OK && out->inliers[0] >= (uint32_t)p->track_min_inliers &&
             out->inliers[1] >= (uint32_t)p->track_min_inliers) {
-            out->flags = CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u);
+            out->flags |= CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u);
+            out->noise = sigma;
+            out->min_step = min_step;
             return CDSP_OK;
         }
     }
-    st = cdsp_edges_detect(img, &p->edge, ws->edge, CDSP_MAX_EDGES, &n);
+    if (range == 0) {
+        /* falling back to a full search: measure this frame after all */
+        frame_noise(img, &sigma, &range);
+        frame_edge_params(img, p, sigma, range, &edge, &min_step);
+    }
+    st = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &n);
     if (st == CDSP_E_CAPACITY)
         flags |= CDSP_FLAG_TRUNCATED;
     else if (st != CDSP_OK)
         return st;
-    st = solve_edges(cam, radius, ws, n, p, prior, rng, out);
+    st = solve_edges(img, cam, radius, ws, n, p, min_step, prior, rng, out);
     if (st != CDSP_OK)
         return st;
-    out->flags = flags;
+    out->flags |= flags;
+    out->noise = sigma;
+    out->min_step = min_step;
     return CDSP_OK;
 }

@@ -130,10 +130,22 @@ static inline int img_px(const cdsp_image *img, int x, int y)
  * trigonometry (and libm's deep range reduction) off this call's stack. */
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
-                             cdsp_line *lines, int *nlines);
+                             cdsp_line *lines, int *nlines, int *capped);
+/* min_step: the edge step threshold the points were detected with (gray
+ * levels; 0 when unknown, e.g. the points path): contrast is scored
+ * relative to it. cand: CDSP_MAX_CANDIDATES slots for the ranked list.
+ * img and pws: the frame and scratch for the edge-profile model (frame
+ * path); NULL from the points path, which has no frame. */
 cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                             size_t n, uint8_t *label, const cdsp_params *p,
-                             const cdsp_result *prior, cdsp_rng *rng, cdsp_result *out);
+                             size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
+                             cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
+                             const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out);
+cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
+                                 size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
+                                 const cdsp_real p_in[2], const cdsp_profile_params *pp,
+                                 int detector_h, cdsp_profile_ws *ws, cdsp_profile *prof,
+                                 cdsp_real *moved);
+cdsp_status cdsp__profile_params_check(const cdsp_profile_params *p);
 cdsp_status cdsp__axis_core(const cdsp_camera *cam, const cdsp_real l1[3], const cdsp_real l2[3],
                             const cdsp_real p_in[2], cdsp_real radius, cdsp__axis *out);
 void cdsp__axis_to_result(const cdsp__axis *a, const cdsp_real l1[3], const cdsp_real l2[3],

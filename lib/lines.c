@@ -20,6 +20,18 @@
  * N = log(1 - confidence) / log(1 - w^2). The winner is refined by alternating
  * inlier selection and TLS fit. Each found line's inliers are labelled and
  * removed before the next line is sought.
+ *
+ * Guided samples (issue 10): with uniform pairs, a contour holding a
+ * fraction w of the points is drawn with probability w^2 per hypothesis, so
+ * among long clutter edges a short pipe contour (w = 0.04: 1 in 600) is
+ * easily missed within max_iterations. Every other hypothesis therefore
+ * takes its second point near the first in the array (edge points come in
+ * scan order, so neighbours in the array are neighbours in the frame, for
+ * the row and the column families alike): the farthest of the free points
+ * within +-GUIDE_SPAN indices whose gradient and position agree with the
+ * first point's edge direction. Such a pair lies on one contour with
+ * probability ~w, not w^2. For input in no particular order the guided
+ * samples are merely as good as uniform ones, which the other half stay.
  */
 #include "internal.h"
 
@@ -59,6 +71,11 @@ static size_t golden_stride(size_t n)
     return 1;
 }
 #define MIN_SAMPLE_DIST_PX 4.0  /* closer sample pairs give a poorly defined angle */
+#define GUIDE_SPAN 96           /* array neighbours a guided second point is sought among */
+/* a guided second point lies within this angle of the first point's edge
+ * direction (sin 10 deg: the partial-area slope of a faint edge is good to a
+ * few degrees) */
+#define GUIDE_SIN 0.17
 #define REFINE_PASSES 4
 
 /* Moments of a point set about a nearby origin (o), enough for the TLS fit
@@ -296,9 +313,44 @@ static uint32_t select_inliers(const cdsp_edge *pts, size_t n, uint8_t *label, c
     return cnt;
 }
 
+/* Guided second sample for a (see the top): the farthest free point within
+ * GUIDE_SPAN array positions that lies along a's edge direction with a
+ * gradient of the same polarity within the angular tolerance; n when none. */
+static size_t guided_partner(const cdsp_edge *pts, size_t n, const uint8_t *label, size_t a,
+                             cdsp_real cos2)
+{
+    const cdsp_edge *e = &pts[a];
+    cdsp_real g2 = e->gx * e->gx + e->gy * e->gy, best = R(MIN_SAMPLE_DIST_PX * MIN_SAMPLE_DIST_PX);
+    size_t lo = a > GUIDE_SPAN ? a - GUIDE_SPAN : 0, hi = a + GUIDE_SPAN < n ? a + GUIDE_SPAN : n - 1, i,
+           pick = n;
+    if (!(g2 > R(0)))
+        return n;
+    for (i = lo; i <= hi; i++) {
+        const cdsp_edge *b = &pts[i];
+        cdsp_real dx, dy, d2, along, dot;
+        if (label[i] != LABEL_FREE || i == a)
+            continue;
+        dx = b->x - e->x;
+        dy = b->y - e->y;
+        d2 = dx * dx + dy * dy;
+        if (d2 <= best)
+            continue;
+        /* across a's edge: (d . g)^2 <= sin^2 |d|^2 |g|^2 */
+        along = dx * e->gx + dy * e->gy;
+        if (along * along > R(GUIDE_SIN * GUIDE_SIN) * d2 * g2)
+            continue;
+        dot = b->gx * e->gx + b->gy * e->gy;
+        if (!(dot > R(0)) || dot * dot < cos2 * g2 * (b->gx * b->gx + b->gy * b->gy))
+            continue;
+        best = d2;
+        pick = i;
+    }
+    return pick;
+}
+
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
-                             cdsp_line *lines, int *nlines)
+                             cdsp_line *lines, int *nlines, int *capped)
 {
     cdsp_real cos2 = cos_tol * cos_tol, thr = p->inlier_px;
     size_t i, j, nfree = n;
@@ -306,6 +358,7 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
     size_t nsub = n < SUBSAMPLE ? n : SUBSAMPLE, sstep = golden_stride(n);
 
     *nlines = 0;
+    *capped = 0;
     for (i = 0; i < n; i++)
         label[i] = LABEL_FREE;
 
@@ -324,8 +377,19 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
             break;
 
         for (it = 0; it < need && tries < max_tries; tries++) {
-            uint32_t a = cdsp_rng_below(rng, (uint32_t)n), b = cdsp_rng_below(rng, (uint32_t)n), sc = 0;
+            uint32_t a = cdsp_rng_below(rng, (uint32_t)n), b, sc = 0;
             cdsp_real l[3];
+            if (tries & 1) {
+                size_t g;
+                if (label[a] != LABEL_FREE)
+                    continue;
+                g = guided_partner(pts, n, label, a, cos2);
+                if (g == n)
+                    continue; /* a has no partner in reach: not a sample */
+                b = (uint32_t)g;
+            } else {
+                b = cdsp_rng_below(rng, (uint32_t)n);
+            }
             if (label[a] != LABEL_FREE || label[b] != LABEL_FREE || a == b)
                 continue; /* not a sample of the free points: does not count */
             it++;
@@ -380,6 +444,9 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
         nfree -= cnt;
         (*nlines)++;
     }
+    /* stopped by the cap while another line's worth of points was left */
+    if (*nlines == max_lines && nfree >= (size_t)(2 * p->min_inliers))
+        *capped = 1;
     return *nlines > 0 ? CDSP_OK : CDSP_E_FEW_POINTS;
 }
 
@@ -389,11 +456,12 @@ void cdsp_pair_params_default(cdsp_pair_params *p)
     p->normal_tol_deg = R(20);
     p->confidence = R(0.999);
     p->max_iterations = 300;
-    p->max_lines = 6;
+    p->max_lines = 24;
     p->min_inliers = 12;
     p->min_overlap = R(0.5);
     p->max_contour_angle_deg = R(60);
     p->polarity = 0;
     p->min_distance = R(0);
     p->max_distance = R(0);
+    p->min_support = R(0.35);
 }

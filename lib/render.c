@@ -13,7 +13,10 @@
  * - elsewhere, where probes half a pixel away see a different surface (end
  *   caps, clutter), 4 x 4 supersampling.
  * Then optional Gaussian blur (separable, in the caller's float scratch),
- * Gaussian sensor noise from the caller's PCG32, and rounding to 8 or 16 bit.
+ * optional linear motion blur (a box along the motion vector), Gaussian
+ * sensor noise from the caller's PCG32, and rounding to 8 or 16 bit.
+ * Options added later (background ramp, specular highlight, motion blur)
+ * are skipped entirely when zero, so older scenes render bit-identically.
  */
 #include "internal.h"
 
@@ -50,6 +53,10 @@ void cdsp_scene_default(cdsp_scene *s)
         s->clutter[i].level = R(0);
     }
     s->texture_seed = 1u;
+    s->background_ramp[0] = s->background_ramp[1] = R(0);
+    s->specular = R(0);
+    s->specular_exp = R(0);
+    s->motion_px[0] = s->motion_px[1] = R(0);
 }
 
 /* ---- the exact contours (ground truth and the renderer's anti-aliasing) - */
@@ -249,6 +256,8 @@ static cdsp_real background(const ctx *k, cdsp_real u, cdsp_real v)
                              R(0.3) * value_noise(s->texture_seed + 7u, u * R(2.7) / sc,
                                                   v * R(2.7) / sc));
     }
+    if (s->background_ramp[0] != R(0) || s->background_ramp[1] != R(0))
+        val += s->background_ramp[0] * (u - k->cam->cx) + s->background_ramp[1] * (v - k->cam->cy);
     return val;
 }
 
@@ -256,6 +265,26 @@ static cdsp_real shade(const ctx *k, const cdsp_real normal[3])
 {
     cdsp_real c = v3_dot(normal, k->light);
     return k->s->ambient + (R(1) - k->s->ambient) * (c > R(0) ? c : R(0));
+}
+
+/* Blinn-Phong highlight at surface point X with unit normal nrm: the half
+ * vector between the light and the view direction -X/|X| (Blinn 1977); a
+ * stripe along a cylinder where n.h peaks. */
+static cdsp_real highlight(const ctx *k, const cdsp_real X[3], const cdsp_real nrm[3])
+{
+    cdsp_real h[3], c;
+    int i;
+    cdsp_real xl = v3_norm(X);
+    if (!(xl > R(0)))
+        return R(0);
+    for (i = 0; i < 3; i++)
+        h[i] = k->light[i] - X[i] / xl;
+    if (!(v3_normalize(h) > R(0)))
+        return R(0);
+    c = v3_dot(nrm, h);
+    if (!(c > R(0)))
+        return R(0);
+    return k->s->specular * R_EXP(k->s->specular_exp * R_LOG(c));
 }
 
 /* Intensity (fraction of full scale) seen along the ray through undistorted
@@ -276,6 +305,8 @@ static cdsp_real cast(const ctx *k, const cdsp_real q[2], int *what)
             for (i = 0; i < 3; i++)
                 nrm[i] = (rel[i] - ax * k->pipe.v[i]) / k->pipe.r;
             val = k->s->pipe_level * shade(k, nrm);
+            if (k->s->specular > R(0))
+                val += highlight(k, X, nrm);
         } else {
             for (i = 0; i < 3; i++)
                 nrm[i] = ax > R(0) ? k->pipe.v[i] : -k->pipe.v[i];
@@ -434,7 +465,7 @@ size_t cdsp_render_scratch_size(int width, int height)
 {
     if (width <= 0 || height <= 0)
         return 0;
-    return (size_t)width * (size_t)height + (size_t)(width > height ? width : height);
+    return 2 * (size_t)width * (size_t)height + (size_t)(width > height ? width : height);
 }
 
 /* Newton undistortion of pixel (u, v) from the initial guess q (in/out) and
@@ -506,11 +537,58 @@ static void store(const cdsp_scene *s, cdsp_rng *rng, cdsp_real val, cdsp_real f
 
 #define RENDER_MAX_KERNEL 25 /* radius: 3 sigma up to sigma = 8 px */
 
+/* Bilinear sample of a W x H float frame at (x, y), borders replicated. */
+static float bilinear(const float *f, int W, int H, cdsp_real x, cdsp_real y)
+{
+    cdsp_real fx, fy, tx, ty;
+    int x0, y0, x1, y1;
+    if (x < R(0))
+        x = R(0);
+    if (y < R(0))
+        y = R(0);
+    if (x > (cdsp_real)(W - 1))
+        x = (cdsp_real)(W - 1);
+    if (y > (cdsp_real)(H - 1))
+        y = (cdsp_real)(H - 1);
+    fx = R_FLOOR(x);
+    fy = R_FLOOR(y);
+    tx = x - fx;
+    ty = y - fy;
+    x0 = (int)fx;
+    y0 = (int)fy;
+    x1 = x0 + 1 < W ? x0 + 1 : x0;
+    y1 = y0 + 1 < H ? y0 + 1 : y0;
+    return (float)((R(1) - ty) * ((R(1) - tx) * (cdsp_real)f[(size_t)y0 * (size_t)W + (size_t)x0] +
+                                  tx * (cdsp_real)f[(size_t)y0 * (size_t)W + (size_t)x1]) +
+                   ty * ((R(1) - tx) * (cdsp_real)f[(size_t)y1 * (size_t)W + (size_t)x0] +
+                         tx * (cdsp_real)f[(size_t)y1 * (size_t)W + (size_t)x1]));
+}
+
+/* Linear motion blur: each pixel the mean of the frame over the segment
+ * +-motion/2 through it (a box exposure), sampled at N points spaced at
+ * most half a pixel apart (midpoint rule), from src into dst. */
+static void motion_blur(const float *src, float *dst, int W, int H, const cdsp_real m[2])
+{
+    cdsp_real len = R_SQRT(m[0] * m[0] + m[1] * m[1]);
+    int n = (int)R_CEIL(R(2) * len), x, y, i;
+    if (n < 2)
+        n = 2;
+    for (y = 0; y < H; y++)
+        for (x = 0; x < W; x++) {
+            cdsp_real acc = R(0);
+            for (i = 0; i < n; i++) {
+                cdsp_real t = ((cdsp_real)i + R(0.5)) / (cdsp_real)n - R(0.5);
+                acc += (cdsp_real)bilinear(src, W, H, (cdsp_real)x + t * m[0], (cdsp_real)y + t * m[1]);
+            }
+            dst[(size_t)y * (size_t)W + (size_t)x] = (float)(acc / (cdsp_real)n);
+        }
+}
+
 cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, size_t stride,
                         int out_bits, float *scratch, size_t scratch_len, cdsp_rng *rng)
 {
     ctx k;
-    int x, y, i, b, W, H, use_scratch;
+    int x, y, i, b, W, H, use_scratch, moving;
     cdsp_status st;
     cdsp_real q[2], Jp[4];
     size_t bpp;
@@ -530,14 +608,22 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
     if (stride < (size_t)W * bpp)
         return CDSP_E_FORMAT;
     if (!v3_finite(s->axis_point) || !v3_finite(s->axis_dir) || !R_FINITE(s->radius) ||
-        !R_FINITE(s->blur_sigma_px) || !R_FINITE(s->noise_sigma))
+        !R_FINITE(s->blur_sigma_px) || !R_FINITE(s->noise_sigma) ||
+        !R_FINITE(s->background_ramp[0]) || !R_FINITE(s->background_ramp[1]) ||
+        !R_FINITE(s->specular) || !R_FINITE(s->specular_exp) || !R_FINITE(s->motion_px[0]) ||
+        !R_FINITE(s->motion_px[1]))
         return CDSP_E_NONFINITE;
+    if (s->specular < R(0) || (s->specular > R(0) && s->specular_exp < R(1)) ||
+        s->motion_px[0] * s->motion_px[0] + s->motion_px[1] * s->motion_px[1] >
+            R(CDSP_RENDER_MAX_MOTION_PX) * R(CDSP_RENDER_MAX_MOTION_PX))
+        return CDSP_E_ARG;
     if (!(s->radius > R(0)) || s->n_clutter < 0 || s->n_clutter > CDSP_RENDER_MAX_CLUTTER ||
         s->blur_sigma_px < R(0) || s->blur_sigma_px > R(8) || s->noise_sigma < R(0))
         return CDSP_E_ARG;
     if (s->noise_sigma > R(0) && !rng)
         return CDSP_E_ARG;
-    use_scratch = s->blur_sigma_px > R(0);
+    moving = s->motion_px[0] != R(0) || s->motion_px[1] != R(0);
+    use_scratch = s->blur_sigma_px > R(0) || moving;
     if (use_scratch && (!scratch || scratch_len < cdsp_render_scratch_size(W, H)))
         return CDSP_E_CAPACITY;
 
@@ -602,8 +688,8 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
     if (!use_scratch)
         return CDSP_OK;
 
-    {
-        float kern[2 * RENDER_MAX_KERNEL + 1], sum = 0.0f, *line = scratch + (size_t)W * (size_t)H;
+    if (s->blur_sigma_px > R(0)) {
+        float kern[2 * RENDER_MAX_KERNEL + 1], sum = 0.0f, *line = scratch + 2 * (size_t)W * (size_t)H;
         int rad = (int)R_CEIL(R(3) * s->blur_sigma_px);
         if (rad > RENDER_MAX_KERNEL)
             rad = RENDER_MAX_KERNEL;
@@ -618,6 +704,13 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
             blur_line(scratch + (size_t)y * (size_t)W, (size_t)W, 1, kern, rad, line);
         for (x = 0; x < W; x++)
             blur_line(scratch + x, (size_t)H, (size_t)W, kern, rad, line);
+    }
+    if (moving) {
+        float *second = scratch + (size_t)W * (size_t)H;
+        size_t j, np = (size_t)W * (size_t)H;
+        motion_blur(scratch, second, W, H, s->motion_px);
+        for (j = 0; j < np; j++)
+            scratch[j] = second[j];
     }
     for (y = 0; y < H; y++)
         for (x = 0; x < W; x++)

@@ -90,6 +90,10 @@ bind /dev/pts "$root/dev/pts"
 mount --bind /tmp/cdsp-fakecam-gvcp.lock "$root/tmp/cdsp-fakecam-gvcp.lock" &&
     mounts+=("$root/tmp/cdsp-fakecam-gvcp.lock")
 cp /etc/resolv.conf "$root/etc/resolv.conf" 2>/dev/null
+# debootstrap writes no /etc/hosts; every installed Debian system has one
+# (the installer writes it), and programs resolve "localhost" through it.
+[ -s "$root/etc/hosts" ] || printf '127.0.0.1\tlocalhost\n::1\t\tlocalhost ip6-localhost ip6-loopback\n' \
+    >"$root/etc/hosts"
 
 # The working tree as a user would clone it: tracked and untracked files
 # that git does not ignore (so no build/), at /root/cdsp.

@@ -59,7 +59,7 @@ static void usage(FILE *f)
             "    line per datagram:\n"
             "\n"
             "      #SEQ  frame N  ok  P_C (x y z) +-(sx sy sz)  v_L (x y z)  d D\n"
-            "            inliers n1/n2  solve T ms  latency T ms  [tracked]  dropped K\n"
+            "            conf C  inliers n1/n2  solve T ms  latency T ms  [tracked]  dropped K\n"
             "\n"
             "    P_C is the foot of the perpendicular from the camera onto the pipe's\n"
             "    axis and v_L the axis direction, in the camera frame (X right, Y down,\n"
@@ -221,10 +221,10 @@ static void print_human(const cdspd_record *r)
         return;
     }
     printf("%s ok  P_C (%8.2f %8.2f %8.2f) +-(%.2f %.2f %.2f)  v_L (%6.3f %6.3f %6.3f)  d %7.2f  "
-           "inliers %u/%u  solve %.2f ms  latency %.2f ms%s  dropped %lu\n",
+           "conf %.2f  inliers %u/%u  solve %.2f ms  latency %.2f ms%s  dropped %lu\n",
            head, r->point[0], r->point[1], r->point[2], r->sigma_point[0], r->sigma_point[1],
            r->sigma_point[2], r->direction[0], r->direction[1], r->direction[2], r->distance,
-           r->inliers[0], r->inliers[1], r->proc_us * 1e-3, r->latency_us * 1e-3,
+           r->confidence, r->inliers[0], r->inliers[1], r->proc_us * 1e-3, r->latency_us * 1e-3,
            (r->flags & CDSPD_FLAG_TRACKED) ? "  tracked" : "", (unsigned long)r->frames_dropped);
 }
 

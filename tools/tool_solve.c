@@ -27,7 +27,7 @@ typedef struct {
     double radius;
     cdsp_roi roi;
     int track, threads, csv, no_time, quiet, polarity, step, window;
-    double min_contrast, inlier_px, band, min_distance, max_distance;
+    double min_contrast, inlier_px, band, min_distance, max_distance, min_confidence;
     uint64_t seed;
     /* derived */
     int overlay;
@@ -488,6 +488,9 @@ static const char solve_after[] =
     "      tracked    true when found near the previous frame's pipe (--track)\n"
     "      full_search  true when found by searching the whole frame or ROI\n"
     "      truncated  true when the frame had more edges than the solver keeps\n"
+    "      confidence 0..1: how sure the solver is that this is the pipe (its\n"
+    "                 evidence and margin over the next candidate; see\n"
+    "                 --min-confidence)\n"
     "      overlay    (overlay only) the picture written\n"
     "      time_us    processing time of the frame in the library, microseconds\n"
     "                 (omitted with --no-time)\n"
@@ -538,6 +541,7 @@ int tool_solve_main(int argc, char **argv)
     J.band = (double)def.track_band_px;
     J.min_distance = (double)def.pair.min_distance;
     J.max_distance = (double)def.pair.max_distance;
+    J.min_confidence = (double)def.min_confidence;
     J.polarity = def.pair.polarity == 0 ? 0 : def.pair.polarity > 0 ? 1 : 2;
     J.seed = 1;
     {
@@ -584,6 +588,10 @@ int tool_solve_main(int argc, char **argv)
             {"band", 0, OPT_REAL, &J.band, 1, 1000, "PX",
              "With --track: half-width of the search band around the previous contours, "
              "px.", NULL, 0},
+            {"min-confidence", 0, OPT_REAL, &J.min_confidence, 0, 1, "C",
+             "Report a pose whose confidence (0..1, in the output) is below C as "
+             "no-pipe. How often poses of each confidence were the true pipe is "
+             "measured by make bench-detect (its calibration table).", NULL, 0},
             {"min-distance", 0, OPT_REAL, &J.min_distance, 0, 1e12, "D",
              "Reject pipes nearer than D (unit of R); 0: no bound.", NULL, 0},
             {"max-distance", 0, OPT_REAL, &J.max_distance, 0, 1e12, "D",
@@ -657,6 +665,7 @@ int tool_solve_main(int argc, char **argv)
     J.params.pair.polarity = J.polarity == 0 ? 0 : J.polarity == 1 ? 1 : -1;
     J.params.pair.min_distance = (cdsp_real)J.min_distance;
     J.params.pair.max_distance = (cdsp_real)J.max_distance;
+    J.params.min_confidence = (cdsp_real)J.min_confidence;
     J.params.track_band_px = (cdsp_real)J.band;
     rc = run(&J);
 out:

@@ -14,16 +14,25 @@
 . "$(dirname "$0")/lib.sh"
 
 common=(--calib "$CALIB" --radius 10 --set sim.rate=50 --set stats_interval=0)
+# The receivers stop 2 s after the stream does (--idle); --duration is only
+# their safety bound, as is the wait for cdspd's exit. cdspd streams
+# nothing until its simulated camera has pre-rendered its frames, which
+# takes a minute on a loaded machine and seconds on an idle one, and its
+# --duration counts from then: so neither bound stands for any speed.
+rx_max=${CDSPD_RX_MAX:-900}
 
 echo "--- 1. binary, two destinations"
+# The sim camera is live: it drops what the solver has not taken, so how
+# many of the ~200 frames of 4 s at 50 fps arrive depends on the machine's
+# load (42 dropped at a load of 20); 50 poses is enough for what is checked.
 start_rx rx1 --truth sim --calib "$CALIB" --set radius=10 --set sim.rate=50 \
-    --duration 40 --idle 2 --min-poses 100 --expect-status "no-pipe|few-points" --max-dropped 0
+    --duration $rx_max --idle 2 --min-poses 50 --expect-status "no-pipe|few-points"
 p1=$RX_PORT
 start_rx rx2 --truth sim --calib "$CALIB" --set radius=10 --set sim.rate=50 \
-    --duration 40 --idle 2 --min-poses 100 --expect-status "no-pipe|few-points"
+    --duration $rx_max --idle 2 --min-poses 50 --expect-status "no-pipe|few-points"
 p2=$RX_PORT
 start_cdspd d1 "${common[@]}" --dest 127.0.0.1:$p1 --dest localhost:$p2 --duration 4
-wait_for "$d1_pid" 30; rc=$?
+wait_for "$d1_pid" $rx_max; rc=$?
 [ $rc -eq 0 ] || fail "cdspd exit status $rc, expected 0 after --duration"
 wait_for "$rx1_pid" 10 || fail "receiver 1"
 wait_for "$rx2_pid" 10 || fail "receiver 2"
@@ -33,38 +42,38 @@ grep -q "final: " "$work/d1.log" || fail "no final statistics line"
 
 echo "--- 2. JSON"
 start_rx rx3 --json --truth sim --calib "$CALIB" --set radius=10 --set sim.rate=50 \
-    --duration 40 --idle 2 --min-poses 40
+    --duration $rx_max --idle 2 --min-poses 40
 start_cdspd d2 "${common[@]}" --dest 127.0.0.1:$RX_PORT --format json --duration 1.5
-wait_for "$d2_pid" 30 || fail "cdspd (json) exit status $?"
+wait_for "$d2_pid" $rx_max || fail "cdspd (json) exit status $?"
 wait_for "$rx3_pid" 10 || fail "receiver (json)"
 cat "$work/rx3.out"
 
 echo "--- 3. record, then replay with file:"
 rec=$work/rec
-start_rx rx4 --duration 40 --idle 2
+start_rx rx4 --duration $rx_max --idle 2
 start_cdspd d3 "${common[@]}" --set sim.frames=16 --dest 127.0.0.1:$RX_PORT --duration 1.5 \
     --record "$rec" --set record_every=1
-wait_for "$d3_pid" 30 || fail "cdspd (record) exit status $?"
+wait_for "$d3_pid" $rx_max || fail "cdspd (record) exit status $?"
 wait_for "$rx4_pid" 10 || fail "receiver (record)"
 n_pgm=$(ls "$rec"/*.pgm 2>/dev/null | wc -l)
 jsonl=$(ls "$rec"/*.jsonl)
 n_json=$(wc -l <"$jsonl")
 echo "recorded $n_pgm frames, $n_json results"
 [ "$n_pgm" -ge 20 ] && [ "$n_pgm" -eq "$n_json" ] || fail "recorded $n_pgm frames and $n_json results"
-start_rx rx5 --compare-jsonl "$jsonl" --duration 40 --idle 2 --max-dropped 0
+start_rx rx5 --compare-jsonl "$jsonl" --duration $rx_max --idle 2 --max-dropped 0
 start_cdspd d4 --calib "$CALIB" --radius 10 --source "file:$rec/*.pgm" --set file.rate=100 \
     --dest 127.0.0.1:$RX_PORT --set stats_interval=0
-wait_for "$d4_pid" 30; rc=$?
+wait_for "$d4_pid" $rx_max; rc=$?
 [ $rc -eq 0 ] || fail "cdspd replaying a recording: exit status $rc, expected 0 at its end"
 grep -q "no more frames" "$work/d4.log" || fail "the file source did not report its end"
 wait_for "$rx5_pid" 10 || fail "replay differs from the recording"
 cat "$work/rx5.out"
 
 echo "--- 4. a slow source: no-frame statuses"
-start_rx rx6 --duration 40 --idle 2 --expect-status no-frame --min-expect 4
+start_rx rx6 --duration $rx_max --idle 2 --expect-status no-frame --min-expect 4
 start_cdspd d5 --calib "$CALIB" --radius 10 --source "file:$rec/*.pgm" --set file.rate=2 \
     --set status_interval=0.1 --dest 127.0.0.1:$RX_PORT --duration 2.2
-wait_for "$d5_pid" 30 || fail "cdspd (slow file) exit status $?"
+wait_for "$d5_pid" $rx_max || fail "cdspd (slow file) exit status $?"
 wait_for "$rx6_pid" 10 || fail "no-frame statuses"
 cat "$work/rx6.out"
 
@@ -72,13 +81,13 @@ cat "$work/rx6.out"
 read -r -a listen <<<"${CDSP_LISTEN:-}"
 if [ ${#listen[@]} -gt 0 ] && [ -x "${listen[0]}" ]; then
     echo "--- 5. cdsp_tool listen"
-    "${listen[@]}" 127.0.0.1:0 --count 20 --duration 30 >"$work/listen.out" 2>"$work/listen.err" &
+    "${listen[@]}" 127.0.0.1:0 --count 20 --duration $rx_max >"$work/listen.out" 2>"$work/listen.err" &
     lpid=$!; pids+=("$lpid")
     wait_log "$work/listen.err" "(port [0-9]*)" 5 || fail "the listener did not start"
     lport=$(sed -n 's/.*(port \([0-9]*\)).*/\1/p' "$work/listen.err")
     start_cdspd d6 "${common[@]}" --set sim.frames=8 --set sim.away=0 --dest 127.0.0.1:$lport --duration 3
-    wait_for "$lpid" 30 || fail "cdsp_tool listen exit status $?"
-    wait_for "$d6_pid" 30 || fail "cdspd (listen) exit status $?"
+    wait_for "$lpid" $rx_max || fail "cdsp_tool listen exit status $?"
+    wait_for "$d6_pid" $rx_max || fail "cdspd (listen) exit status $?"
     head -3 "$work/listen.out"
     n_ok=$(grep -c ' ok  P_C (' "$work/listen.out")
     [ "$n_ok" -ge 15 ] || fail "the listener printed $n_ok poses of 20 datagrams"
@@ -88,10 +97,10 @@ fi
 if [ -n "${MALLOC_COUNT:-}" ]; then
     echo "--- 6. no allocation per frame in steady state"
     for d in 1 4; do
-        start_rx rxm$d --duration 40 --idle 2
+        start_rx rxm$d --duration $rx_max --idle 2
         LD_PRELOAD=$MALLOC_COUNT start_cdspd m$d "${common[@]}" --set sim.frames=8 --set sim.rate=200 \
             --dest 127.0.0.1:$RX_PORT --duration $d
-        wait_for "$(eval echo \$m${d}_pid)" 30 || fail "cdspd (malloc count) exit status $?"
+        wait_for "$(eval echo \$m${d}_pid)" $rx_max || fail "cdspd (malloc count) exit status $?"
         wait_for "$(eval echo \$rxm${d}_pid)" 10 || fail "receiver (malloc count)"
         eval "n$d=\$(sed -n 's/^malloc_count: //p' \"\$work/m$d.log\")"
         eval "f$d=\$(sed -n 's/.*total: in \([0-9]*\),.*/\1/p' \"\$work/m$d.log\")"

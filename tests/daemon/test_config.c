@@ -297,12 +297,61 @@ static void test_dest_syntax(void **state)
     }
 }
 
+/* The MAVLink and mount keys (docs/mavlink.md): values, and errors that
+ * name the file's line and the key. */
+static void test_mavlink_keys(void **state)
+{
+    static cdspd_config c;
+    char err[1024], text[1024];
+    const char *path;
+    static const struct {
+        const char *text, *frag1, *frag2;
+    } bad[] = {
+        {"mavlink: [\"udpout://127.0.0.1\"]\n", "bad.yaml:1:1: key 'mavlink'", "udpout://HOST:PORT"},
+        {"mavlink: [\"udpout://h:70000\"]\n", "key 'mavlink'", "PORT 1..65535"},
+        {"mavlink: [\"serial:///dev/ttyS0:12345\"]\n", "baud rate '12345'", NULL},
+        {"mavlink: [\"serial://ttyS0:57600\"]\n", "serial:///dev/DEVICE:BAUD", NULL},
+        {"mavlink: [\"tcp://1.2.3.4:5760\"]\n", "expected udpout://", NULL},
+        {"\nmount: sideways\n", "bad.yaml:2:8: key 'mount': unknown preset 'sideways'", NULL},
+        {"mount: [down, 1, 2]\n", "key 'mount': expected PRESET", NULL},
+        {"mount: [0, -90, 0, 0, 0, x]\n", "key 'mount': item 6", NULL},
+        {"mavlink_component_id: 256\n", "key 'mavlink_component_id'", "[1, 255]"},
+        {"mavlink_rate: -1\n", "key 'mavlink_rate'", NULL},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        expect_file_error(bad[i].text, bad[i].frag1, bad[i].frag2);
+    snprintf(text, sizeof text,
+             "calib: %s\nradius: 3\n"
+             "mavlink: [\"udpout://127.0.0.1:14550\", \"serial_flowcontrol:///dev/ttyUSB0:921600\"]\n"
+             "mavlink_system_id: 2\nmavlink_component_id: 192\nmavlink_rate: 12.5\n"
+             "mavlink_position: false\nmount: [down-aft, 10, -20, 30]\n",
+             calib_path);
+    path = write_file("mav.yaml", text);
+    cdspd_config_defaults(&c);
+    assert_true(c.mavlink_system_id == 1 && c.mavlink_component_id == 191 && c.mavlink_position_valid);
+    if (cdspd_config_load_file(&c, path, err, sizeof err) || cdspd_config_finish(&c, err, sizeof err))
+        fail_msg("%s", err); /* no dest: a MAVLink link is enough */
+    assert_int_equal(c.n_dest, 0);
+    assert_int_equal(c.n_mavlink, 2);
+    assert_string_equal(c.mavlink[1], "serial_flowcontrol:///dev/ttyUSB0:921600");
+    assert_int_equal(c.mavlink_system_id, 2);
+    assert_int_equal(c.mavlink_component_id, 192);
+    assert_true(c.mavlink_rate == 12.5 && !c.mavlink_position_valid);
+    assert_true(c.mount[0] == 0 && c.mount[1] == -90 && c.mount[2] == 180);
+    assert_true(c.mount[3] == 10 && c.mount[4] == -20 && c.mount[5] == 30);
+    assert_int_equal(cdspd_config_set(&c, "mount", "[1, 2, 3, 4, 5, 6]", "t", err, sizeof err), 0);
+    assert_true(c.mount[0] == 1 && c.mount[5] == 6);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults),       cmocka_unit_test(test_file),
         cmocka_unit_test(test_file_errors),    cmocka_unit_test(test_finish_errors),
         cmocka_unit_test(test_dump_round_trip), cmocka_unit_test(test_dest_syntax),
+        cmocka_unit_test(test_mavlink_keys),
     };
     return cmocka_run_group_tests_name("daemon-config", tests, setup, NULL);
 }

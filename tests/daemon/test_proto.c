@@ -19,8 +19,8 @@
 static void random_record(cdsp_rng *g, cdspd_record *r, int ok)
 {
     double *d[] = {r->point, r->direction, &r->lines[0][0], &r->segment[0][0], r->sigma_point,
-                   r->sigma_direction, r->rms};
-    int nd[] = {3, 3, 6, 6, 3, 3, 2}, i, k;
+                   r->sigma_direction, r->rms, r->point_body, r->direction_body};
+    int nd[] = {3, 3, 6, 6, 3, 3, 2, 3, 3}, i, k;
     memset(r, 0, sizeof *r);
     r->version = CDSPD_PROTO_VERSION;
     r->kind = ok ? CDSPD_KIND_FRAME : CDSPD_KIND_STATUS;
@@ -32,7 +32,7 @@ static void random_record(cdsp_rng *g, cdspd_record *r, int ok)
     r->t_host_us = ((uint64_t)cdsp_rng_u32(g) << 19) ^ cdsp_rng_u32(g);
     r->radius = 8.25;
     if (ok) {
-        for (i = 0; i < 7; i++)
+        for (i = 0; i < 9; i++)
             for (k = 0; k < nd[i]; k++)
                 d[i][k] = 1000 * ((double)cdsp_rng_uniform(g) - 0.5) / (1 + k);
         r->distance = 123.456789012345;
@@ -41,6 +41,7 @@ static void random_record(cdsp_rng *g, cdspd_record *r, int ok)
         r->inliers[0] = cdsp_rng_below(g, 5000);
         r->inliers[1] = cdsp_rng_below(g, 5000);
         r->n_edges = cdsp_rng_below(g, 16384);
+        r->confidence = (double)cdsp_rng_uniform(g);
     }
     r->proc_us = cdsp_rng_below(g, 100000);
     r->latency_us = cdsp_rng_below(g, 100000);
@@ -80,6 +81,9 @@ static void assert_records_equal(const cdspd_record *a, const cdspd_record *b)
     assert_int_equal(a->frames_dropped, b->frames_dropped);
     assert_int_equal(a->frames_bad, b->frames_bad);
     assert_int_equal(a->reconnects, b->reconnects);
+    assert_memory_equal(a->point_body, b->point_body, sizeof a->point_body);
+    assert_memory_equal(a->direction_body, b->direction_body, sizeof a->direction_body);
+    assert_memory_equal(&a->confidence, &b->confidence, sizeof a->confidence);
 }
 
 /* The byte table of docs/protocol.md, checked with hand-made values. */
@@ -113,14 +117,18 @@ static void test_layout(void **state)
     r.frames_dropped = 10;
     r.frames_bad = 11;
     r.reconnects = 12;
+    r.point_body[1] = 1.0;
+    r.direction_body[2] = -2.0;
+    r.confidence = -2.0;
     assert_int_equal(cdspd_proto_encode(&r, b, CDSPD_PROTO_SIZE - 1), 0);
     assert_int_equal(cdspd_proto_encode(&r, b, sizeof b), CDSPD_PROTO_SIZE);
-    assert_int_equal(CDSPD_PROTO_SIZE, 320);
+    assert_int_equal(CDSPD_PROTO_SIZE, 376);
     assert_memory_equal(b, "CDSP", 4);
-    assert_int_equal(b[4], 1);
+    assert_int_equal(b[4], 2);
     assert_int_equal(b[5], CDSPD_KIND_FRAME);
-    assert_int_equal(b[6], 320 & 0xFF);
-    assert_int_equal(b[7], 320 >> 8);
+    assert_int_equal(b[6], 376 & 0xFF);
+    assert_int_equal(b[7], 376 >> 8);
+    assert_memory_equal(b + 368, minus2_le, 8); /* confidence (version 2) */
     assert_int_equal(b[8], 0x04);
     assert_int_equal(b[11], 0x01);
     assert_int_equal(b[12], 0xFA); /* -6, two's complement */
@@ -148,6 +156,8 @@ static void test_layout(void **state)
     assert_int_equal(b[308], 10);
     assert_int_equal(b[312], 11);
     assert_int_equal(b[316], 12);
+    assert_memory_equal(b + 328, one_le, 8);    /* point_body y */
+    assert_memory_equal(b + 360, minus2_le, 8); /* direction_body z */
 }
 
 static void test_binary_round_trip(void **state)
@@ -163,7 +173,7 @@ static void test_binary_round_trip(void **state)
         random_record(&g, &a, i % 3 != 0);
         assert_int_equal(cdspd_proto_encode(&a, buf, sizeof buf), CDSPD_PROTO_SIZE);
         assert_int_equal(cdspd_proto_decode(buf, sizeof buf, &b, &why), 0);
-        assert_int_equal(b.version, 1);
+        assert_int_equal(b.version, 2);
         assert_records_equal(&a, &b);
     }
 }
@@ -186,23 +196,34 @@ static void test_binary_rejects(void **state)
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     assert_non_null(strstr(why, "magic"));
     buf[0] = 'C';
-    buf[4] = 2;
+    buf[4] = 3;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     assert_non_null(strstr(why, "version"));
-    buf[4] = 1;
+    buf[4] = 2;
     buf[5] = 9;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     buf[5] = CDSPD_KIND_FRAME;
-    buf[6] = (uint8_t)(319 & 0xFF);
-    buf[7] = 319 >> 8;
+    buf[6] = (uint8_t)(375 & 0xFF);
+    buf[7] = 375 >> 8;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     /* a longer record of a later revision: fields appended, still read */
-    buf[6] = (uint8_t)(400 & 0xFF);
-    buf[7] = 400 >> 8;
+    buf[6] = (uint8_t)(448 & 0xFF);
+    buf[7] = 448 >> 8;
     memset(buf + CDSPD_PROTO_SIZE, 0x5A, 80);
-    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 400, has 320 */
-    assert_int_equal(cdspd_proto_decode(buf, 400, &b, &why), 0);
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 448, has 376 */
+    assert_int_equal(cdspd_proto_decode(buf, 448, &b, &why), 0);
     assert_records_equal(&a, &b);
+    /* a version-1 record (320 bytes) of an older cdspd: read, no body fields */
+    buf[4] = 1;
+    buf[6] = (uint8_t)(320 & 0xFF);
+    buf[7] = 320 >> 8;
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE_V1, &b, &why), 0);
+    assert_int_equal(b.version, 1);
+    assert_true(b.point_body[0] == 0 && b.direction_body[2] == 0);
+    assert_memory_equal(a.point, b.point, sizeof a.point);
+    buf[6] = (uint8_t)(319 & 0xFF);
+    buf[7] = 319 >> 8;
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE_V1, &b, &why), -1);
 }
 
 static void test_json_round_trip(void **state)

@@ -22,7 +22,7 @@ for run in "GREY loss" "YUYV plain"; do
     set -- $run
     fourcc=$1 mode=$2
     echo "=== v4l2 $fourcc ($mode) in the VM"
-    tests/vm/run-in-vm.sh --timeout "${VM_TIMEOUT:-240}" --format "320x240:$fourcc" \
+    tests/vm/run-in-vm.sh --timeout "${VM_TIMEOUT:-1200}" --format "320x240:$fourcc" \
         --file "$cdspd:/bin/cdspd" --file "$rx:/bin/cdspd_rx" --file "$feed:/bin/v4l2_feed" \
         --file "tests/daemon/vm_inner.sh:/bin/vm_inner.sh" --file "$work/cam.yaml:/etc/cdspd-cam.yaml" \
         -- sh /bin/vm_inner.sh "$fourcc" "$mode" || rc=1

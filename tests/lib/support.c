@@ -314,10 +314,11 @@ void *sup_render(const cdsp_scene *s, const cdsp_camera *cam, int bits, uint64_t
 {
     size_t bpp = bits <= 8 ? 1 : 2, nscr = cdsp_render_scratch_size(cam->width, cam->height);
     void *buf = malloc((size_t)cam->width * (size_t)cam->height * bpp);
-    float *scr = s->blur_sigma_px > 0 ? malloc(nscr * sizeof(float)) : NULL;
+    int need = s->blur_sigma_px > 0 || s->motion_px[0] != 0 || s->motion_px[1] != 0;
+    float *scr = need ? malloc(nscr * sizeof(float)) : NULL;
     cdsp_rng rng;
     cdsp_rng_seed(&rng, seed, 7);
-    if (!buf || (s->blur_sigma_px > 0 && !scr) ||
+    if (!buf || (need && !scr) ||
         cdsp_render(s, cam, buf, 0, bits, scr, nscr, &rng) != CDSP_OK) {
         free(buf);
         free(scr);
@@ -337,4 +338,175 @@ double sup_now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void sup_edge_spec_default(sup_edge_spec *e)
+{
+    memset(e, 0, sizeof *e);
+    e->width = e->height = 128;
+    e->bits = 8;
+    e->radius_px = 80;
+    e->pipe = 160;
+    e->background = 60;
+    e->ambient = 1;
+    e->light_v = 1;
+    e->blur_px = 0.7;
+    e->spec_width = 1;
+    e->seed = 1;
+}
+
+static void edge_normal(const sup_edge_spec *e, double n[2])
+{
+    double a = e->angle_deg * SUP_PI / 180;
+    /* contour direction (sin a, cos a); the pipe on the side of (cos a, -sin a) */
+    n[0] = cos(a);
+    n[1] = -sin(a);
+}
+
+double sup_edge_u(const sup_edge_spec *e, double x, double y)
+{
+    double n[2];
+    edge_normal(e, n);
+    return (x - (e->width - 1) / 2.0) * n[0] + (y - (e->height - 1) / 2.0) * n[1] - e->offset_px;
+}
+
+/* The unblurred scene at distance u from the silhouette. */
+static double edge_scene(const sup_edge_spec *e, double u)
+{
+    double c, s, sh, lit;
+    if (u < 0)
+        return e->background;
+    c = 1 - u / e->radius_px;
+    if (c < -1)
+        c = -1; /* beyond the far limb: the pipe's middle continues (never reached in a frame) */
+    s = sqrt(1 - c * c);
+    lit = e->light_n * c + e->light_v * s;
+    sh = e->ambient + (1 - e->ambient) * (lit > 0 ? lit : 0);
+    return e->pipe * sh +
+           e->spec_amp * exp(-0.5 * (u - e->spec_u) * (u - e->spec_u) / (e->spec_width * e->spec_width));
+}
+
+/* In place: mean over [u - w/2, u + w/2] on a grid of spacing h (the exact
+ * box average of the piecewise-linear function through the samples, from
+ * its running integral). Ends replicate. */
+static void box_filter(double *f, double *tmp, int n, double h, double w)
+{
+    int i;
+    double *cum = tmp;
+    if (w <= 1e-9)
+        return;
+    cum[0] = 0;
+    for (i = 1; i < n; i++)
+        cum[i] = cum[i - 1] + 0.5 * (f[i - 1] + f[i]) * h;
+    for (i = 0; i < n; i++) {
+        double lo = i * h - w / 2, hi = i * h + w / 2, c[2], pos[2] = {lo, hi};
+        int k;
+        for (k = 0; k < 2; k++) {
+            double t = pos[k] / h;
+            int j = (int)floor(t);
+            if (j < 0)
+                c[k] = cum[0] + (pos[k]) * f[0];
+            else if (j >= n - 1)
+                c[k] = cum[n - 1] + (pos[k] - (n - 1) * h) * f[n - 1];
+            else {
+                double fr = t - j, fj = f[j] + (f[j + 1] - f[j]) * fr;
+                c[k] = cum[j] + 0.5 * (f[j] + fj) * fr * h;
+            }
+        }
+        f[n + i] = (c[1] - c[0]) / w; /* the upper half of the buffer holds the result */
+    }
+    memcpy(f, f + n, (size_t)n * sizeof *f);
+}
+
+void *sup_edge_render(const sup_edge_spec *e, cdsp_image *img, double n_pipe[2], double l[3])
+{
+    const double h = 1.0 / 32, U = 0.5 * sqrt((double)e->width * e->width + (double)e->height * e->height) +
+                                  fabs(e->offset_px) + 4;
+    int n = 2 * (int)ceil(U / h) + 1, i, x, y, rad = (int)ceil(4 * e->blur_px / h);
+    double *f = malloc(sizeof(double) * (size_t)n * 2), *g = malloc(sizeof(double) * (size_t)n * 2);
+    double nn[2], full = (double)((1L << e->bits) - 1), u0 = -(n / 2) * h, rc2;
+    size_t bpp = e->bits <= 8 ? 1 : 2;
+    void *buf = malloc((size_t)e->width * (size_t)e->height * bpp);
+    cdsp_rng rng;
+    if (!f || !g || !buf) {
+        free(f);
+        free(g);
+        free(buf);
+        return NULL;
+    }
+    edge_normal(e, nn);
+    /* the samples stand for the piecewise-linear scene through them: the
+     * one at u = 0 takes the mean of both sides so the step's midpoint
+     * stays at u = 0 (not h/2 to one side) */
+    for (i = 0; i < n; i++)
+        f[i] = i == n / 2 ? 0.5 * (e->background + edge_scene(e, 0)) : edge_scene(e, u0 + i * h);
+    /* pixel footprint on the normal, then the motion box */
+    box_filter(f, g, n, h, fabs(nn[0]));
+    box_filter(f, g, n, h, fabs(nn[1]));
+    box_filter(f, g, n, h, e->motion_px * fabs(cos(e->motion_deg * SUP_PI / 180)));
+    if (e->blur_px > 0) {
+        double *k = malloc(sizeof(double) * (size_t)(2 * rad + 1)), ks = 0;
+        if (!k) {
+            free(f);
+            free(g);
+            free(buf);
+            return NULL;
+        }
+        for (i = -rad; i <= rad; i++)
+            ks += k[i + rad] = exp(-0.5 * (i * h / e->blur_px) * (i * h / e->blur_px));
+        for (i = 0; i < n; i++) {
+            double acc = 0;
+            int j;
+            for (j = -rad; j <= rad; j++) {
+                int idx = i + j < 0 ? 0 : (i + j >= n ? n - 1 : i + j);
+                acc += k[j + rad] * f[idx];
+            }
+            g[i] = acc / ks;
+        }
+        memcpy(f, g, (size_t)n * sizeof *f);
+        free(k);
+    }
+    cdsp_rng_seed(&rng, e->seed, 11);
+    rc2 = ((e->width - 1) / 2.0) * ((e->width - 1) / 2.0) + ((e->height - 1) / 2.0) * ((e->height - 1) / 2.0);
+    for (y = 0; y < e->height; y++)
+        for (x = 0; x < e->width; x++) {
+            double u = sup_edge_u(e, x, y), t = (u - u0) / h, v, dx = x - (e->width - 1) / 2.0,
+                   dy = y - (e->height - 1) / 2.0;
+            int j = (int)floor(t);
+            long q;
+            if (j < 0)
+                j = 0;
+            if (j > n - 2)
+                j = n - 2;
+            v = f[j] + (f[j + 1] - f[j]) * (t - j);
+            v *= 1 - e->vignette * (dx * dx + dy * dy) / rc2;
+            if (e->noise > 0)
+                v += e->noise * (double)cdsp_rng_normal(&rng);
+            q = (long)floor(v + 0.5);
+            q = q < 0 ? 0 : (q > (long)full ? (long)full : q);
+            if (bpp == 1)
+                ((unsigned char *)buf)[(size_t)y * (size_t)e->width + (size_t)x] = (unsigned char)q;
+            else
+                ((uint16_t *)buf)[(size_t)y * (size_t)e->width + (size_t)x] = (uint16_t)q;
+        }
+    free(f);
+    free(g);
+    img->data = buf;
+    img->width = e->width;
+    img->height = e->height;
+    img->stride = (size_t)e->width * bpp;
+    img->bits = e->bits;
+    if (n_pipe) {
+        n_pipe[0] = nn[0];
+        n_pipe[1] = nn[1];
+    }
+    if (l) {
+        /* u = n.(p - c) - offset; brighter side at the silhouette: the pipe's
+         * limb value against the background */
+        double sgn = edge_scene(e, 1e-9) >= e->background ? 1 : -1;
+        l[0] = sgn * nn[0];
+        l[1] = sgn * nn[1];
+        l[2] = -sgn * (nn[0] * (e->width - 1) / 2.0 + nn[1] * (e->height - 1) / 2.0 + e->offset_px);
+    }
+    return buf;
 }

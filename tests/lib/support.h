@@ -78,6 +78,46 @@ void *sup_render(const cdsp_scene *s, const cdsp_camera *cam, int bits, uint64_t
 /* A scene with the pipe (point, dir, radius) and the default look. */
 void sup_scene(cdsp_scene *s, const double point[3], const double dir[3], double radius);
 
+/* A straight limb of a shaded pipe as an exact small frame, for studies of
+ * an edge's profile without the full renderer: the scene depends only on
+ * the signed distance u from the silhouette (u > 0 on the pipe), so the
+ * frame is that 1D scene convolved with the optical Gaussian, the motion
+ * blur's box (its length times |cos| of its angle to the contour normal;
+ * motion along the contour changes nothing on a straight edge) and the
+ * pixel's footprint projected on the normal (boxes |n_x| and |n_y| wide),
+ * computed on a 1/32 px grid and sampled at the pixel centres. The pipe
+ * side is a Lambertian cylinder of radius radius_px seen side on: at the
+ * angle phi from the limb (cos phi = 1 - u / radius_px) its normal is
+ * cos(phi) n_out + sin(phi) v, so the shading is
+ *   ambient + (1 - ambient) max(0, light_n cos(phi) + light_v sin(phi)),
+ * plus an optional specular stripe (Gaussian in u); vignetting multiplies
+ * by 1 - vignette (r / r_corner)^2. Levels in gray levels of the output;
+ * values clamp to [0, 2^bits - 1] (a saturation plateau when above). */
+typedef struct {
+    int width, height, bits;
+    double angle_deg;           /* contour direction from the v axis */
+    double offset_px;           /* silhouette's distance from the frame centre along n */
+    double radius_px;           /* limb curvature radius (the pipe's image radius) */
+    double pipe, background;    /* albedo level of the pipe, background level */
+    double ambient, light_n, light_v;
+    double blur_px;             /* optical Gaussian sigma */
+    double motion_px, motion_deg; /* box length; its angle to the contour normal */
+    double spec_amp, spec_u, spec_width; /* specular stripe: amplitude, centre, sigma */
+    double vignette;
+    double noise;               /* Gaussian noise sigma, gray levels */
+    uint64_t seed;
+} sup_edge_spec;
+
+/* Defaults: 128 x 128, 8 bit, vertical, flat (ambient 1), pipe 160 on 60,
+ * radius 80 px, blur 0.7 px, no motion, stripe, vignetting or noise. */
+void sup_edge_spec_default(sup_edge_spec *e);
+/* Render into a newly allocated frame (NULL on failure); n_pipe receives
+ * the unit normal toward the pipe and l the true silhouette line oriented
+ * as cdsp_line (toward the brighter side at the silhouette). */
+void *sup_edge_render(const sup_edge_spec *e, cdsp_image *img, double n_pipe[2], double l[3]);
+/* Signed distance of pixel (x, y) from the silhouette, toward the pipe. */
+double sup_edge_u(const sup_edge_spec *e, double x, double y);
+
 /* Monotonic time in seconds. */
 double sup_now(void);
 

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <math.h>
 #include <string.h>
+#include <stdio.h>
 #include <cmocka.h>
 #include "support.h"
 
@@ -286,6 +287,127 @@ static void test_reproducible_and_args(void **state)
     assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_OK);
 }
 
+/* The scene options the detection tests need (background ramp, specular
+ * highlight, linear motion blur), each against its own formula on a flat,
+ * noise-free 16-bit frame of a vertical pipe (no distortion: pixel = ray).
+ * 16-bit rounding is 0.5/65535 = 7.6e-6 of full scale. */
+typedef struct {
+    const char *what;
+    double ramp_u, ramp_v, specular, motion;
+} option_case;
+
+static void scene_option(const option_case *c)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_image img;
+    double P[3] = {0, 0, 300}, v[3] = {0, 1, 0}, l[2][3], pin[2];
+    const double IB = 0.2, IP = 0.6;
+    uint16_t *px;
+    int W = 320, Hh = 240;
+    sup_camera(&cam, W, Hh, 300, 0, 0);
+    sup_scene(&s, P, v, 8);
+    s.ambient = 1;
+    s.texture = 0;
+    s.noise_sigma = 0;
+    s.blur_sigma_px = 0;
+    s.background_level = (cdsp_real)IB;
+    s.pipe_level = (cdsp_real)IP;
+    s.background_ramp[0] = (cdsp_real)c->ramp_u;
+    s.background_ramp[1] = (cdsp_real)c->ramp_v;
+    s.specular = (cdsp_real)c->specular;
+    s.specular_exp = 20;
+    s.light[0] = 0;
+    s.light[1] = 0;
+    s.light[2] = -1;
+    s.motion_px[0] = (cdsp_real)c->motion;
+    px = sup_render(&s, &cam, 16, 1, &img);
+    assert_non_null(px);
+    assert_true(sup_contour_lines(&cam, P, v, 8, l, pin));
+    if (c->ramp_u != 0 || c->ramp_v != 0) {
+        /* background corners: level + ramp . (pixel - principal point) */
+        static const int at[4][2] = {{5, 5}, {300, 10}, {20, 230}, {310, 200}};
+        int i;
+        for (i = 0; i < 4; i++) {
+            double want = IB + c->ramp_u * (at[i][0] - (double)cam.cx) + c->ramp_v * (at[i][1] - (double)cam.cy);
+            double got = px[at[i][1] * W + at[i][0]] / 65535.0;
+            if (fabs(got - want) > 1e-5)
+                fail_msg("%s: background at (%d, %d) is %.6f, want %.6f", c->what, at[i][0], at[i][1], got, want);
+        }
+    }
+    if (c->specular > 0) {
+        /* Light and view both along -Z at the row through the principal
+         * point: h = (0, 0, -1), so n.h = cos(theta) for a surface normal
+         * theta from the view; pixel centres are at most half a pixel
+         * (1 mm at 300 mm, theta <= 0.5/8 rad) from the crest, so the peak
+         * is specular * cos(1/16)^20 >= 0.961 specular. Near the limb
+         * (theta ~ 60 deg) the highlight is below 1e-6. */
+        int y = (int)lround((double)cam.cy), x, xl = (int)floor(-l[0][2] / l[0][0]), xr = (int)ceil(-l[1][2] / l[1][0]);
+        double peak = 0, lo = xl < xr ? xl : xr, hi = xl < xr ? xr : xl, limb;
+        for (x = (int)lo + 2; x <= (int)hi - 2; x++)
+            if (px[y * W + x] / 65535.0 > peak)
+                peak = px[y * W + x] / 65535.0;
+        if (peak < IP + 0.961 * c->specular || peak > IP + c->specular + 1e-5)
+            fail_msg("%s: highlight peak %.5f, want %.5f..%.5f", c->what, peak, IP + 0.961 * c->specular,
+                     IP + c->specular);
+        /* a pixel whose centre sees the surface at ~60 degrees: x = 7 mm of 8 */
+        limb = px[y * W + (int)lround((double)cam.cx + 7.0 * 300 / 292)] / 65535.0;
+        if (fabs(limb - IP) > 1e-5)
+            fail_msg("%s: off the stripe %.6f, want %.6f", c->what, limb, IP);
+    }
+    if (c->motion > 0) {
+        /* A horizontal box of length L over an area-sampled vertical edge:
+         * the pixel at offset e from it becomes IB + (IP - IB)(1/2 + e/L)
+         * for |e| <= (L - 1)/2 (a box of L convolved with the pixel's box);
+         * linear interpolation between pixel centres is exact on that
+         * linear stretch, so only 16-bit rounding remains: 7.6e-6 / 0.4
+         * contrast = 1.9e-5 (measured 1.5e-5; allowed 5e-5). The window
+         * sum, and so the edge position from it, is kept exactly:
+         * interpolated shifts of a sampled profile keep its sum
+         * (telescoping); 19 rounded pixels give <= 3.6e-4 px (measured
+         * 2.3e-5; allowed 4e-4). */
+        double L = c->motion, worst_ramp = 0, worst_pos = 0;
+        int y, k;
+        for (y = 60; y < 180; y += 7)
+            for (k = 0; k < 2; k++) {
+                double xe = -(l[k][1] * y + l[k][2]) / l[k][0], S = 0, IL, IR, est;
+                int i0 = (int)floor(xe) - 9, i1 = (int)floor(xe) + 9, i;
+                IL = l[k][0] > 0 ? IB : IP;
+                IR = l[k][0] > 0 ? IP : IB;
+                for (i = i0; i <= i1; i++) {
+                    double val = px[y * W + i] / 65535.0, e = i - xe;
+                    S += val;
+                    if (fabs(e) <= (L - 1) / 2) {
+                        double frac = (val - IL) / (IR - IL), want = 0.5 + e / L;
+                        if (fabs(frac - want) > worst_ramp)
+                            worst_ramp = fabs(frac - want);
+                    }
+                }
+                est = (S + IL * (i0 - 0.5) - IR * (i1 + 0.5)) / (IL - IR);
+                if (fabs(est - xe) > worst_pos)
+                    worst_pos = fabs(est - xe);
+            }
+        if (worst_ramp > 5e-5 || worst_pos > 4e-4)
+            fail_msg("%s: ramp off by %.4f of the contrast, edge moved %.4f px", c->what, worst_ramp, worst_pos);
+    }
+    free(px);
+}
+
+static void test_scene_options(void **state)
+{
+    static const option_case cases[] = {
+        {"ramp along u", 4e-4, 0, 0, 0},
+        {"ramp along u and v", -3e-4, 5e-4, 0, 0},
+        {"specular stripe", 0, 0, 0.3, 0},
+        {"motion blur 6 px", 0, 0, 0, 6},
+        {"motion blur 4 px", 0, 0, 0, 4},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        scene_option(&cases[i]);
+}
+
 /* The library's exact contours agree with the test's own. */
 static void test_cylinder_contours(void **state)
 {
@@ -327,6 +449,7 @@ int main(void)
         cmocka_unit_test(test_noise_and_depth),
         cmocka_unit_test(test_reproducible_and_args),
         cmocka_unit_test(test_cylinder_contours),
+        cmocka_unit_test(test_scene_options),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);
 }

@@ -28,7 +28,7 @@ MCU_DIR   := $(BUILD)/mcu
 # cdsp_frame_ws alone would be 272 KiB (float) / 528 KiB (double).
 MCU_FW_EDGES := 1024
 # Seconds one emulator run may take before it counts as hung.
-MCU_TIMEOUT ?= 60
+MCU_TIMEOUT ?= 600
 
 MCU_BASE := $(CSTD) $(WARN) -fno-math-errno -Iinclude -MMD -MP -Os -g \
             -ffunction-sections -fdata-sections

@@ -15,7 +15,7 @@
 # Usage: tests/vm/run-in-vm.sh [options] -- CMD [ARGS...]
 #   --file HOSTPATH:VMPATH  copy a file into the VM (repeatable); an ELF file
 #                           brings its shared libraries (ldd) along
-#   --timeout SECONDS       hard limit on the VM run (default 240)
+#   --timeout SECONDS       hard limit on the VM run (default 1200)
 #   --format WxH:FOURCC     format set on both vivid nodes (default 640x480:GREY)
 #   --log FILE              keep the console log there (default: a temp file)
 # Inside the VM the command runs as root in /, with CDSP_VIVID_CAP and
@@ -39,7 +39,7 @@ die() { echo "$prog: $2" >&2; exit "$1"; }
 usage() { sed -n '15,31p' "$0" | sed 's/^# \{0,1\}//' >&2; exit 2; }
 
 files=()
-timeout_s=240
+timeout_s=1200
 format=640x480:GREY
 log=""
 while [ $# -gt 0 ]; do

@@ -41,6 +41,8 @@ static const cdsp_host_field pose_fields[] = {
      "found by searching the whole frame or ROI (no prior, or tracking lost the pipe)"},
     {"truncated", CDSP_HOST_FIELD_FLAG, R(flags), CDSP_FLAG_TRUNCATED,
      "more edge points than libcdsp keeps (CDSP_MAX_EDGES)"},
+    {"confidence", CDSP_HOST_FIELD_REAL, R(confidence), 0,
+     "0..1, how sure libcdsp is that this is the pipe (include/cdsp.h, \"The pair score\")"},
 };
 
 const cdsp_host_field *cdsp_host_pose_fields(size_t *n)

@@ -1,0 +1,648 @@
+/*
+ * profile.c - the edge-profile model: a contour's silhouette from the
+ * intensity profile across it, accumulated along the whole contour.
+ *
+ * Why. The partial-area detector (edges.c) is exact for a step between two
+ * flat sides seen through a symmetric blur narrower than its window. Real
+ * pipes have neither: a Lambertian limb's intensity changes like the square
+ * root of the distance from the limb, a motion blur can be wider than the
+ * window, and at 45 degrees the window's rows meet the shading at other
+ * distances than at 0. Each bias is a fraction of a pixel that the line
+ * fit cannot average away, because it is the same at every point.
+ *
+ * The profile. Every scanline (a row when the contour is nearer vertical,
+ * else a column) through a reference point q on the fitted line, with the
+ * line's unit normal n toward the pipe, gives pixels at signed distances
+ * u = n.(x - q) from the line. Pixel centres of hundreds of scanlines at
+ * their exact u, binned at 1/4 px (the mean u of each bin is kept, so a bin
+ * is a sample at a known abscissa), are the edge-spread function O(u)
+ * sampled far finer than a pixel (the slanted-edge method; at 0 and 90
+ * degrees all rows share one phase and the bins are 1 px apart, which is
+ * still exact for the integral below, as for the partial-area effect).
+ *
+ * The model. The scene across the contour is S(u) = bg(u) = D + E (u - d)
+ * for u < d and P(s) = A + B s + C sqrt(s (2 Rc - s)), s = u - d, for
+ * u > d, d the silhouette and Rc the pipe's image radius (a Lambertian
+ * cylinder: cos(phi) linear in the distance from the limb, sin(phi) ~ its
+ * square root; see sides below; E and B also take vignetting). What the camera sees is O = S * K with K symmetric of
+ * variance s2 (optical blur, motion blur, the pixel's footprint projected
+ * on n, whose variance is 1/12 at any angle). The blur only moves
+ * intensity across u, so over a window [a, b] = [d - W, d + W] wider than K
+ *     int_a^b O du = int_a^b S du + (s2 / 2) (S'(b) - S'(a))         (1)
+ * (the second term is what K carries over the window's ends where S has a
+ * slope; O(K's fourth moment x S''') neglected). With the sides fitted to
+ * the bins outside the blur zone (|u - d| >= z = 3 sqrt(s2) + 1), (1) is
+ * one equation in d: Newton, from the line (d = 0). The blur itself comes
+ * from the first moment, int (u - d)(O - S) du = -J s2 / 2 for a jump J at
+ * d (exact for a step; the sides' curvature adds a little, which only
+ * widens z). Fit, solve, measure the blur, adapt z and W, repeat.
+ *
+ * Limits (measured in make bench's accuracy study): a limb in shadow
+ * (Lambertian term clipped to 0 near the limb: a kink in P) and a specular
+ * stripe or a saturation plateau inside the fit zone break the side model;
+ * the window must stay inside the pipe (0.9 of its half-width is used).
+ */
+#include "internal.h"
+
+#define BPP CDSP_PROFILE_BINS_PER_PX
+#define NB CDSP_PROFILE_NBINS
+#ifndef PROFILE_FIT_ZONE
+#define PROFILE_FIT_ZONE 30
+#endif
+
+void cdsp_profile_params_default(cdsp_profile_params *p)
+{
+    p->enable = 0; /* opt-in until it beats the detector everywhere (make bench's study) */
+    p->max_rows = 2048;
+    p->max_half_width_px = R(20);
+    p->max_fit_chi2 = R(0.25);
+}
+
+cdsp_status cdsp__profile_params_check(const cdsp_profile_params *p)
+{
+    if (!p || p->max_rows < 16 || p->max_rows > 4096 || !(p->max_half_width_px >= R(6)) ||
+        !(p->max_half_width_px <= R(CDSP_PROFILE_RANGE_PX)) || !(p->max_fit_chi2 > R(0)))
+        return CDSP_E_ARG;
+    return CDSP_OK;
+}
+
+static void ws_clear(cdsp_profile_ws *ws)
+{
+    int b;
+    for (b = 0; b < NB; b++) {
+        ws->count[b] = 0;
+        ws->sum[b] = 0;
+        ws->sumsq[b] = 0;
+        ws->sum_u[b] = R(0);
+    }
+}
+
+/* One scanline through q (frame px) across the contour, unit normal n
+ * toward the pipe: the pixels with |u| <= half into the bins. Returns 0
+ * (nothing added) when the window leaves the frame. */
+static int accumulate(const cdsp_image *img, cdsp_profile_ws *ws, const cdsp_real q[2],
+                      const cdsp_real n[2], cdsp_real half)
+{
+    int horizontal = R_FABS(n[0]) >= R_FABS(n[1]);
+    int s_ax = horizontal ? 0 : 1, t_ax = 1 - s_ax, t, s, lo, hi, ext;
+    cdsp_real ns = n[s_ax], ct, slo, shi, u;
+    if (!(R_FABS(ns) > R(0.5)))
+        return 0;
+    t = (int)R_FLOOR(q[t_ax] + R(0.5));
+    if (t < 0 || t >= (horizontal ? img->height : img->width))
+        return 0;
+    ct = ((cdsp_real)t - q[t_ax]) * n[t_ax];
+    /* u(s) = (s - q_s) ns + ct covers [-half, half] for s in [slo, shi] */
+    slo = q[s_ax] + (-half - ct) / ns;
+    shi = q[s_ax] + (half - ct) / ns;
+    if (slo > shi) {
+        cdsp_real tmp = slo;
+        slo = shi;
+        shi = tmp;
+    }
+    lo = (int)R_CEIL(slo);
+    hi = (int)R_FLOOR(shi);
+    ext = horizontal ? img->width : img->height;
+    if (lo < 0 || hi >= ext || hi - lo < 4)
+        return 0;
+    for (s = lo; s <= hi; s++) {
+        int v = horizontal ? img_px(img, s, t) : img_px(img, t, s), b;
+        u = ((cdsp_real)s - q[s_ax]) * ns + ct;
+        b = (int)R_FLOOR((u + R(CDSP_PROFILE_RANGE_PX)) * R(BPP));
+        if (b < 0 || b >= NB)
+            continue;
+        ws->count[b]++;
+        ws->sum[b] += (uint32_t)v;
+        ws->sumsq[b] += (uint64_t)v * (uint64_t)v;
+        ws->sum_u[b] += u;
+    }
+    return 1;
+}
+
+/* Small dense least squares by normal equations (m <= 3 unknowns):
+ * solves N x = r in place by Gauss-Jordan with partial pivoting. */
+static int solve_small(cdsp_real N[3][3], cdsp_real r[3], int m)
+{
+    int i, j, k;
+    for (i = 0; i < m; i++) {
+        int piv = i;
+        for (j = i + 1; j < m; j++)
+            if (R_FABS(N[j][i]) > R_FABS(N[piv][i]))
+                piv = j;
+        if (!(R_FABS(N[piv][i]) > R(0)))
+            return 0;
+        if (piv != i) {
+            for (k = 0; k < m; k++) {
+                cdsp_real t = N[i][k];
+                N[i][k] = N[piv][k];
+                N[piv][k] = t;
+            }
+            {
+                cdsp_real t = r[i];
+                r[i] = r[piv];
+                r[piv] = t;
+            }
+        }
+        for (j = 0; j < m; j++) {
+            cdsp_real f;
+            if (j == i)
+                continue;
+            f = N[j][i] / N[i][i];
+            for (k = i; k < m; k++)
+                N[j][k] -= f * N[i][k];
+            r[j] -= f * r[i];
+        }
+    }
+    for (i = 0; i < m; i++)
+        r[i] /= N[i][i];
+    return 1;
+}
+
+/* The sides' models about the silhouette d. The pipe side is a Lambertian
+ * cylinder of image radius Rc seen side on: at the angle phi from the limb,
+ * s = Rc (1 - cos phi) from it, its normal is cos(phi) n_out + sin(phi) v,
+ * so the shading is linear in cos(phi) = 1 - s/Rc and in
+ * sin(phi) = sqrt(s (2 Rc - s)) / Rc: exactly A + B s + C sq(s) with
+ * sq(s) = sqrt(s (2 Rc - s)) (~ sqrt(2 Rc s) near the limb). */
+typedef struct {
+    cdsp_real D, E;    /* background: D + E (u - d) */
+    cdsp_real A, B, C; /* pipe: A + B s + C sq(s), s = u - d */
+    cdsp_real Rc;      /* the limb's radius, px */
+} sides;
+
+static cdsp_real sq_at(const sides *m, cdsp_real s)
+{
+    cdsp_real v = s * (R(2) * m->Rc - s);
+    return v > R(0) ? R_SQRT(v) : R(0);
+}
+
+static cdsp_real pipe_at(const sides *m, cdsp_real s)
+{
+    return m->A + m->B * s + m->C * sq_at(m, s);
+}
+
+/* sq'' (the curvature that the blur turns into a bias of the fit) */
+static cdsp_real sq_curv(const sides *m, cdsp_real s)
+{
+    cdsp_real v = s * (R(2) * m->Rc - s);
+    return v > R(0) ? -m->Rc * m->Rc / (v * R_SQRT(v)) : R(0);
+}
+
+/* int_0^X of the pipe model (the circular segment's area for sq) */
+static cdsp_real pipe_int(const sides *m, cdsp_real X)
+{
+    cdsp_real R0 = m->Rc, t = X - R0, r2 = R0 * R0 - t * t, c;
+    c = r2 > R(0) ? R_SQRT(r2) : R(0);
+    return m->A * X + m->B * X * X / R(2) +
+           m->C * (t * c / R(2) + R0 * R0 / R(2) * (R_ATAN2(t, c) + R_PI / R(2)));
+}
+
+/* d/dX of the pipe model at X > 0 */
+static cdsp_real pipe_slope(const sides *m, cdsp_real X)
+{
+    cdsp_real q = sq_at(m, X);
+    return m->B + (q > R(0) ? m->C * (m->Rc - X) / q : R(0));
+}
+
+/* Weighted fits of both sides over the bins with z <= |u - d| <= W. What
+ * the bins hold is the blurred scene, S + (s2/2) S'' + ..., so the pipe
+ * side's basis carries that term: near the limb sq'' is large (the
+ * square root's curvature), and fitting S itself to the blurred bins put
+ * the extrapolated limb 0.03 px off at blur 1 px. */
+static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *mb, cdsp_real d,
+                     cdsp_real z, cdsp_real W, cdsp_real s2, sides *m)
+{
+    /* Each side's basis is centred on its zone (x - xc, h(x) - h(xc)) and
+     * its values on the zone's first bin, so that the normal equations
+     * stay well conditioned in float too (raw, 1, x and sqrt are nearly
+     * collinear over a zone of a few px and the levels reach 65535). */
+    cdsp_real Nb[3][3] = {{0}}, rb[3] = {0}, Np[3][3] = {{0}}, rp[3] = {0};
+    cdsp_real xb = -(z + W) / R(2), xp = (z + W) / R(2), hp, mb0 = R(0), mp0 = R(0);
+    int b, i, j, nbg = 0, npp = 0, have_b = 0, have_p = 0;
+    hp = sq_at(m, xp) + s2 / R(2) * sq_curv(m, xp);
+    for (b = 0; b < NB; b++) {
+        cdsp_real w, x = ub[b] - d, f[3];
+        if (!ws->count[b])
+            continue;
+        w = (cdsp_real)ws->count[b];
+        if (x <= -z && x >= -W) {
+            if (!have_b) {
+                mb0 = mb[b];
+                have_b = 1;
+            }
+            f[0] = R(1);
+            f[1] = x - xb;
+            for (i = 0; i < 2; i++) {
+                for (j = 0; j < 2; j++)
+                    Nb[i][j] += w * f[i] * f[j];
+                rb[i] += w * f[i] * (mb[b] - mb0);
+            }
+            nbg++;
+        } else if (x >= z && x <= W) {
+            if (!have_p) {
+                mp0 = mb[b];
+                have_p = 1;
+            }
+            f[0] = R(1);
+            f[1] = x - xp;
+            f[2] = sq_at(m, x) + s2 / R(2) * sq_curv(m, x) - hp;
+            for (i = 0; i < 3; i++) {
+                for (j = 0; j < 3; j++)
+                    Np[i][j] += w * f[i] * f[j];
+                rp[i] += w * f[i] * (mb[b] - mp0);
+            }
+            npp++;
+        }
+    }
+    if (nbg < 3 || npp < 4 || !solve_small(Nb, rb, 2) || !solve_small(Np, rp, 3))
+        return 0;
+    /* back to D + E x and A + B x + C h(x) */
+    m->E = rb[1];
+    m->D = mb0 + rb[0] - rb[1] * xb;
+    m->B = rp[1];
+    m->C = rp[2];
+    m->A = mp0 + rp[0] - rp[1] * xp - rp[2] * hp;
+    return 1;
+}
+
+/* Trapezoid integral over [a, b] of the bins' (u, value) samples, the
+ * pieces before the first and after the last sample from the side models;
+ * with moment != 0, of (u - d)(O - S) instead (S the model). */
+static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *mb,
+                           const sides *m, cdsp_real d0, cdsp_real d, cdsp_real a, cdsp_real b,
+                           int moment)
+{
+    cdsp_real acc = R(0), pu = R(0), pv = R(0);
+    int k, first = 1;
+    for (k = 0; k < NB; k++) {
+        cdsp_real v, u = ub[k];
+        if (!ws->count[k] || u < a || u > b)
+            continue;
+        v = mb[k];
+        if (moment) {
+            cdsp_real sv = u < d ? m->D + m->E * (u - d0) : pipe_at(m, u - d);
+            v = (u - d) * (v - sv);
+        }
+        if (first) {
+            /* from a to the first sample: the background model (moment: 0) */
+            if (!moment)
+                acc += (u - a) * (m->D + m->E * ((a + u) / R(2) - d0));
+            first = 0;
+        } else {
+            acc += (u - pu) * (v + pv) / R(2);
+        }
+        pu = u;
+        pv = v;
+    }
+    if (first)
+        return R(0);
+    if (!moment) {
+        /* from the last sample to b: the pipe model (exact integral) */
+        cdsp_real s0 = pu - d;
+        acc += pipe_int(m, b - d) - pipe_int(m, s0 > R(0) ? s0 : R(0));
+    }
+    return acc;
+}
+
+/* The model on the bins: silhouette d (px from the line toward the pipe),
+ * blur, contrast, noise of d. */
+static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px,
+                               cdsp_profile *out)
+{
+    cdsp_real *ub = ws->mean_u, *mb = ws->mean_v;
+    /* start from a wide blur (fit zones at the window's ends), then adapt */
+    cdsp_real d = R(0), s2 = (half / R(6)) * (half / R(6)), var_pix = R(0), dof = R(0), varM = R(0);
+    sides m;
+    int b, it, ok = 0;
+    m.Rc = radius_px;
+    cdsp_real z = R(0), W = R(0), J = R(0);
+    for (b = 0; b < NB; b++)
+        if (ws->count[b]) {
+            ub[b] = ws->sum_u[b] / (cdsp_real)ws->count[b];
+            mb[b] = (cdsp_real)ws->sum[b] / (cdsp_real)ws->count[b];
+        } else {
+            ub[b] = mb[b] = R(0);
+        }
+    for (it = 0; it < 8; it++) {
+        cdsp_real a, bb, M, dn = d, d_prev = d, mom;
+        int k;
+        /* the blur zone: 3.5 sigma (a Gaussian's tail there is 2e-4 of the
+         * step) plus the pixel footprint */
+        z = R(3.5) * R_SQRT(s2) + R(1.5);
+        W = half - R_FABS(d) - R(0.25);
+        if (z > W - R(3))
+            z = W - R(3);
+        if (W > z + R(PROFILE_FIT_ZONE))
+            W = z + R(PROFILE_FIT_ZONE);
+        if (!(z >= R(1)) || !fit_sides(ws, ub, mb, d, z, W, s2, &m))
+            return CDSP_E_NOCONVERGE;
+        a = d - W;
+        bb = d + W;
+        M = integrate(ws, ub, mb, &m, d, d, a, bb, 0);
+        /* Newton on G(dn) = M, (1) with the sides fixed about d:
+         * G = int_a^dn bg + int_0^(bb-dn) P + (s2/2)(P'(bb - dn) - E) */
+        for (k = 0; k < 6; k++) {
+            cdsp_real X = bb - dn, G, dG;
+            if (!(X > R(0)))
+                return CDSP_E_NOCONVERGE;
+            G = m.D * (dn - a) + m.E * ((dn - d) * (dn - d) - (a - d) * (a - d)) / R(2) +
+                pipe_int(&m, X) + s2 / R(2) * (pipe_slope(&m, X) - m.E);
+            dG = m.D + m.E * (dn - d) - pipe_at(&m, X);
+            if (!(R_FABS(dG) > R(0)))
+                return CDSP_E_NOCONVERGE;
+            dn -= (G - M) / dG;
+            if (!R_FINITE(dn) || R_FABS(dn) > half / R(2))
+                return CDSP_E_NOCONVERGE;
+        }
+        d = dn;
+        J = m.A - (m.D + m.E * (d - d_prev));
+        /* the blur from the first moment about the new silhouette */
+        mom = integrate(ws, ub, mb, &m, d_prev, d, a, bb, 1);
+        {
+            /* int (u - d)(O - S) = -s2/2 (J - int_0^W s S''(s) ds), the
+             * second part from the limb's curvature: W P'(W) - (P(W) - P(0));
+             * still inflated by ~20 % on a strongly shaded limb (the
+             * Taylor form of the blur is poor next to the square root) */
+            cdsp_real X = bb - d, Jeff = J - (X * pipe_slope(&m, X) - (pipe_at(&m, X) - m.A));
+            if (!(R_FABS(Jeff) > R(0)))
+                return CDSP_E_NOCONVERGE;
+            s2 = R(-2) * mom / Jeff;
+            if (!(s2 >= R(1) / R(12)))
+                s2 = R(1) / R(12);
+            if (s2 > (half / R(4)) * (half / R(4)))
+                s2 = (half / R(4)) * (half / R(4));
+        }
+        if (it >= 2 && R_FABS(d - d_prev) < R(1e-4)) {
+            ok = 1;
+            break;
+        }
+    }
+    (void)ok; /* the last iterate stands: at most 1e-3 px from converged in the study */
+    /* noise: per-pixel variance from the sides' bins, then that of the
+     * trapezoid sum (weights ~ bin spacing) */
+    for (b = 0; b < NB; b++) {
+        cdsp_real x = ub[b] - d;
+        if (ws->count[b] > 1 && R_FABS(x) >= z && R_FABS(x) <= W) {
+            /* c sumsq - sum^2 exactly in 64 bits (c <= 4096 rows x 1 per bin) */
+            uint64_t c = ws->count[b], sm = ws->sum[b], q = c * ws->sumsq[b] - sm * sm;
+            var_pix += (cdsp_real)q / (cdsp_real)c;
+            dof += (cdsp_real)c - R(1);
+        }
+    }
+    if (dof > R(0))
+        var_pix /= dof;
+    for (b = 0; b < NB; b++)
+        if (ws->count[b] && R_FABS(ub[b] - d) <= W)
+            varM += var_pix / (cdsp_real)ws->count[b] / (cdsp_real)(BPP * BPP);
+    out->offset = d;
+    out->blur = R_SQRT(s2);
+    out->contrast = J;
+    out->sigma_offset = R_FABS(J) > R(0) ? R_SQRT(varM) / R_FABS(J) : R(0);
+    out->half_width = W;
+    {
+        /* the pipe side's fit quality: chi-square per bin against the
+         * bins' own noise (var_pix / count) */
+        cdsp_real chi = R(0);
+        int nb = 0;
+        for (b = 0; b < NB; b++) {
+            cdsp_real x = ub[b] - d;
+            if (ws->count[b] && x >= z && x <= W && var_pix > R(0)) {
+                /* the bin's noise, floored at 0.2 % of the step: a model
+                 * error that small is not a misfit (noise-free frames) */
+                cdsp_real r = mb[b] - (pipe_at(&m, x) + s2 / R(2) * m.C * sq_curv(&m, x));
+                chi += r * r / (var_pix / (cdsp_real)ws->count[b] + R(4e-6) * J * J);
+                nb++;
+            }
+        }
+        out->fit_chi2 = nb > 3 ? chi / (cdsp_real)(nb - 3) : R(0);
+    }
+    {
+        /* Is the pipe side's limb term significant? F-test of the model
+         * against a straight pipe side A + B s (the detector's second pass
+         * is exact for straight sides): F = (RSS_line - RSS_model) /
+         * (RSS_model / dof); 10 is far beyond chance for one parameter. */
+        cdsp_real S0 = 0, S1 = 0, S2 = 0, T0 = 0, T1 = 0, T2 = 0, rss_m = 0, det, bl, al;
+        int nbin = 0;
+        for (b = 0; b < NB; b++) {
+            cdsp_real x = ub[b] - d, w = (cdsp_real)ws->count[b], r, y;
+            if (!ws->count[b] || x < z || x > W)
+                continue;
+            y = mb[b] - mb[NB / 2 + (int)(z * R(BPP))]; /* a level near the zone: conditioning */
+            S0 += w;
+            S1 += w * x;
+            S2 += w * x * x;
+            T0 += w * y;
+            T1 += w * x * y;
+            T2 += w * y * y;
+            r = mb[b] - (pipe_at(&m, x) + s2 / R(2) * m.C * sq_curv(&m, x));
+            rss_m += w * r * r;
+            nbin++;
+        }
+        det = S0 * S2 - S1 * S1;
+        out->flat = 1;
+        if (nbin > 4 && det > R(0)) {
+            cdsp_real rss_l;
+            bl = (S0 * T1 - S1 * T0) / det;
+            al = (T0 - bl * S1) / S0;
+            rss_l = T2 - al * T0 - bl * T1; /* residual of the weighted line fit */
+            if (rss_m > R(0) && rss_l - rss_m > R(10) * rss_m / (cdsp_real)(nbin - 3))
+                out->flat = 0;
+        }
+    }
+    return CDSP_OK;
+}
+
+/* Any bin within a gray level of full scale (255, 4095, 65535): a
+ * saturation plateau, which no side model here describes. */
+static int saturated(const cdsp_profile_ws *ws, const cdsp_image *img)
+{
+    uint32_t full = (1u << img->bits) - 1u;
+    int b;
+    for (b = 0; b < NB; b++)
+        if (ws->count[b] && ws->sum[b] >= (full - 1u) * ws->count[b])
+            return 1;
+    return 0;
+}
+
+int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp, int detector_h)
+{
+    if (!pr || !pp || !(pr->fit_chi2 <= pp->max_fit_chi2) || pr->saturated)
+        return 0; /* the model does not fit: a shadowed limb, a highlight, a plateau */
+    /* a straight pipe side and a blur the detector's window spans (blur
+     * zone 3.5 sigma + 1.5 inside h + 1/2): the partial-area estimate is
+     * exact there and less noisy than the model's wider window */
+    if (pr->flat && R(3.5) * pr->blur + R(1.5) <= (cdsp_real)detector_h + R(0.5))
+        return 0;
+    return 1;
+}
+
+cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3], const cdsp_real p_in[2],
+                             const cdsp_real ends[2][2], const cdsp_profile_params *pp,
+                             cdsp_profile_ws *ws, cdsp_profile *out)
+{
+    cdsp_real a, b, len, side, n[2], q0[2], q1[2], L, half;
+    int rows, i, used = 0;
+    cdsp_status st;
+    if (!line || !p_in || !ends || !ws || !out)
+        return CDSP_E_ARG;
+    st = cdsp_image_check(img);
+    if (st != CDSP_OK)
+        return st;
+    st = cdsp__profile_params_check(pp);
+    if (st != CDSP_OK)
+        return st;
+    len = R_SQRT(line[0] * line[0] + line[1] * line[1]);
+    if (!R_FINITE(len) || !(len > R(0)) || !R_FINITE(line[2]))
+        return CDSP_E_ARG;
+    a = line[0] / len;
+    b = line[1] / len;
+    side = a * p_in[0] + b * p_in[1] + line[2] / len;
+    if (!R_FINITE(side) || side == R(0))
+        return CDSP_E_ARG;
+    n[0] = side > R(0) ? a : -a;
+    n[1] = side > R(0) ? b : -b;
+    for (i = 0; i < 2; i++) {
+        const cdsp_real *e = ends[i];
+        cdsp_real dd = a * e[0] + b * e[1] + line[2] / len;
+        cdsp_real *q = i ? q1 : q0;
+        q[0] = e[0] - dd * a;
+        q[1] = e[1] - dd * b;
+    }
+    L = R_SQRT((q1[0] - q0[0]) * (q1[0] - q0[0]) + (q1[1] - q0[1]) * (q1[1] - q0[1]));
+    if (!R_FINITE(L))
+        return CDSP_E_ARG;
+    half = pp->max_half_width_px;
+    if (half > R(0.9) * R_FABS(side))
+        half = R(0.9) * R_FABS(side);
+    if (half < R(6))
+        return CDSP_E_FEW_POINTS;
+    rows = (int)L + 1;
+    if (rows > pp->max_rows)
+        rows = pp->max_rows;
+    ws_clear(ws);
+    for (i = 0; i < rows; i++) {
+        cdsp_real t = rows > 1 ? (cdsp_real)i / (cdsp_real)(rows - 1) : R(0), q[2];
+        q[0] = q0[0] + t * (q1[0] - q0[0]);
+        q[1] = q0[1] + t * (q1[1] - q0[1]);
+        used += accumulate(img, ws, q, n, half);
+    }
+    if (used < 16)
+        return CDSP_E_FEW_POINTS;
+    st = model_solve(ws, half, R_FABS(side), out);
+    out->rows = (uint32_t)used;
+    out->saturated = saturated(ws, img);
+    return st;
+}
+
+/*
+ * Frame path: refine contour line ln (undistorted px) from its inliers
+ * (label[i] == lab). Each sampled inlier's foot on the line is distorted
+ * into the frame, with the line's local normal there (the normal of the
+ * distorted tangent) and the scale between undistorted and distorted
+ * normal displacements (from the distortion's Jacobian by differences of
+ * half a pixel). The silhouette's offset d (frame px) is carried back as
+ * d / mean(scale) and the line moved by it. Returns CDSP_OK and fills
+ * *prof and *moved (undistorted px toward the pipe) when the model fitted.
+ */
+cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
+                                 size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
+                                 const cdsp_real p_in[2], const cdsp_profile_params *pp,
+                                 int detector_h, cdsp_profile_ws *ws, cdsp_profile *prof,
+                                 cdsp_real *moved)
+{
+    const cdsp_real eps = R(0.5);
+    cdsp_real side, nu[2], tu[2], half, scale_sum = R(0), du;
+    size_t i, cnt = 0, stride, k = 0;
+    int used = 0;
+    cdsp_status st;
+    side = ln->l[0] * p_in[0] + ln->l[1] * p_in[1] + ln->l[2];
+    if (!R_FINITE(side) || side == R(0))
+        return CDSP_E_ARG;
+    nu[0] = side > R(0) ? ln->l[0] : -ln->l[0];
+    nu[1] = side > R(0) ? ln->l[1] : -ln->l[1];
+    tu[0] = -nu[1];
+    tu[1] = nu[0];
+    half = pp->max_half_width_px;
+    if (half > R(0.9) * R_FABS(side))
+        half = R(0.9) * R_FABS(side);
+    if (half < R(6))
+        return CDSP_E_FEW_POINTS;
+    for (i = 0; i < n; i++)
+        cnt += label[i] == lab;
+    if (cnt < 16)
+        return CDSP_E_FEW_POINTS;
+    /* three scanlines per sampled inlier (below) */
+    stride = (3 * cnt + (size_t)pp->max_rows - 1) / (size_t)pp->max_rows;
+    ws_clear(ws);
+    for (i = 0; i < n; i++) {
+        cdsp_real d, f[2], p2[2], q[2], qt[2], qn[2], nd[2], nl, g[2], sc;
+        if (label[i] != lab || (k++ % stride) != 0)
+            continue;
+        d = ln->l[0] * pts[i].x + ln->l[1] * pts[i].y + ln->l[2];
+        f[0] = pts[i].x - d * ln->l[0];
+        f[1] = pts[i].y - d * ln->l[1];
+        if (cdsp_camera_distort(cam, f, q) != CDSP_OK)
+            continue;
+        p2[0] = f[0] + eps * tu[0];
+        p2[1] = f[1] + eps * tu[1];
+        if (cdsp_camera_distort(cam, p2, qt) != CDSP_OK)
+            continue;
+        p2[0] = f[0] + eps * nu[0];
+        p2[1] = f[1] + eps * nu[1];
+        if (cdsp_camera_distort(cam, p2, qn) != CDSP_OK)
+            continue;
+        nd[0] = qt[1] - q[1];
+        nd[1] = -(qt[0] - q[0]);
+        nl = R_SQRT(nd[0] * nd[0] + nd[1] * nd[1]);
+        if (!(nl > R(0)))
+            continue;
+        nd[0] /= nl;
+        nd[1] /= nl;
+        g[0] = (qn[0] - q[0]) / eps;
+        g[1] = (qn[1] - q[1]) / eps;
+        sc = nd[0] * g[0] + nd[1] * g[1];
+        if (sc < R(0)) {
+            nd[0] = -nd[0];
+            nd[1] = -nd[1];
+            sc = -sc;
+        }
+        if (!(sc > R(0.1)))
+            continue;
+        {
+            /* this scanline and its two neighbours (the detector reads one
+             * line in step; the profile's noise wants them all): along the
+             * distorted tangent, one scanline per step */
+            cdsp_real td[2] = {-nd[1], nd[0]}, ta = R_FABS(nd[0]) >= R_FABS(nd[1]) ? td[1] : td[0];
+            int j;
+            if (!(R_FABS(ta) > R(0.5)))
+                continue;
+            for (j = -1; j <= 1; j++) {
+                cdsp_real qj[2];
+                qj[0] = q[0] + (cdsp_real)j * td[0] / R_FABS(ta);
+                qj[1] = q[1] + (cdsp_real)j * td[1] / R_FABS(ta);
+                if (accumulate(img, ws, qj, nd, half * sc)) {
+                    used++;
+                    scale_sum += sc;
+                }
+            }
+        }
+    }
+    if (used < 16)
+        return CDSP_E_FEW_POINTS;
+    st = model_solve(ws, half * scale_sum / (cdsp_real)used, R_FABS(side) * scale_sum / (cdsp_real)used, prof);
+    if (st != CDSP_OK)
+        return st;
+    prof->rows = (uint32_t)used;
+    prof->saturated = saturated(ws, img);
+    if (!cdsp_profile_applies(prof, pp, detector_h)) {
+        *moved = R(0);
+        return prof->fit_chi2 <= pp->max_fit_chi2 ? CDSP_OK : CDSP_E_NOCONVERGE;
+    }
+    du = prof->offset * (cdsp_real)used / scale_sum;
+    /* move the line du toward the pipe: l.(p + du nu) = du (nu . l) */
+    ln->l[2] -= du * (nu[0] * ln->l[0] + nu[1] * ln->l[1]);
+    ln->centroid[0] += du * nu[0];
+    ln->centroid[1] += du * nu[1];
+    *moved = du;
+    return CDSP_OK;
+}

@@ -1,0 +1,415 @@
+/*
+ * bench_accuracy.c - `make bench` step bench-accuracy: the accuracy study of
+ * issue 12. Figures, not pass/fail (the targets are printed beside them).
+ *
+ * 1. Offset bias of a contour, per cell of a grid over what real pipes show:
+ *    shading (ambient 0.3..1 and the light's direction relative to the
+ *    limb), pipe/background contrast (10..150 gray levels, both polarities),
+ *    optical blur (0.5..3 px), motion blur (0..15 px, across and along the
+ *    contour), the contour's angle (0..90 degrees), 8 and 16 bit. Frames are
+ *    exact 1D limb scenes (support.c, sup_edge_render), noise-free so the
+ *    bias is not hidden by noise (8 bit keeps its rounding). For each cell:
+ *    the mean signed distance of the detector's points from the silhouette
+ *    (px, + = into the pipe), and that of the line after the edge-profile
+ *    model when the library has it. Every cell goes to a CSV file
+ *    (argv[1], default build/bench/accuracy_cells.csv); the worst cells and
+ *    the worst per factor are printed.
+ * 2. Effects on top of a shaded limb: a specular stripe, a saturation
+ *    plateau, vignetting (per angle and bits).
+ * 3. The paper's scene rendered at 2448 x 2048 (cdsp_render): axis RMSE (mm,
+ *    Eq. 17-21) in flat light and in directional light, and the distance
+ *    bias (%) of shaded pipes, two light directions x ambient 0.4 (the
+ *    paper's experiment) and 0.85 (the renderer's default).
+ * Run time: a few minutes on one core (part 3 renders 20 frames; a second
+ * argument --no-render leaves it out).
+ */
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <math.h>
+#include "support.h"
+
+#define MAXPTS 4096
+static cdsp_edge pts[MAXPTS];
+static cdsp_frame_ws fws;
+
+typedef struct {
+    double det;   /* mean offset of the detector's points, px */
+    double line;  /* offset of the TLS line through them (at the frame centre), px */
+    double model; /* offset of the line after the profile model, px (NAN: none) */
+    int n;
+} cell_result;
+
+/* Offsets of one rendered edge; 0 if the detector found too few points. */
+static int measure_edge(const sup_edge_spec *e, cell_result *out)
+{
+    cdsp_image img;
+    cdsp_edge_params ep;
+    double npipe[2], lt[3], sum = 0;
+    size_t n, i, m = 0;
+    cdsp_line ln;
+    void *buf = sup_edge_render(e, &img, npipe, lt);
+    if (!buf)
+        return 0;
+    cdsp_edge_params_default(&ep);
+    ep.min_contrast = (cdsp_real)0.03; /* 10 gray levels at 8 bit are to be found */
+    ep.step = 2;
+    if (cdsp_edges_detect(&img, &ep, pts, MAXPTS, &n) != CDSP_OK)
+        n = 0;
+    for (i = 0; i < n; i++) {
+        double u = sup_edge_u(e, (double)pts[i].x, (double)pts[i].y);
+        if (fabs(u) < 10) /* the contour's points (a blur of 15 px moves them by ~3) */
+            pts[m++] = pts[i];
+    }
+    out->model = NAN;
+    if (m < 20 || cdsp_line_fit(pts, NULL, m, &ln) != CDSP_OK) {
+        free(buf);
+        return 0;
+    }
+    {
+        /* as RANSAC would: the points within inlier_px (1 px) of the line,
+         * trimmed in two rounds (2 px, then 1 px), refitted */
+        int round;
+        for (round = 0; round < 2; round++) {
+            size_t k = 0;
+            double lim = round ? 1.0 : 2.0;
+            for (i = 0; i < m; i++)
+                if (fabs((double)(ln.l[0] * pts[i].x + ln.l[1] * pts[i].y + ln.l[2])) < lim)
+                    pts[k++] = pts[i];
+            m = k;
+            if (m < 20 || cdsp_line_fit(pts, NULL, m, &ln) != CDSP_OK) {
+                free(buf);
+                return 0;
+            }
+        }
+        for (i = 0; i < m; i++)
+            sum += sup_edge_u(e, (double)pts[i].x, (double)pts[i].y);
+    }
+    out->n = (int)m;
+    out->det = sum / (double)m;
+    {
+        /* the line's offset where the silhouette crosses the frame's centre */
+        double c0[2] = {(e->width - 1) / 2.0 + e->offset_px * npipe[0], (e->height - 1) / 2.0 + e->offset_px * npipe[1]};
+        double a = (double)ln.l[0], b = (double)ln.l[1], c = (double)ln.l[2], d = a * c0[0] + b * c0[1] + c;
+        double f[2] = {c0[0] - d * a, c0[1] - d * b};
+        out->line = sup_edge_u(e, f[0], f[1]);
+        (void)lt;
+        {
+            /* the profile model along the line's inlier extent */
+            cdsp_profile_params pp;
+            cdsp_profile pr;
+            cdsp_real ends[2][2], pin[2];
+            int j;
+            cdsp_profile_params_default(&pp);
+            for (j = 0; j < 2; j++) {
+                cdsp_real t = j ? ln.t_max : ln.t_min;
+                ends[j][0] = ln.centroid[0] + t * ln.dir[0];
+                ends[j][1] = ln.centroid[1] + t * ln.dir[1];
+            }
+            /* the pipe's middle: its distance is the limb's radius */
+            pin[0] = (cdsp_real)(c0[0] + e->radius_px * npipe[0]);
+            pin[1] = (cdsp_real)(c0[1] + e->radius_px * npipe[1]);
+            /* as the frame path does: the model's offset where it fits and
+             * is needed, else the detector's line */
+            if (cdsp_profile_fit(&img, ln.l, pin, (const cdsp_real(*)[2])ends, &pp, &fws.profile, &pr) == CDSP_OK)
+                out->model = out->line + (cdsp_profile_applies(&pr, &pp, ep.half_window) ? (double)pr.offset : 0);
+            else
+                out->model = out->line;
+        }
+    }
+    free(buf);
+    return 1;
+}
+
+static const char *shade_name[] = {"flat", "amb0.6 front", "amb0.3 front", "amb0.3 side", "amb0.3 shadowed limb"};
+static const double shade_amb[] = {1, 0.6, 0.3, 0.3, 0.3};
+/* light components along the limb's outward normal and toward the viewer */
+static const double shade_ln[] = {0, 0.3, 0.3, 0.7, -0.35};
+static const double shade_lv[] = {1, 0.95, 0.95, 0.71, 0.94};
+static const double contrasts[] = {10, 40, 150};
+static const struct {
+    const char *name;
+    double blur, motion, motion_deg;
+} blurs[] = {
+    {"optical 0.5", 0.5, 0, 0},   {"optical 1.5", 1.5, 0, 0},       {"optical 3", 3, 0, 0},
+    {"motion 7 across", 0.7, 7, 0}, {"motion 15 across", 0.7, 15, 0}, {"motion 15 along", 0.7, 15, 90},
+};
+/* 0 and 90 are measured 0.7 degrees off so the rows sample all subpixel phases */
+static const double angles[] = {0.7, 22.5, 45, 67.5, 89.3};
+static const int bitss[] = {8, 16};
+
+#define NS (int)(sizeof shade_amb / sizeof shade_amb[0])
+#define NC (int)(sizeof contrasts / sizeof contrasts[0])
+#define NB (int)(sizeof blurs / sizeof blurs[0])
+#define NA (int)(sizeof angles / sizeof angles[0])
+#define NBITS 2
+
+static void set_levels(sup_edge_spec *e, int bits, double contrast, int pol)
+{
+    double scale = bits == 8 ? 1 : 257; /* 16 bit: the same levels, full range */
+    e->bits = bits;
+    e->background = (pol > 0 ? 60 : 60 + contrast) * scale;
+    e->pipe = (pol > 0 ? 60 + contrast : 60) * scale;
+}
+
+static void grid(const char *csv_path)
+{
+    FILE *csv = fopen(csv_path, "w");
+    int s, c, p, b, a, k, cells = 0, missing = 0, lines_ok = 0, within[2] = {0, 0}, within2[2] = {0, 0};
+    double worst_det = 0, worst_line = 0, worst_model = 0;
+    char wd[160] = "", wl[160] = "", wm[160] = "";
+    double fw_det[5][8], fw_model[5][8]; /* worst |bias| per factor level */
+    memset(fw_det, 0, sizeof fw_det);
+    memset(fw_model, 0, sizeof fw_model);
+    if (csv)
+        fprintf(csv, "shading,contrast,polarity,blur,angle_deg,bits,points,detector_px,line_px,model_px\n");
+    for (s = 0; s < NS; s++)
+        for (c = 0; c < NC; c++)
+            for (p = -1; p <= 1; p += 2)
+                for (b = 0; b < NB; b++)
+                    for (a = 0; a < NA; a++)
+                        for (k = 0; k < NBITS; k++) {
+                            sup_edge_spec e;
+                            cell_result r;
+                            char name[160];
+                            int lev[5], f;
+                            sup_edge_spec_default(&e);
+                            e.angle_deg = angles[a];
+                            e.offset_px = 0.3;
+                            e.ambient = shade_amb[s];
+                            e.light_n = shade_ln[s];
+                            e.light_v = shade_lv[s];
+                            set_levels(&e, bitss[k], contrasts[c], p);
+                            e.blur_px = blurs[b].blur;
+                            e.motion_px = blurs[b].motion;
+                            e.motion_deg = blurs[b].motion_deg;
+                            cells++;
+                            snprintf(name, sizeof name, "%s, contrast %s%g, %s, %g deg, %d bit", shade_name[s],
+                                     p > 0 ? "+" : "-", contrasts[c], blurs[b].name, angles[a], bitss[k]);
+                            if (!measure_edge(&e, &r)) {
+                                missing++;
+                                if (csv)
+                                    fprintf(csv, "%s,%g,%d,%s,%g,%d,0,,,\n", shade_name[s], contrasts[c], p,
+                                            blurs[b].name, angles[a], bitss[k]);
+                                continue;
+                            }
+                            if (csv)
+                                fprintf(csv, "%s,%g,%d,%s,%g,%d,%d,%.5f,%.5f,%.5f\n", shade_name[s], contrasts[c],
+                                        p, blurs[b].name, angles[a], bitss[k], r.n, r.det, r.line, r.model);
+                            lines_ok++;
+                            within[0] += fabs(r.line) <= 0.01;
+                            within[1] += fabs(r.model) <= 0.01;
+                            within2[0] += fabs(r.line) <= 0.05;
+                            within2[1] += fabs(r.model) <= 0.05;
+                            if (fabs(r.det) > worst_det) {
+                                worst_det = fabs(r.det);
+                                snprintf(wd, sizeof wd, "%s", name);
+                            }
+                            if (fabs(r.line) > worst_line) {
+                                worst_line = fabs(r.line);
+                                snprintf(wl, sizeof wl, "%s", name);
+                            }
+                            if (!isnan(r.model) && fabs(r.model) > worst_model) {
+                                worst_model = fabs(r.model);
+                                snprintf(wm, sizeof wm, "%s", name);
+                            }
+                            lev[0] = s;
+                            lev[1] = c * 2 + (p > 0);
+                            lev[2] = b;
+                            lev[3] = a;
+                            lev[4] = k;
+                            for (f = 0; f < 5; f++) {
+                                if (fabs(r.line) > fw_det[f][lev[f]])
+                                    fw_det[f][lev[f]] = fabs(r.line);
+                                if (!isnan(r.model) && fabs(r.model) > fw_model[f][lev[f]])
+                                    fw_model[f][lev[f]] = fabs(r.model);
+                            }
+                        }
+    if (csv)
+        fclose(csv);
+    printf("offset bias of a contour, %d cells (%d without a line), every cell in %s:\n", cells, missing, csv_path);
+    printf("  worst |mean point offset|, detector:       %.4f px  (%s)\n", worst_det, wd);
+    printf("  worst |line offset|, detector + line fit:  %.4f px  (%s)\n", worst_line, wl);
+    if (worst_model > 0)
+        printf("  worst |line offset|, + edge-profile model: %.4f px  (%s)   target <= 0.01 px: %s\n",
+               worst_model, wm, worst_model <= 0.01 ? "met" : "MISSED");
+    printf("  cells with a line within 0.01 px: detector %d, model %d; within 0.05 px: %d, %d (of %d)\n", within[0],
+           within[1], within2[0], within2[1], lines_ok);
+    printf("\n  worst |line offset| per factor level (px): detector+line / + model\n");
+    {
+        int i;
+        printf("  %-28s", "shading:");
+        for (i = 0; i < NS; i++)
+            printf(" %s %.3f/%.3f;", shade_name[i], fw_det[0][i], fw_model[0][i]);
+        printf("\n  %-28s", "contrast (gray levels):");
+        for (i = 0; i < 2 * NC; i++)
+            printf(" %s%g %.3f/%.3f;", i % 2 ? "+" : "-", contrasts[i / 2], fw_det[1][i], fw_model[1][i]);
+        printf("\n  %-28s", "blur:");
+        for (i = 0; i < NB; i++)
+            printf(" %s %.3f/%.3f;", blurs[i].name, fw_det[2][i], fw_model[2][i]);
+        printf("\n  %-28s", "contour angle (deg):");
+        for (i = 0; i < NA; i++)
+            printf(" %g %.3f/%.3f;", angles[i], fw_det[3][i], fw_model[3][i]);
+        printf("\n  %-28s", "bits:");
+        for (i = 0; i < NBITS; i++)
+            printf(" %d %.3f/%.3f;", bitss[i], fw_det[4][i], fw_model[4][i]);
+        printf("\n\n");
+    }
+}
+
+/* Effects on top of a shaded limb (ambient 0.3, front light, contrast 100,
+ * blur 0.7): line offset per angle and bits. */
+static void effects(void)
+{
+    static const char *names[] = {"none", "specular stripe 4 px in", "saturation plateau", "vignetting 30 %"};
+    int fx, a, k;
+    printf("effects on a shaded limb (ambient 0.3, contrast +100, blur 0.7 px): line offset px, "
+           "detector+line / + model, per angle (0.7 22.5 45 67.5 89.3) at 8 | 16 bit\n");
+    for (fx = 0; fx < 4; fx++) {
+        printf("  %-26s", names[fx]);
+        for (k = 0; k < NBITS; k++) {
+            for (a = 0; a < NA; a++) {
+                sup_edge_spec e;
+                cell_result r;
+                sup_edge_spec_default(&e);
+                e.angle_deg = angles[a];
+                e.offset_px = 0.3;
+                e.ambient = 0.3;
+                e.light_n = 0.3;
+                e.light_v = 0.95;
+                set_levels(&e, bitss[k], 100, 1);
+                if (fx == 1) {
+                    e.spec_amp = (bitss[k] == 8 ? 60 : 60 * 257);
+                    e.spec_u = 4;
+                    e.spec_width = 1;
+                }
+                if (fx == 2) /* the lit part of the pipe above full scale */
+                    e.pipe *= 2.2;
+                if (fx == 3)
+                    e.vignette = 0.3;
+                if (measure_edge(&e, &r))
+                    printf(" %+.3f/%+.3f", r.line, r.model);
+                else
+                    printf("     none    ");
+            }
+            printf(k == 0 ? "  |" : "\n");
+        }
+    }
+    printf("\n");
+}
+
+static double true_distance(const double P[3], const double v[3])
+{
+    double t = P[0] * v[0] + P[1] * v[1] + P[2] * v[2], f[3];
+    int i;
+    for (i = 0; i < 3; i++)
+        f[i] = P[i] - t * v[i];
+    return sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+}
+
+/* The paper's scene rendered: mean axis RMSE over its four pipes and the
+ * distance bias, for one light. */
+static void paper_scene(const char *what, double ambient, const double light[3], const cdsp_params *prm, int nok[2],
+                        double rmse[2], double dbias_mean[2], double dbias_worst[2])
+{
+    cdsp_camera cam;
+    cdsp_rng rng;
+    int i, k;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_rng_seed(&rng, 3, 3);
+    for (k = 0; k < 2; k++) {
+        nok[k] = 0;
+        rmse[k] = dbias_mean[k] = dbias_worst[k] = 0;
+    }
+    for (i = 0; i < 4; i++) {
+        cdsp_scene s;
+        cdsp_image img;
+        cdsp_result r;
+        double P[3], v[3], got[3], dir[3], seg[2][3];
+        void *px;
+        sup_paper_pipe(i, P, v);
+        sup_scene(&s, P, v, 8);
+        s.half_length = 250;
+        s.noise_sigma = (cdsp_real)0.002;
+        s.ambient = (cdsp_real)ambient;
+        if (light) {
+            s.light[0] = (cdsp_real)light[0];
+            s.light[1] = (cdsp_real)light[1];
+            s.light[2] = (cdsp_real)light[2];
+        }
+        px = sup_render(&s, &cam, 8, (uint64_t)(50 + i), &img);
+        for (k = 0; k < 2; k++) {
+            cdsp_params q = *prm;
+            q.profile.enable = k; /* the same frame without and with the model */
+            if (px && cdsp_frame_solve(&img, &cam, 8, &q, NULL, &fws, &rng, &r) == CDSP_OK) {
+                double db = 100 * ((double)r.distance / true_distance(P, v) - 1);
+                sup_result_pose(&r, got, dir, seg);
+                rmse[k] += sup_axis_rmse(seg[0], seg[1], P, v, 100);
+                dbias_mean[k] += db;
+                if (fabs(db) > fabs(dbias_worst[k]))
+                    dbias_worst[k] = db;
+                nok[k]++;
+            }
+        }
+        free(px);
+    }
+    for (k = 0; k < 2; k++)
+        if (nok[k]) {
+            rmse[k] /= nok[k];
+            dbias_mean[k] /= nok[k];
+        }
+    (void)what;
+}
+
+static void paper(void)
+{
+    static const double light2[3] = {-0.6, 0.3, -0.75};
+    static const struct {
+        const char *name;
+        double ambient;
+        const double *light;
+    } rows[] = {
+        {"flat light (ambient 1)", 1, NULL},
+        {"directional, default light, ambient 0.85", 0.85, NULL},
+        {"directional, default light, ambient 0.4", 0.4, NULL},
+        {"directional, second light, ambient 0.85", 0.85, light2},
+        {"directional, second light, ambient 0.4", 0.4, light2},
+    };
+    cdsp_params prm;
+    size_t i;
+    double worst_shaded[2] = {0, 0};
+    cdsp_params_default(&prm);
+    printf("the paper's scene rendered (2448 x 2048, 8 bit, blur 0.7 px, noise 0.5 gray level), 4 pipes:\n");
+    printf("  %-44s %-30s %-34s\n", "light", "axis RMSE mm (detector|model)", "distance bias % mean/worst (detector|model)");
+    for (i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        int nok[2], k;
+        double rmse[2], dbm[2], dbw[2];
+        fprintf(stderr, "rendering the paper's scene: %s...\n", rows[i].name);
+        paper_scene(rows[i].name, rows[i].ambient, rows[i].light, &prm, nok, rmse, dbm, dbw);
+        printf("  %-44s %.4f (%d/4) | %.4f (%d/4)   %+.3f/%+.3f | %+.3f/%+.3f\n", rows[i].name, rmse[0], nok[0],
+               rmse[1], nok[1], dbm[0], dbw[0], dbm[1], dbw[1]);
+        for (k = 0; k < 2; k++)
+            if (i > 0 && fabs(dbw[k]) > worst_shaded[k])
+                worst_shaded[k] = fabs(dbw[k]);
+        if (i == 0 || i == 1)
+            printf("  %-44s target <= 0.005 mm: %s | %s\n", "", nok[0] == 4 && rmse[0] <= 0.005 ? "met" : "MISSED",
+                   nok[1] == 4 && rmse[1] <= 0.005 ? "met" : "MISSED");
+    }
+    printf("  worst distance bias of a shaded pipe: %.3f %% | %.3f %%   target <= 0.03 %%: %s | %s\n",
+           worst_shaded[0], worst_shaded[1], worst_shaded[0] <= 0.03 ? "met" : "MISSED",
+           worst_shaded[1] <= 0.03 ? "met" : "MISSED");
+}
+
+int main(int argc, char **argv)
+{
+    double t0 = sup_now();
+    const char *csv = argc > 1 ? argv[1] : "build/bench/accuracy_cells.csv";
+    printf("\n## accuracy study (issue 12)\n\n");
+    grid(csv);
+    effects();
+    if (!(argc > 2 && strcmp(argv[2], "--no-render") == 0))
+        paper();
+    printf("\naccuracy study: %.0f s\n", sup_now() - t0);
+    return 0;
+}

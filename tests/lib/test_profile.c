@@ -1,0 +1,276 @@
+/*
+ * test_profile.c - the edge-profile model (lib/profile.c) on exact limb
+ * frames (support.c, sup_edge_render): a line put off the silhouette by a
+ * known shift must come back to the silhouette; per modelled effect (flat
+ * step, optical blur, motion blur across, contour angle, Lambertian limb),
+ * the measured blur, the noise estimate, and bad input.
+ */
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <math.h>
+#include <cmocka.h>
+#include "support.h"
+
+static cdsp_profile_ws pws;
+
+/* Fit along a line shifted by `shift` px toward the pipe from the true
+ * silhouette, over 80 px of contour through the frame's centre; returns the
+ * status and fills *pr. */
+static cdsp_status fit_shifted(const sup_edge_spec *e, double shift, cdsp_profile *pr)
+{
+    cdsp_image img;
+    double np[2], l[3];
+    cdsp_real L[3], ends[2][2], pin[2];
+    cdsp_profile_params pp;
+    cdsp_status st;
+    void *buf = sup_edge_render(e, &img, np, l);
+    double c0[2] = {(e->width - 1) / 2.0 + e->offset_px * np[0], (e->height - 1) / 2.0 + e->offset_px * np[1]};
+    double sgn = l[0] * np[0] + l[1] * np[1] > 0 ? 1 : -1; /* (a, b) toward the pipe? */
+    assert_non_null(buf);
+    L[0] = (cdsp_real)l[0];
+    L[1] = (cdsp_real)l[1];
+    L[2] = (cdsp_real)(l[2] - sgn * shift);
+    ends[0][0] = (cdsp_real)(c0[0] - 40 * np[1]);
+    ends[0][1] = (cdsp_real)(c0[1] + 40 * np[0]);
+    ends[1][0] = (cdsp_real)(c0[0] + 40 * np[1]);
+    ends[1][1] = (cdsp_real)(c0[1] - 40 * np[0]);
+    pin[0] = (cdsp_real)(c0[0] + e->radius_px * np[0]);
+    pin[1] = (cdsp_real)(c0[1] + e->radius_px * np[1]);
+    cdsp_profile_params_default(&pp);
+    st = cdsp_profile_fit(&img, L, pin, (const cdsp_real(*)[2])ends, &pp, &pws, pr);
+    free(buf);
+    return st;
+}
+
+static void spec16(sup_edge_spec *e)
+{
+    sup_edge_spec_default(e);
+    e->bits = 16;
+    e->pipe = 160 * 257;
+    e->background = 60 * 257;
+    e->offset_px = 0.3;
+}
+
+/* Flat sides: the model is exact, whatever the blur and angle. What is left
+ * is 16-bit rounding (~1e-5 px over the window) and the iteration's stop
+ * (1e-4 px); measured <= 2e-5 px in double. Float: the bins' abscissae and
+ * the window's integral (~1e7 gray levels x px) keep ~1e-7 relative,
+ * i.e. ~1e-3 px of the integral over the contrast: 2e-3. The blur: the
+ * sigma of optics, motion box (L^2/12) and pixel footprint (1/12), within
+ * 4.5 % (measured 0.0-3.4 %, the most at 45 degrees: the footprint's
+ * trapezoid is not a Gaussian, which the moment formula assumes). */
+static void test_flat_exact(void **state)
+{
+    static const struct {
+        double angle, blur, motion, shift;
+    } rows[] = {
+        {0.7, 0.7, 0, 0.4},  {22.5, 0.7, 0, -0.3}, {45, 0.7, 0, 0.25}, {89.3, 0.7, 0, 0.5},
+        {0.7, 3, 0, 0.8},    {45, 3, 0, -0.6},     {0.7, 0.7, 15, 2.5}, {67.5, 0.7, 15, -2.0},
+        {0.7, 0.5, 0, 0},
+    };
+#ifdef CDSP_SINGLE
+    const double tol = 2e-3;
+#else
+    const double tol = 2e-4;
+#endif
+    size_t r;
+    (void)state;
+    for (r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        sup_edge_spec e;
+        cdsp_profile pr;
+        double want_blur;
+        spec16(&e);
+        e.angle_deg = rows[r].angle;
+        e.blur_px = rows[r].blur;
+        e.motion_px = rows[r].motion;
+        assert_int_equal(fit_shifted(&e, rows[r].shift, &pr), CDSP_OK);
+        want_blur = sqrt(rows[r].blur * rows[r].blur + 1.0 / 12 + rows[r].motion * rows[r].motion / 12);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("row %zu: offset %.6f (want %.6f) blur %.4f (want %.4f)\n", r, (double)pr.offset,
+                          -rows[r].shift, (double)pr.blur, want_blur);
+        if (fabs((double)pr.offset + rows[r].shift) > tol)
+            fail_msg("row %zu: offset %.6f, want %.6f (tol %g)", r, (double)pr.offset, -rows[r].shift, tol);
+        if (fabs((double)pr.blur / want_blur - 1) > 0.045)
+            fail_msg("row %zu: blur %.4f, want %.4f", r, (double)pr.blur, want_blur);
+        assert_true(fabs((double)pr.contrast - 100 * 257) < 0.01 * 100 * 257);
+    }
+}
+
+/* A Lambertian limb (shading ~ sqrt(distance) at the limb): the detector's
+ * line is 0.3-0.5 px inside the pipe on these (measured by make bench's
+ * study); the model takes the shading as A + B s + C sqrt(s (2 Rc - s))
+ * and the blur's effect on it to second order. What is left comes from the
+ * blur estimate, which the limb's curvature inflates by up to ~20 %:
+ * measured 0.0001, 0.0005 px (ambient 0.6; side light) and 0.065 px
+ * (ambient 0.3, light toward the viewer: the strongest square-root term,
+ * with the line 0.4 px off); tolerances 0.002 and 0.08 px; the last is
+ * still 5 times better than the detector's 0.3-0.5 px on such limbs. */
+static void test_lambertian_limb(void **state)
+{
+    static const struct {
+        double ambient, ln, lv, tol;
+    } rows[] = {
+        {0.6, 0.3, 0.95, 0.002},
+        {0.3, 0.7, 0.71, 0.002},
+        {0.3, 0.3, 0.95, 0.08},
+    };
+    size_t r;
+    (void)state;
+    for (r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        sup_edge_spec e;
+        cdsp_profile pr;
+        spec16(&e);
+        e.ambient = rows[r].ambient;
+        e.light_n = rows[r].ln;
+        e.light_v = rows[r].lv;
+        assert_int_equal(fit_shifted(&e, 0.4, &pr), CDSP_OK);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("row %zu: offset %.5f (want -0.4)\n", r, (double)pr.offset);
+        if (fabs((double)pr.offset + 0.4) > rows[r].tol)
+            fail_msg("row %zu: offset %.5f, want -0.4 (tol %g)", r, (double)pr.offset, rows[r].tol);
+    }
+}
+
+/* Noise: the reported sigma_offset against the scatter over seeds. 8 bit,
+ * 2 gray levels of noise, contrast 100, 80 scanlines. sigma_offset covers
+ * only the window integral's noise; the sides' fits extrapolated to the
+ * silhouette add more, so today it is a lower bound: measured scatter
+ * 0.023 px (float 0.018) against an estimate of 0.0035 px (a known
+ * shortfall, issue 12's report). Checked: the estimate stays below the
+ * scatter, the scatter below 0.04 px (1.7x measured), the mean within 3
+ * standard errors of 0. */
+static void test_noise(void **state)
+{
+    int k, n = 24;
+    double sum = 0, sum2 = 0, est = 0;
+    (void)state;
+    for (k = 0; k < n; k++) {
+        sup_edge_spec e;
+        cdsp_profile pr;
+        sup_edge_spec_default(&e);
+        e.offset_px = 0.3;
+        e.noise = 2;
+        e.seed = (uint64_t)(100 + k);
+        assert_int_equal(fit_shifted(&e, 0, &pr), CDSP_OK);
+        sum += (double)pr.offset;
+        sum2 += (double)pr.offset * (double)pr.offset;
+        est += (double)pr.sigma_offset;
+    }
+    {
+        double mean = sum / n, sd = sqrt((sum2 - n * mean * mean) / (n - 1));
+        est /= n;
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("noise: mean %.5f sd %.5f estimate %.5f\n", mean, sd, est);
+        assert_true(fabs(mean) < 3 * sd / sqrt((double)n) + 0.002);
+        assert_true(est < sd && sd < 0.04);
+    }
+}
+
+/* Bad input and frames with nothing to model. */
+static void test_errors(void **state)
+{
+    sup_edge_spec e;
+    cdsp_image img;
+    double np[2], l[3];
+    cdsp_real L[3], ends[2][2] = {{10, 10}, {10, 100}}, pin[2] = {80, 64}, far_end[2][2] = {{2, 10}, {2, 100}};
+    cdsp_profile_params pp;
+    cdsp_profile pr;
+    void *buf;
+    (void)state;
+    sup_edge_spec_default(&e);
+    buf = sup_edge_render(&e, &img, np, l);
+    assert_non_null(buf);
+    L[0] = (cdsp_real)l[0];
+    L[1] = (cdsp_real)l[1];
+    L[2] = (cdsp_real)l[2];
+    cdsp_profile_params_default(&pp);
+    assert_int_equal(cdsp_profile_fit(NULL, L, pin, (const cdsp_real(*)[2])ends, &pp, &pws, &pr), CDSP_E_ARG);
+    assert_int_equal(cdsp_profile_fit(&img, L, pin, (const cdsp_real(*)[2])ends, &pp, NULL, &pr), CDSP_E_ARG);
+    pp.max_rows = 3;
+    assert_int_equal(cdsp_profile_fit(&img, L, pin, (const cdsp_real(*)[2])ends, &pp, &pws, &pr), CDSP_E_ARG);
+    cdsp_profile_params_default(&pp);
+    pp.max_half_width_px = (cdsp_real)(CDSP_PROFILE_RANGE_PX + 1);
+    assert_int_equal(cdsp_profile_fit(&img, L, pin, (const cdsp_real(*)[2])ends, &pp, &pws, &pr), CDSP_E_ARG);
+    cdsp_profile_params_default(&pp);
+    {
+        cdsp_real zero[3] = {0, 0, 1}, nanl[3] = {1, 0, (cdsp_real)NAN};
+        assert_int_equal(cdsp_profile_fit(&img, zero, pin, (const cdsp_real(*)[2])ends, &pp, &pws, &pr), CDSP_E_ARG);
+        assert_int_equal(cdsp_profile_fit(&img, nanl, pin, (const cdsp_real(*)[2])ends, &pp, &pws, &pr), CDSP_E_ARG);
+    }
+    /* p_in on the line: no pipe side */
+    {
+        cdsp_real on[2] = {(cdsp_real)(-(double)L[2] / (double)L[0]), 50};
+        if (fabs((double)L[1]) < 1e-12)
+            assert_int_not_equal(cdsp_profile_fit(&img, L, on, (const cdsp_real(*)[2])ends, &pp, &pws, &pr), CDSP_OK);
+    }
+    /* a line along the frame's left border: every window leaves the frame */
+    {
+        cdsp_real border[3] = {1, 0, -2}, p2[2] = {60, 64};
+        assert_int_equal(cdsp_profile_fit(&img, border, p2, (const cdsp_real(*)[2])far_end, &pp, &pws, &pr),
+                         CDSP_E_FEW_POINTS);
+    }
+    free(buf);
+    /* a frame without an edge: the model must not report one */
+    {
+        sup_edge_spec f;
+        sup_edge_spec_default(&f);
+        f.pipe = f.background;
+        buf = sup_edge_render(&f, &img, np, l);
+        assert_non_null(buf);
+        assert_int_not_equal(cdsp_profile_fit(&img, L, pin, (const cdsp_real(*)[2])ends, &pp, &pws, &pr), CDSP_OK);
+        free(buf);
+    }
+}
+
+/* The frame path: the model is opt-in (default off: no flag, zero
+ * fields); switched on, the solve still succeeds and what it reports is
+ * sane; a bad max_rows is refused. */
+static void test_frame_path(void **state)
+{
+    static cdsp_frame_ws ws;
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_image img;
+    cdsp_params prm;
+    cdsp_result r;
+    cdsp_rng rng;
+    double P[3] = {5, -3, 400}, v[3] = {0.2, 1, 0.2};
+    void *buf;
+    int k;
+    (void)state;
+    sup_camera(&cam, 640, 480, 800, -0.2, 0);
+    sup_scene(&s, P, v, 8);
+    buf = sup_render(&s, &cam, 8, 5, &img);
+    assert_non_null(buf);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 1, 1);
+    assert_int_equal(prm.profile.enable, 0);
+    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+    assert_false(r.flags & CDSP_FLAG_PROFILE);
+    assert_true(r.edge_offset[0] == 0 && r.edge_offset[1] == 0 && r.edge_blur[0] == 0 && r.edge_blur[1] == 0);
+    prm.profile.enable = 1;
+    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+    for (k = 0; k < 2; k++) {
+        if (r.edge_blur[k] != 0) /* modelled: blur 0.7 px + footprint, ~0.76 */
+            assert_true(r.edge_blur[k] > (cdsp_real)0.5 && r.edge_blur[k] < (cdsp_real)1.5);
+        assert_true(fabs((double)r.edge_offset[k]) < 1);
+    }
+    prm.profile.max_rows = 5000;
+    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r), CDSP_E_ARG);
+    free(buf);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_flat_exact),
+        cmocka_unit_test(test_lambertian_limb),
+        cmocka_unit_test(test_noise),
+        cmocka_unit_test(test_errors),
+        cmocka_unit_test(test_frame_path),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
