@@ -20,9 +20,8 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
-#include <yaml.h>
-
 #include "cdsp_host.h"
+#include "host_yaml.h"
 #include "mavout.h"
 #include "mount.h"
 #include "source.h"
@@ -120,7 +119,7 @@ static const key_def keys[] = {
     {"solver.half_window", K_INT, O(half_window), 2, 8, NULL, "4",
      "partial-area window half-length, px"},
     {"solver.min_contrast", K_REAL, O(min_contrast), 0, 1, NULL, "0.06",
-     "minimum edge step, fraction of full scale"},
+     "minimum edge step, fraction of full scale (0 < value < 1)"},
     {"solver.polarity", K_POLARITY, O(polarity), -1, 1, NULL, "any",
      "bright: the pipe is brighter than the background, dark: darker, any: either (as cdsp_tool "
      "solve --polarity; 1, -1, 0 also accepted)"},
@@ -166,7 +165,8 @@ static const key_def keys[] = {
     {"sim.ambient", K_REAL, O(sim.ambient), 0, 1, NULL, "0.85",
      "ambient share of the shading, 1 = flat (libcdsp's default look)"},
     {"sim.noise", K_REAL, O(sim.noise), 0, 1, NULL, "0.004", "sensor noise sigma, fraction of full scale"},
-    {"sim.blur", K_REAL, O(sim.blur), 0, 10, NULL, "0.7", "optical blur sigma, px"},
+    {"sim.blur", K_REAL, O(sim.blur), 0, CDSP_RENDER_MAX_BLUR_PX, NULL, "0.7",
+     "optical blur sigma, px (libcdsp's renderer takes up to 8)"},
     {"sim.texture", K_REAL, O(sim.texture), 0, 1, NULL, "0.03", "background texture amplitude"},
     {"sim.seed", K_U64, O(sim.seed), 0, 0, NULL, "7", "seed of the rendered noise"},
     {"sim.truth", K_BOOL, O(sim.truth), 0, 1, NULL, "false",
@@ -364,7 +364,8 @@ static int split_list(const char *value, char *buf, size_t buflen, const char **
     return n;
 }
 
-int cdspd_config_set(cdspd_config *c, const char *key, const char *value, const char *where,
+/* One key from text, within the table's type and range. */
+static int set_value(cdspd_config *c, const char *key, const char *value, const char *where,
                      char *err, size_t errlen)
 {
     const key_def *k = find_key(key);
@@ -575,14 +576,50 @@ int cdspd_config_set(cdspd_config *c, const char *key, const char *value, const 
     return -1;
 }
 
+/* The solver keys' block of cdspd_config (step .. seed), saved to undo a
+ * value libcdsp refuses. */
+#define SOLVER_FIRST O(step)
+#define SOLVER_END (O(seed) + sizeof(uint64_t))
+
+int cdspd_config_set(cdspd_config *c, const char *key, const char *value, const char *where,
+                     char *err, size_t errlen)
+{
+    unsigned char saved[SOLVER_END - SOLVER_FIRST];
+    cdsp_params p;
+    cdsp_status st;
+    int solver = !strncmp(key, "solver.", 7);
+    if (solver)
+        memcpy(saved, (char *)c + SOLVER_FIRST, sizeof saved);
+    if (set_value(c, key, value, where, err, errlen))
+        return -1;
+    if (!solver)
+        return 0;
+    /* the library's own checks, at load time: a value the table's range
+     * lets through (min_contrast 0 or 1) must not turn every frame into
+     * bad-argument later */
+    cdspd_config_params(c, &p);
+    st = cdsp_params_check(&p);
+    if (st != CDSP_OK) {
+        memcpy((char *)c + SOLVER_FIRST, saved, sizeof saved);
+        errf(err, errlen, "%s: key '%s': libcdsp refuses '%s' (%s; the ranges are in cdsp.h)",
+             where, key, value, cdsp_strerror(st));
+        return -1;
+    }
+    return 0;
+}
+
 void cdspd_config_defaults(cdspd_config *c)
 {
     size_t i;
     char err[256];
+    cdsp_params p;
     memset(c, 0, sizeof *c);
     for (i = 0; i < N_KEYS; i++)
-        if (cdspd_config_set(c, keys[i].name, keys[i].def, "default", err, sizeof err))
+        if (set_value(c, keys[i].name, keys[i].def, "default", err, sizeof err))
             abort(); /* a broken table: caught by the first test run */
+    cdspd_config_params(c, &p);
+    if (cdsp_params_check(&p) != CDSP_OK)
+        abort(); /* defaults the library refuses: the same */
 }
 
 /* ------------------------------------------------------------------------
@@ -594,7 +631,40 @@ typedef struct {
     cdspd_config *c;
     char *err;
     size_t errlen;
+    unsigned long line[N_KEYS]; /* where each key was set, 1-based; 0 = not yet */
 } yaml_walk;
+
+/* The same key or section twice in one mapping (libyaml keeps both; the
+ * last would silently win): the line of the first, or 0. */
+static unsigned long earlier_twin(const yaml_walk *w, const yaml_node_t *map,
+                                  const yaml_node_pair_t *pair, const yaml_node_t *kn)
+{
+    const yaml_node_pair_t *q;
+    for (q = map->data.mapping.pairs.start; q < pair; q++) {
+        const yaml_node_t *qk = yaml_document_get_node(w->doc, q->key);
+        if (qk && qk->type == YAML_SCALAR_NODE && qk->data.scalar.length == kn->data.scalar.length &&
+            !memcmp(qk->data.scalar.value, kn->data.scalar.value, kn->data.scalar.length))
+            return (unsigned long)qk->start_mark.line + 1;
+    }
+    return 0;
+}
+
+/* A key set twice (also "sim.rate" beside "sim: {rate}"): 0, or -1 with err. */
+static int first_time(yaml_walk *w, const char *name, const yaml_node_t *kn, const char *where)
+{
+    const key_def *k = find_key(name);
+    size_t i;
+    if (!k)
+        return 0;
+    i = (size_t)(k - keys);
+    if (w->line[i]) {
+        errf(w->err, w->errlen, "%s: key '%s' given twice (first at line %lu)", where, name,
+             w->line[i]);
+        return -1;
+    }
+    w->line[i] = (unsigned long)kn->start_mark.line + 1;
+    return 0;
+}
 
 static void where_of(const yaml_walk *w, const yaml_node_t *n, char *buf, size_t len)
 {
@@ -622,6 +692,16 @@ static int walk_mapping(yaml_walk *w, yaml_node_t *map, const char *prefix)
             errf(w->err, w->errlen, "%s: key too long", where);
             return -1;
         }
+        {
+            unsigned long twin = earlier_twin(w, map, pair, kn);
+            if (twin) {
+                errf(w->err, w->errlen, "%s: %s '%s' given twice (first at line %lu)", where,
+                     vn->type == YAML_MAPPING_NODE ? "section" : "key", name, twin);
+                return -1;
+            }
+        }
+        if (vn->type != YAML_MAPPING_NODE && first_time(w, name, kn, where))
+            return -1;
         if (vn->type == YAML_MAPPING_NODE) {
             if (!is_section(name)) {
                 errf(w->err, w->errlen, "%s: key '%s' %s", where, name,
@@ -691,7 +771,6 @@ static int walk_mapping(yaml_walk *w, yaml_node_t *map, const char *prefix)
 
 int cdspd_config_load_file(cdspd_config *c, const char *path, char *err, size_t errlen)
 {
-    yaml_parser_t parser;
     yaml_document_t doc;
     yaml_node_t *root;
     yaml_walk w;
@@ -708,21 +787,15 @@ int cdspd_config_load_file(cdspd_config *c, const char *path, char *err, size_t 
         errf(err, errlen, "%s", herr.msg);
         return -1;
     }
-    if (!yaml_parser_initialize(&parser)) {
-        free(text);
-        errf(err, errlen, "%s: cannot start the YAML parser", path);
-        return -1;
-    }
-    yaml_parser_set_input_string(&parser, text, len);
-    if (!yaml_parser_load(&parser, &doc)) {
-        errf(err, errlen, "%s:%lu:%lu: YAML syntax error: %s", path,
-             (unsigned long)parser.problem_mark.line + 1, (unsigned long)parser.problem_mark.column + 1,
-             parser.problem ? parser.problem : "unknown");
-        yaml_parser_delete(&parser);
+    /* bounded (depth, aliases) before libyaml builds the document: a
+     * SIGHUP reload of a hostile file must not stall the main loop */
+    if (cdsp_host_yaml_load(text, len, path, &doc, &herr)) {
+        errf(err, errlen, "%s", herr.msg);
         free(text);
         return -1;
     }
     root = yaml_document_get_root_node(&doc);
+    memset(&w, 0, sizeof w);
     w.doc = &doc;
     w.path = path;
     w.c = c;
@@ -739,7 +812,6 @@ int cdspd_config_load_file(cdspd_config *c, const char *path, char *err, size_t 
     if (rc == 0)
         strcpy(c->config_file, path);
     yaml_document_delete(&doc);
-    yaml_parser_delete(&parser);
     free(text);
     return rc;
 }

@@ -90,7 +90,8 @@ ALL_TARGETS += $(daemon_BIN)
 # --- tests ---------------------------------------------------------------------
 daemon_TDIR := $(BUILD)/tests/daemon
 daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool \
-               $(daemon_TDIR)/test_mavlink $(daemon_TDIR)/test_mount $(daemon_TDIR)/test_pixfmt
+               $(daemon_TDIR)/test_mavlink $(daemon_TDIR)/test_mount \
+               $(daemon_TDIR)/test_stats $(daemon_TDIR)/test_pixfmt
 daemon_RX := $(daemon_TDIR)/cdspd_rx
 daemon_MAVRX := $(daemon_TDIR)/mavlink_rx
 daemon_FEED := $(daemon_TDIR)/v4l2_feed

@@ -40,7 +40,7 @@ const char *cdspd_mount_preset_names(void)
 static void cos_sin_deg(double deg, double *c, double *s)
 {
     double q = deg / 90;
-    if (q == floor(q)) {
+    if (isfinite(q) && q == floor(q)) { /* Inf would reach (int) as NaN (tests/fuzz mavlink) */
         static const double cq[4] = {1, 0, -1, 0}, sq[4] = {0, 1, 0, -1};
         int k = (int)fmod(fmod(q, 4) + 4, 4);
         *c = cq[k];

@@ -336,11 +336,10 @@ static void *proc_main(void *arg)
                 memcpy(rec.direction_body, body.direction, sizeof rec.direction_body);
                 prev = res;
                 have_prev = 1;
-                cdspd_stats_add(p->stats, CDSPD_STAT(ok), 1);
             } else {
                 have_prev = 0;
-                cdspd_stats_add(p->stats, CDSPD_STAT(not_found), 1);
             }
+            cdspd_stats_add(p->stats, cdspd_stats_status_field(st), 1);
         }
         cdspd_stats_add(p->stats, CDSPD_STAT(processed), 1);
         if (rec.status != CDSPD_ST_BAD_FRAME && cdspd_recorder_wants(&p->rec, processed) &&
@@ -410,6 +409,7 @@ int cdspd_pipeline_start(cdspd_pipeline **out, const cdspd_config *cfg, cdspd_st
         cdspd_sender_close(&p->sender);
         goto fail;
     }
+    cdspd_recorder_set_lossless(&p->rec, p->src->replay);
     if (pthread_create(&p->proc, NULL, proc_main, p)) {
         snprintf(err, errlen, "cannot start the processing thread");
         goto fail_rec;

@@ -7,6 +7,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "proto.h"
 
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -227,6 +229,15 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
     return CDSPD_PROTO_SIZE;
 }
 
+static int finite_n(const double *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
 int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char **why)
 {
     const char *dummy;
@@ -283,6 +294,28 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         get_f64s(b + OFF_POINT_BODY, r->point_body, 3);
         get_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
         r->confidence = get_f64(b + OFF_CONF);
+    }
+    /* a status without a token would go out of listen --json as "unknown",
+     * which the JSON decoder refuses (tests/fuzz listen): both refuse it */
+    if (!strcmp(cdspd_status_token(r->status), "unknown")) {
+        *why = "unknown status";
+        return -1;
+    }
+    /* likewise a status record saying "ok" (JSON: "error":"ok") */
+    if (r->kind == CDSPD_KIND_STATUS && r->status == 0) {
+        *why = "a status record without a status";
+        return -1;
+    }
+    /* cdspd sends finite numbers only (zeros without a pose); a NaN or Inf
+     * would reach the consumer as JSON null, which no decoder takes back
+     * (found by tests/fuzz listen) */
+    if (!finite_n(&r->radius, 1) || !finite_n(r->point, 3) || !finite_n(r->direction, 3) ||
+        !finite_n(&r->distance, 1) || !finite_n(&r->alpha, 1) || !finite_n(&r->lines[0][0], 6) ||
+        !finite_n(&r->segment[0][0], 6) || !finite_n(r->sigma_point, 3) ||
+        !finite_n(r->sigma_direction, 3) || !finite_n(&r->sigma_distance, 1) ||
+        !finite_n(r->rms, 2) || !finite_n(r->point_body, 3) || !finite_n(r->direction_body, 3)) {
+        *why = "a number in the record is not finite";
+        return -1;
     }
     return 0;
 }
@@ -376,15 +409,45 @@ size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
     return text ? strlen(text) : 0;
 }
 
-static int jnum(json_object *o, const char *key, double *v)
+/* A finite number (json-c also parses NaN and Infinity, which no record
+ * carries: the encoder writes them as null). */
+static int jnum_of(json_object *x, double *v)
 {
-    json_object *x;
-    if (!json_object_object_get_ex(o, key, &x))
-        return 0;
     if (!json_object_is_type(x, json_type_double) && !json_object_is_type(x, json_type_int))
         return 0;
     *v = json_object_get_double(x);
+    return isfinite(*v);
+}
+
+static int jnum(json_object *o, const char *key, double *v)
+{
+    json_object *x;
+    return json_object_object_get_ex(o, key, &x) && jnum_of(x, v);
+}
+
+/* A count: an integer in 0 .. UINT32_MAX (anything else would be an
+ * undefined conversion). */
+static int ju32_of(json_object *x, uint32_t *v)
+{
+    int64_t i;
+    if (!json_object_is_type(x, json_type_int))
+        return 0;
+    errno = 0;
+    i = json_object_get_int64(x);
+    if (errno || i < 0 || i > (int64_t)UINT32_MAX)
+        return 0;
+    *v = (uint32_t)i;
     return 1;
+}
+
+/* A string member (NULL when absent or of another type: json-c returns
+ * NULL for null, and strcmp must never see it). */
+static const char *jstr(json_object *o, const char *key)
+{
+    json_object *x;
+    if (!json_object_object_get_ex(o, key, &x) || !json_object_is_type(x, json_type_string))
+        return NULL;
+    return json_object_get_string(x);
 }
 
 static int jvec(json_object *o, double *v, int n)
@@ -392,12 +455,9 @@ static int jvec(json_object *o, double *v, int n)
     int i;
     if (!o || !json_object_is_type(o, json_type_array) || (int)json_object_array_length(o) != n)
         return 0;
-    for (i = 0; i < n; i++) {
-        json_object *x = json_object_array_get_idx(o, (size_t)i);
-        if (!json_object_is_type(x, json_type_double) && !json_object_is_type(x, json_type_int))
+    for (i = 0; i < n; i++)
+        if (!jnum_of(json_object_array_get_idx(o, (size_t)i), &v[i]))
             return 0;
-        v[i] = json_object_get_double(x);
-    }
     return 1;
 }
 
@@ -432,12 +492,24 @@ static uint64_t ju64(json_object *o, const char *key, int *ok)
     return (uint64_t)json_object_get_int64(x);
 }
 
+/* inliers [n1, n2] and edges: counts */
+static int jcounts(json_object *o, cdspd_record *r)
+{
+    json_object *x;
+    if (!json_object_object_get_ex(o, "inliers", &x) || !json_object_is_type(x, json_type_array) ||
+        json_object_array_length(x) != 2 || !ju32_of(json_object_array_get_idx(x, 0), &r->inliers[0]) ||
+        !ju32_of(json_object_array_get_idx(x, 1), &r->inliers[1]))
+        return 0;
+    return json_object_object_get_ex(o, "edges", &x) && ju32_of(x, &r->n_edges);
+}
+
 int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const char **why)
 {
     json_tokener *tok;
     json_object *o, *x;
-    const char *dummy;
-    double v, in[2];
+    const char *dummy, *kind, *status, *error;
+    double v;
+    size_t end;
     int ok = 1;
 
     if (!why)
@@ -447,12 +519,25 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
         *why = "out of memory";
         return -1;
     }
+    if (len > INT_MAX)
+        len = INT_MAX; /* json-c takes an int; a datagram is far shorter */
     o = json_tokener_parse_ex(tok, text, (int)len);
+    end = json_tokener_get_parse_end(tok);
     json_tokener_free(tok);
     if (!o || !json_object_is_type(o, json_type_object)) {
         if (o)
             json_object_put(o);
         *why = "not a JSON object";
+        return -1;
+    }
+    /* one object per datagram: bytes after it (but white space) would be
+     * another message smuggled behind this one */
+    while (end < len && (text[end] == ' ' || text[end] == '\t' || text[end] == '\n' ||
+                         text[end] == '\r'))
+        end++;
+    if (end < len) {
+        json_object_put(o);
+        *why = "bytes after the JSON object";
         return -1;
     }
     memset(r, 0, sizeof *r);
@@ -462,21 +547,21 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
     r->t_camera_us = ju64(o, "t_camera_us", &ok);
     r->t_host_us = ju64(o, "t_host_us", &ok);
     r->kind = CDSPD_KIND_FRAME;
-    if (json_object_object_get_ex(o, "kind", &x) && !strcmp(json_object_get_string(x), "status"))
+    kind = jstr(o, "kind");
+    status = jstr(o, "status");
+    error = jstr(o, "error");
+    if (kind && !strcmp(kind, "status"))
         r->kind = CDSPD_KIND_STATUS;
-    if (!json_object_object_get_ex(o, "status", &x)) {
+    else if (kind ? strcmp(kind, "frame") != 0 : json_object_object_get_ex(o, "kind", NULL))
+        ok = 0; /* a kind that is not "frame" or "status", or not a string */
+    if (!status) {
         ok = 0;
-    } else if (!strcmp(json_object_get_string(x), "ok")) {
+    } else if (!strcmp(status, "ok")) {
         r->status = 0;
         ok = ok && jkvec(o, "point", r->point, 3) && jkvec(o, "direction", r->direction, 3) &&
              jnum(o, "distance", &r->distance) && jnum(o, "alpha", &r->alpha) &&
              jmat(o, "lines", r->lines) && jmat(o, "segment", r->segment) &&
-             jkvec(o, "rms", r->rms, 2) && jkvec(o, "inliers", in, 2) && jnum(o, "edges", &v);
-        if (ok) {
-            r->inliers[0] = (uint32_t)in[0];
-            r->inliers[1] = (uint32_t)in[1];
-            r->n_edges = (uint32_t)v;
-        }
+             jkvec(o, "rms", r->rms, 2) && jcounts(o, r);
         if (ok && json_object_object_get_ex(o, "sigma", &x)) {
             ok = jkvec(x, "point", r->sigma_point, 3) && jkvec(x, "direction", r->sigma_direction, 3) &&
                  jnum(x, "distance", &r->sigma_distance);
@@ -492,13 +577,16 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
         ok = ok && jnum(o, "confidence", &r->confidence);
     } else {
         int st = 0;
-        if (!json_object_object_get_ex(o, "error", &x) ||
-            !cdspd_status_from_token(json_object_get_string(x), &st))
+        if (strcmp(status, "error") || !error || !cdspd_status_from_token(error, &st) || st == 0)
             ok = 0;
         r->status = st;
     }
-    if (jnum(o, "radius", &v))
-        r->radius = v;
+    if (json_object_object_get_ex(o, "radius", &x)) {
+        if (jnum_of(x, &v))
+            r->radius = v;
+        else
+            ok = 0; /* given, but not a finite number */
+    }
     if (jbool(o, "source_down"))
         r->flags |= CDSPD_FLAG_SOURCE_DOWN;
     if (jbool(o, "recorded"))

@@ -66,6 +66,7 @@ static void *writer(void *arg)
         write_one(r);
         pthread_mutex_lock(&r->mu);
         r->busy = 0;
+        pthread_cond_broadcast(&r->cv); /* a lossless offer may be waiting */
     }
     pthread_mutex_unlock(&r->mu);
     return NULL;
@@ -137,9 +138,15 @@ int cdspd_recorder_ready(cdspd_recorder *r)
     if (CDSPD_GET(r->disabled) || !r->have_thread)
         return 0;
     pthread_mutex_lock(&r->mu);
-    ready = !r->busy && !CDSPD_GET(r->disabled);
+    /* a lossless offer waits for the writer: ready unless recording stopped */
+    ready = (r->lossless || !r->busy) && !CDSPD_GET(r->disabled);
     pthread_mutex_unlock(&r->mu);
     return ready;
+}
+
+void cdspd_recorder_set_lossless(cdspd_recorder *r, int lossless)
+{
+    r->lossless = lossless;
 }
 
 int cdspd_recorder_offer(cdspd_recorder *r, const cdspd_frame *f, const cdspd_record *rec)
@@ -150,6 +157,8 @@ int cdspd_recorder_offer(cdspd_recorder *r, const cdspd_frame *f, const cdspd_re
     if (CDSPD_GET(r->disabled) || !r->have_thread)
         return 0;
     pthread_mutex_lock(&r->mu);
+    while (r->lossless && r->busy && !r->stop && !CDSPD_GET(r->disabled))
+        pthread_cond_wait(&r->cv, &r->mu);
     if (!r->busy && !CDSPD_GET(r->disabled) && bytes <= r->frame.cap) {
         size_t cap = r->frame.cap;
         data = r->frame.data;

@@ -6,8 +6,10 @@
  * `--source file:DIR/<run>-*.pgm` replays it without --calib (as does
  * `cdsp_tool solve --calib DIR/<run>.yaml`). A writer thread of its own with one preallocated
  * buffer: the processing thread only copies the frame into it, and skips
- * (counts) frames while the writer is still busy. Any write error (a full
- * disk) stops recording for the rest of the run, never the daemon.
+ * (counts) frames while the writer is still busy, unless the source is a
+ * replay (lossless: the offer waits for the writer, as the frame pool
+ * does, so a replay records every frame it should). Any write error (a
+ * full disk) stops recording for the rest of the run, never the daemon.
  */
 #ifndef CDSPD_RECORD_H
 #define CDSPD_RECORD_H
@@ -30,6 +32,7 @@ typedef struct {
     pthread_mutex_t mu;
     pthread_cond_t cv;
     int busy, stop;
+    int lossless;           /* set before the first offer: offers wait */
     int disabled;           /* CDSPD_GET/SET: the writer sets it */
     cdspd_frame frame;      /* its own buffer */
     cdspd_record rec;
@@ -45,6 +48,8 @@ int cdspd_recorder_wants(const cdspd_recorder *r, uint64_t processed);
 /* Would a frame offered now be taken (only the offering thread makes the
  * writer busy, so the answer holds until it offers)? */
 int cdspd_recorder_ready(cdspd_recorder *r);
+/* Offers wait for a busy writer instead of skipping (a replay source). */
+void cdspd_recorder_set_lossless(cdspd_recorder *r, int lossless);
 /* Hand over a copy of the frame and its record: 1 taken, 0 skipped. */
 int cdspd_recorder_offer(cdspd_recorder *r, const cdspd_frame *f, const cdspd_record *rec);
 void cdspd_recorder_stop(cdspd_recorder *r);

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <arpa/inet.h>
+#include <linux/filter.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 
@@ -24,6 +25,17 @@ static int open_socket(int family, const cdspd_config *c, char *err, size_t errl
         snprintf(err, errlen, "cannot create a UDP%s socket: %s", family == AF_INET6 ? "/IPv6" : "",
                  strerror(errno));
         return -1;
+    }
+    {
+        /* The socket only sends, but its first sendto binds it to an
+         * ephemeral port on every address: a filter that accepts no packet
+         * (classic BPF "return 0") makes the kernel drop whatever arrives
+         * there before it is queued, so nothing from the network ever
+         * reaches cdspd through it (docs/security.md). */
+        static struct sock_filter drop_all[] = {BPF_STMT(BPF_RET | BPF_K, 0)};
+        struct sock_fprog prog = {1, drop_all};
+        if (setsockopt(fd, SOL_SOCKET, SO_ATTACH_FILTER, &prog, sizeof prog))
+            LOG_W(NET, "cannot attach the drop-all receive filter: %s", strerror(errno));
     }
     if (family == AF_INET) {
         /* broadcast destinations need it; harmless for the others */

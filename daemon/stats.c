@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cdsp.h"
 #include "log.h"
 #include "source.h"
 
@@ -150,18 +151,31 @@ void cdspd_stats_window_take(cdspd_stats *s, cdspd_stats_window *w)
     pthread_mutex_unlock(&s->mu);
 }
 
+size_t cdspd_stats_status_field(int status)
+{
+    switch (status) {
+    case CDSP_OK: return CDSPD_STAT(ok);
+    case CDSP_E_ARG:
+    case CDSP_E_NONFINITE:
+    case CDSP_E_FORMAT: return CDSPD_STAT(arg_errors);
+    default: return CDSPD_STAT(not_found);
+    }
+}
+
 void cdspd_stats_log(const cdspd_stats_window *w, const char *why)
 {
     int i;
     double t = w->seconds > 0 ? w->seconds : 1e-9;
     LOG_I(STATS,
           "%s%.1f s: frames in %llu (%.1f/s), processed %llu (%.1f/s), pose %llu, no pipe %llu, "
+          "argument errors %llu, "
           "dropped %llu, bad %llu, status %llu, sent %llu, send errors %llu, reconnects %llu, "
           "recorded %llu; solve p50 %.2f ms p99 %.2f ms; ready->sent p50 %.2f ms p99 %.2f ms "
           "(%llu samples); total: in %llu, processed %llu, dropped %llu, reconnects %llu",
           why, w->seconds, (unsigned long long)w->d.frames_in, (double)w->d.frames_in / t,
           (unsigned long long)w->d.processed, (double)w->d.processed / t,
           (unsigned long long)w->d.ok, (unsigned long long)w->d.not_found,
+          (unsigned long long)w->d.arg_errors,
           (unsigned long long)w->d.frames_dropped, (unsigned long long)w->d.frames_bad,
           (unsigned long long)w->d.status_sent, (unsigned long long)w->d.sent,
           (unsigned long long)w->d.send_errors, (unsigned long long)w->d.reconnects,

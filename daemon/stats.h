@@ -25,6 +25,7 @@ typedef struct {
     uint64_t processed, ok, not_found, status_sent, sent, send_errors;
     uint64_t recorded, record_skipped;
     uint64_t dest_sent[CDSPD_MAX_DEST], dest_errors[CDSPD_MAX_DEST];
+    uint64_t arg_errors;   /* frames the library refused as bad arguments */
 } cdspd_counts;
 
 typedef struct {
@@ -56,6 +57,11 @@ void cdspd_stats_destroy(cdspd_stats *s);
 /* Add to a counter: field is offsetof(cdspd_counts, x) / sizeof(uint64_t). */
 #define CDSPD_STAT(name) (offsetof(cdspd_counts, name) / sizeof(uint64_t))
 void cdspd_stats_add(cdspd_stats *s, size_t field, uint64_t n);
+/* The counter a processed frame's libcdsp status goes to: ok; arg_errors
+ * for CDSP_E_ARG, CDSP_E_NONFINITE, CDSP_E_FORMAT (what the daemon passed
+ * is wrong: a configuration problem, not an empty view); not_found for the
+ * rest (no pipe, few points, degenerate, ...). */
+size_t cdspd_stats_status_field(int status);
 void cdspd_stats_latency(cdspd_stats *s, uint32_t proc_us, uint32_t e2e_us);
 void cdspd_stats_get(cdspd_stats *s, cdspd_counts *c);
 void cdspd_stats_set_down(cdspd_stats *s, int down);

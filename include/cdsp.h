@@ -199,16 +199,21 @@ typedef struct {
 } cdsp_edge;
 
 typedef struct {
-    int step;               /* scanline spacing, px (>= 1). Default 4: a
-                               quarter of the rows and columns are read. */
+    int step;               /* scanline spacing, px (1..CDSP_EDGE_MAX_STEP).
+                               Default 4: a quarter of the rows and columns
+                               are read. */
     int half_window;        /* partial-area window half-length, px (2..8).
                                Default 4 (9-px window): covers an edge
                                blurred with sigma up to ~1.2 px. */
     cdsp_real min_contrast; /* minimum intensity step across an edge as a
                                fraction of full scale (2^bits - 1).
                                Default 0.06 (15 gray levels at 8 bit). */
-    cdsp_roi roi;           /* where to look; default whole frame */
+    cdsp_roi roi;           /* where to look; default whole frame; any
+                               values (clipped to the frame, no overflow) */
 } cdsp_edge_params;
+
+/* Largest scanline spacing (a wider step than any frame reads one line). */
+#define CDSP_EDGE_MAX_STEP 65536
 
 void cdsp_edge_params_default(cdsp_edge_params *p);
 
@@ -305,6 +310,11 @@ void cdsp_pair_params_default(cdsp_pair_params *p);
 /* ------------------------------------------------------------------------
  * The axis.
  * ---------------------------------------------------------------------- */
+
+/* Largest radius the solvers accept (radius units: 1e9 mm is 1000 km).
+ * Beyond it the covariance's squares leave the float range and the
+ * uncertainty would come out infinite; CDSP_E_ARG instead. */
+#define CDSP_MAX_RADIUS 1e9
 typedef struct {
     cdsp_real point[3];      /* P_C: foot of the perpendicular from the optical
                                 centre onto the axis (camera frame) */
@@ -397,7 +407,7 @@ typedef struct {
 
 /*
  * The closed form (docs/method.md): from two contour lines (undistorted px), a
- * pixel p_in between them on the pipe, the radius r (> 0).
+ * pixel p_in between them on the pipe, the radius r (0 < r <= CDSP_MAX_RADIUS).
  * Fills point, direction, distance, alpha, normals, lines; segment is set to
  * point; cov/sigma zero; counts zero.
  * CDSP_E_DEGENERATE when: the back-projection planes are parallel
@@ -533,6 +543,12 @@ typedef struct {
 
 void cdsp_params_default(cdsp_params *p);
 
+/* The parameter checks every solve entry point makes, for callers that
+ * validate a configuration before any frame (cdspd at load time):
+ * CDSP_OK, or CDSP_E_ARG when p is NULL or a field is outside its range
+ * (documented at each field above: e.g. 0 < min_contrast < 1). */
+cdsp_status cdsp_params_check(const cdsp_params *p);
+
 /* Workspace of the points path: one label byte per point. */
 /* A ranked pipe candidate: its two contour lines (undistorted px, as in
  * cdsp_result.lines), a pixel between them, its score and confidence, and
@@ -596,6 +612,9 @@ cdsp_real cdsp_result_point_distance(const cdsp_result *r, const cdsp_real X[3])
 #define CDSP_RENDER_MAX_CLUTTER 8
 #endif
 
+/* Largest blur_sigma_px: the kernel's radius (3 sigma) fits its buffer. */
+#define CDSP_RENDER_MAX_BLUR_PX 8
+
 typedef struct {
     cdsp_real p0[3], p1[3];  /* camera-frame endpoints of the clutter bar's
                                 centre line (a box-like bar seen side on) */
@@ -619,7 +638,8 @@ typedef struct {
     cdsp_real ambient;         /* 1 = flat, no shading */
     cdsp_real texture;         /* background texture amplitude (fraction) */
     cdsp_real texture_scale_px;/* its feature size, px */
-    cdsp_real blur_sigma_px;   /* Gaussian optical blur (needs scratch) */
+    cdsp_real blur_sigma_px;   /* Gaussian optical blur, 0..CDSP_RENDER_MAX_BLUR_PX
+                                  (needs scratch) */
     cdsp_real noise_sigma;     /* Gaussian sensor noise, fraction of full scale */
     int n_clutter;             /* <= CDSP_RENDER_MAX_CLUTTER, behind or in front */
     cdsp_clutter clutter[CDSP_RENDER_MAX_CLUTTER];
@@ -658,6 +678,8 @@ size_t cdsp_render_scratch_size(int width, int height);
  * rng supplies sensor noise (may be NULL when noise_sigma == 0).
  * scratch: cdsp_render_scratch_size() floats, or NULL without blur (optical
  * or motion).
+ * CDSP_E_NONFINITE when any real of the scene (levels, light, geometry,
+ * clutter) is NaN or infinite; CDSP_E_ARG for values out of range.
  */
 cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out,
                         size_t stride, int out_bits, float *scratch, size_t scratch_len,
@@ -666,7 +688,9 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out,
 /* The exact contour lines of an infinite cylinder (undistorted px, oriented
  * as in cdsp_line: toward the brighter side assuming pipe brighter when
  * pipe_brighter != 0) and a pixel inside; the ground truth for tests.
- * CDSP_E_DEGENERATE when the camera is inside or the pipe is behind. */
+ * CDSP_E_DEGENERATE when the camera is inside or the pipe is behind (or so
+ * close to the camera's plane that its image is not finite); the camera is
+ * checked (cdsp_camera_check). */
 cdsp_status cdsp_cylinder_contours(const cdsp_camera *cam, const cdsp_real axis_point[3],
                                    const cdsp_real axis_dir[3], cdsp_real radius,
                                    int pipe_brighter, cdsp_real l1[3], cdsp_real l2[3],

@@ -160,7 +160,7 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3], const
     if (!v3_finite(l1) || !v3_finite(l2) || !R_FINITE(p_in[0]) || !R_FINITE(p_in[1]) ||
         !R_FINITE(radius))
         return CDSP_E_NONFINITE;
-    if (!(radius > R(0)))
+    if (!(radius > R(0)) || radius > R(CDSP_MAX_RADIUS))
         return CDSP_E_ARG;
     st = cdsp__axis_core(cam, l1, l2, p_in, radius, &a);
     if (st != CDSP_OK)

@@ -301,7 +301,8 @@ static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, 
 }
 
 /* The roi clipped to the frame (w or h == 0: whole frame). */
-static void clip_roi(const cdsp_image *img, const cdsp_roi *roi, int *x0, int *y0, int *x1, int *y1)
+void cdsp__edges_clip_roi(const cdsp_image *img, const cdsp_roi *roi, int *x0, int *y0, int *x1,
+                          int *y1)
 {
     if (roi->w <= 0 || roi->h <= 0) {
         *x0 = 0;
@@ -310,15 +311,17 @@ static void clip_roi(const cdsp_image *img, const cdsp_roi *roi, int *x0, int *y
         *y1 = img->height;
         return;
     }
-    *x0 = roi->x < 0 ? 0 : roi->x;
-    *y0 = roi->y < 0 ? 0 : roi->y;
-    *x1 = roi->x + roi->w > img->width ? img->width : roi->x + roi->w;
-    *y1 = roi->y + roi->h > img->height ? img->height : roi->y + roi->h;
+    /* the end in 64 bits: roi.x + roi.w may exceed INT_MAX; a start beyond
+     * the frame is its edge (the scans add a step to it) */
+    *x0 = roi->x < 0 ? 0 : (roi->x > img->width ? img->width : roi->x);
+    *y0 = roi->y < 0 ? 0 : (roi->y > img->height ? img->height : roi->y);
+    *x1 = (int64_t)roi->x + roi->w > img->width ? img->width : roi->x + roi->w;
+    *y1 = (int64_t)roi->y + roi->h > img->height ? img->height : roi->y + roi->h;
 }
 
 cdsp_status cdsp__edge_params_check(const cdsp_edge_params *p)
 {
-    if (!p || p->step < 1 || p->half_window < 2 || p->half_window > 8 ||
+    if (!p || p->step < 1 || p->step > CDSP_EDGE_MAX_STEP || p->half_window < 2 || p->half_window > 8 ||
         !(p->min_contrast > R(0)) || !(p->min_contrast < R(1)))
         return CDSP_E_ARG;
     return CDSP_OK;
@@ -387,7 +390,7 @@ cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, 
     st = cdsp__edge_params_check(p);
     if (st != CDSP_OK)
         return st;
-    clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
+    cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
     extent = img->width > img->height ? img->width : img->height;
     srow = scol = p->step;
     for (;;) {

@@ -135,15 +135,12 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
                           const cdsp_edge_params *edge, int step, const cdsp_result *prior,
                           cdsp_edge *out, size_t cap)
 {
-    int x0 = 0, y0 = 0, x1 = img->width, y1 = img->height, k, h = p->edge.half_window;
-    int band = (int)R_CEIL(p->track_band_px);
+    int x0, y0, x1, y1, k, h = p->edge.half_window;
+    /* the band stays a real: track_band_px may exceed INT_MAX (or be +Inf),
+     * and only positions already clipped to the frame become ints */
+    cdsp_real band = R_CEIL(p->track_band_px);
     size_t n = 0;
-    if (p->edge.roi.w > 0 && p->edge.roi.h > 0) {
-        x0 = p->edge.roi.x > 0 ? p->edge.roi.x : 0;
-        y0 = p->edge.roi.y > 0 ? p->edge.roi.y : 0;
-        x1 = p->edge.roi.x + p->edge.roi.w < img->width ? p->edge.roi.x + p->edge.roi.w : img->width;
-        y1 = p->edge.roi.y + p->edge.roi.h < img->height ? p->edge.roi.y + p->edge.roi.h : img->height;
-    }
+    cdsp__edges_clip_roi(img, &p->edge.roi, &x0, &y0, &x1, &y1);
     for (k = 0; k < 2; k++) {
         const cdsp_real *l = prior->lines[k];
         /* near-vertical contour (|a| >= |b|): scan rows; else columns */
@@ -154,18 +151,16 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
         int smin = horizontal ? x0 : y0, smax = horizontal ? x1 : y1;
         int t;
         for (t = (lo > 1 ? lo : 1) + step / 2; t < hi - 1 && t < other - 1; t += step) {
-            cdsp_real sc;
+            cdsp_real sc, f, e;
             int from, to;
             if (!crossing(cam, l, horizontal, t, &sc))
                 continue;
-            if (sc < (cdsp_real)(smin - band) || sc > (cdsp_real)(smax + band))
+            if (sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band)
                 continue;
-            from = (int)R_FLOOR(sc) - band;
-            to = (int)R_FLOOR(sc) + band + 1;
-            if (from < smin)
-                from = smin;
-            if (to > smax)
-                to = smax;
+            f = R_FLOOR(sc) - band;
+            e = R_FLOOR(sc) + band + R(1);
+            from = f < (cdsp_real)smin ? smin : (int)f;
+            to = e > (cdsp_real)smax ? smax : (int)e;
             if (from < h + 1)
                 from = h + 1;
             if (to > ext - h - 1)

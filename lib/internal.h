@@ -159,6 +159,10 @@ cdsp_status cdsp__edge_params_check(const cdsp_edge_params *p);
 /* lines.c: floor(0.618034 n) without overflow for any size_t width (the
  * start of RANSAC's golden-ratio subsample stride); tested on its own. */
 size_t cdsp__golden_start(size_t n);
+/* The roi clipped to the frame as [x0, x1) x [y0, y1) (w or h <= 0: the
+ * whole frame); any roi values, no overflow. */
+void cdsp__edges_clip_roi(const cdsp_image *img, const cdsp_roi *roi, int *x0, int *y0, int *x1,
+                          int *y1);
 size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p,
                                 int horizontal, int line, int from, int to,
                                 cdsp_edge *out, size_t cap);

@@ -612,9 +612,14 @@ cdsp_status cdsp__solve_args_check(const cdsp_camera *cam, cdsp_real radius, con
         return st;
     if (!R_FINITE(radius))
         return CDSP_E_NONFINITE;
-    if (!(radius > R(0)))
+    if (!(radius > R(0)) || radius > R(CDSP_MAX_RADIUS))
         return CDSP_E_ARG;
     return cdsp__params_check(p);
+}
+
+cdsp_status cdsp_params_check(const cdsp_params *p)
+{
+    return p ? cdsp__params_check(p) : CDSP_E_ARG;
 }
 
 cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,

@@ -111,6 +111,9 @@ cdsp_status cdsp_cylinder_contours(const cdsp_camera *cam, const cdsp_real axis_
     int i;
     if (!cam || !axis_point || !axis_dir || !l1 || !l2 || !p_in)
         return CDSP_E_ARG;
+    st = cdsp_camera_check(cam); /* fuzzing: an infinite fx gave CDSP_OK and Inf */
+    if (st != CDSP_OK)
+        return st;
     if (!v3_finite(axis_point) || !v3_finite(axis_dir) || !R_FINITE(radius))
         return CDSP_E_NONFINITE;
     if (!(radius > R(0)))
@@ -144,6 +147,9 @@ cdsp_status cdsp_cylinder_contours(const cdsp_camera *cam, const cdsp_real axis_
     }
     p_in[0] = cam->fx * X[0] / X[2] + cam->cx;
     p_in[1] = cam->fy * X[1] / X[2] + cam->cy;
+    /* a pipe grazing the camera's plane projects beyond the reals */
+    if (!v3_finite(l1) || !v3_finite(l2) || !R_FINITE(p_in[0]) || !R_FINITE(p_in[1]))
+        return CDSP_E_DEGENERATE;
     return CDSP_OK;
 }
 
@@ -236,7 +242,13 @@ static cdsp_real lattice(uint32_t seed, int32_t x, int32_t y)
 static cdsp_real value_noise(uint32_t seed, cdsp_real x, cdsp_real y)
 {
     cdsp_real fx = R_FLOOR(x), fy = R_FLOOR(y), tx = x - fx, ty = y - fy, a, b, c, d;
-    int32_t ix = (int32_t)fx, iy = (int32_t)fy;
+    int32_t ix, iy;
+    /* cells beyond +-1e9 (a tiny texture_scale_px) are flat: the lattice
+     * index must fit an int32 */
+    if (!(R_FABS(fx) < R(1e9)) || !(R_FABS(fy) < R(1e9)))
+        return R(0);
+    ix = (int32_t)fx;
+    iy = (int32_t)fy;
     tx = tx * tx * (R(3) - R(2) * tx);
     ty = ty * ty * (R(3) - R(2) * ty);
     a = lattice(seed, ix, iy);
@@ -527,15 +539,42 @@ static void store(const cdsp_scene *s, cdsp_rng *rng, cdsp_real val, cdsp_real f
     long qv;
     if (s->noise_sigma > R(0))
         val += s->noise_sigma * cdsp_rng_normal(rng);
-    qv = (long)(val * full + R(0.5));
-    qv = qv < 0 ? 0 : (qv > (long)full ? (long)full : qv);
+    /* clamp before the conversion: a level far outside [0, 1] (or noise on
+     * it) must not reach (long) out of its range */
+    if (!(val > R(0)))
+        qv = 0;
+    else if (val >= R(1))
+        qv = (long)full;
+    else
+        qv = (long)(val * full + R(0.5));
     if (bpp == 1)
         ((unsigned char *)out)[(size_t)y * stride + (size_t)x] = (unsigned char)qv;
     else
         ((uint16_t *)(void *)((unsigned char *)out + (size_t)y * stride))[x] = (uint16_t)qv;
 }
 
-#define RENDER_MAX_KERNEL 25 /* radius: 3 sigma up to sigma = 8 px */
+#define RENDER_MAX_KERNEL 25 /* radius: 3 sigma up to sigma = CDSP_RENDER_MAX_BLUR_PX */
+
+/* Every real of the scene is finite (the header's CDSP_E_NONFINITE). */
+static int scene_finite(const cdsp_scene *s)
+{
+    int i;
+    if (!v3_finite(s->axis_point) || !v3_finite(s->axis_dir) || !v3_finite(s->light) ||
+        !R_FINITE(s->radius) || !R_FINITE(s->half_length) || !R_FINITE(s->pipe_level) ||
+        !R_FINITE(s->cap_level) || !R_FINITE(s->background_level) || !R_FINITE(s->ambient) ||
+        !R_FINITE(s->texture) || !R_FINITE(s->texture_scale_px) || !R_FINITE(s->blur_sigma_px) ||
+        !R_FINITE(s->noise_sigma) || !R_FINITE(s->background_ramp[0]) ||
+        !R_FINITE(s->background_ramp[1]) || !R_FINITE(s->specular) ||
+        !R_FINITE(s->specular_exp) || !R_FINITE(s->motion_px[0]) || !R_FINITE(s->motion_px[1]))
+        return 0;
+    for (i = 0; i < s->n_clutter && i < CDSP_RENDER_MAX_CLUTTER; i++) {
+        const cdsp_clutter *c = &s->clutter[i];
+        if (!v3_finite(c->p0) || !v3_finite(c->p1) || !R_FINITE(c->half_width) ||
+            !R_FINITE(c->level))
+            return 0;
+    }
+    return 1;
+}
 
 /* Bilinear sample of a W x H float frame at (x, y), borders replicated. */
 static float bilinear(const float *f, int W, int H, cdsp_real x, cdsp_real y)
@@ -607,18 +646,15 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
         stride = (size_t)W * bpp;
     if (stride < (size_t)W * bpp)
         return CDSP_E_FORMAT;
-    if (!v3_finite(s->axis_point) || !v3_finite(s->axis_dir) || !R_FINITE(s->radius) ||
-        !R_FINITE(s->blur_sigma_px) || !R_FINITE(s->noise_sigma) ||
-        !R_FINITE(s->background_ramp[0]) || !R_FINITE(s->background_ramp[1]) ||
-        !R_FINITE(s->specular) || !R_FINITE(s->specular_exp) || !R_FINITE(s->motion_px[0]) ||
-        !R_FINITE(s->motion_px[1]))
+    if (!scene_finite(s))
         return CDSP_E_NONFINITE;
     if (s->specular < R(0) || (s->specular > R(0) && s->specular_exp < R(1)) ||
         s->motion_px[0] * s->motion_px[0] + s->motion_px[1] * s->motion_px[1] >
             R(CDSP_RENDER_MAX_MOTION_PX) * R(CDSP_RENDER_MAX_MOTION_PX))
         return CDSP_E_ARG;
     if (!(s->radius > R(0)) || s->n_clutter < 0 || s->n_clutter > CDSP_RENDER_MAX_CLUTTER ||
-        s->blur_sigma_px < R(0) || s->blur_sigma_px > R(8) || s->noise_sigma < R(0))
+        s->blur_sigma_px < R(0) || s->blur_sigma_px > R(CDSP_RENDER_MAX_BLUR_PX) ||
+        s->noise_sigma < R(0))
         return CDSP_E_ARG;
     if (s->noise_sigma > R(0) && !rng)
         return CDSP_E_ARG;

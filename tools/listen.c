@@ -78,9 +78,12 @@ static void usage(FILE *f)
             "        A multicast ADDR joins that group; [V6ADDR]:PORT for IPv6; :PORT\n"
             "        for any address.\n"
             "    --json\n"
-            "        Print each record as one JSON line (binary ones converted), with\n"
-            "        the field names of `cdsp_tool solve` plus seq, t_camera_us and\n"
-            "        t_host_us, for scripts.\n"
+            "        Print each record as one JSON line, with the field names of\n"
+            "        `cdsp_tool solve` plus seq, t_camera_us and t_host_us, for\n"
+            "        scripts. The line is the decoded record encoded again (binary\n"
+            "        and JSON datagrams alike), never the datagram's own bytes: a\n"
+            "        JSON datagram with anything but white space after its object\n"
+            "        is undecodable.\n"
             "    --count N\n"
             "        Stop after N datagrams.\n"
             "    --duration SECONDS\n"
@@ -202,30 +205,53 @@ static int open_socket(const struct sockaddr_storage *ss, socklen_t len, const c
     return fd;
 }
 
-static void print_human(const cdspd_record *r)
+static void format_human(const cdspd_record *r, char *out, size_t cap)
 {
     char head[96];
     snprintf(head, sizeof head, "#%-7lu %s %-8llu", (unsigned long)r->seq,
              r->kind == CDSPD_KIND_FRAME ? "frame" : "     ",
              r->kind == CDSPD_KIND_FRAME ? (unsigned long long)r->frame_id : 0ull);
     if (r->kind == CDSPD_KIND_STATUS) {
-        printf("#%-7lu --             %-11s (frames in %lu, dropped %lu, bad %lu, reconnects %lu)\n",
-               (unsigned long)r->seq, cdspd_status_token(r->status), (unsigned long)r->frames_in,
-               (unsigned long)r->frames_dropped, (unsigned long)r->frames_bad,
-               (unsigned long)r->reconnects);
+        snprintf(out, cap, "#%-7lu --             %-11s (frames in %lu, dropped %lu, bad %lu, reconnects %lu)",
+                 (unsigned long)r->seq, cdspd_status_token(r->status), (unsigned long)r->frames_in,
+                 (unsigned long)r->frames_dropped, (unsigned long)r->frames_bad,
+                 (unsigned long)r->reconnects);
         return;
     }
     if (r->status != 0) {
-        printf("%s %-11s solve %.2f ms  latency %.2f ms\n", head, cdspd_status_token(r->status),
-               r->proc_us * 1e-3, r->latency_us * 1e-3);
+        snprintf(out, cap, "%s %-11s solve %.2f ms  latency %.2f ms", head,
+                 cdspd_status_token(r->status), r->proc_us * 1e-3, r->latency_us * 1e-3);
         return;
     }
-    printf("%s ok  P_C (%8.2f %8.2f %8.2f) +-(%.2f %.2f %.2f)  v_L (%6.3f %6.3f %6.3f)  d %7.2f  "
-           "conf %.2f  inliers %u/%u  solve %.2f ms  latency %.2f ms%s  dropped %lu\n",
-           head, r->point[0], r->point[1], r->point[2], r->sigma_point[0], r->sigma_point[1],
-           r->sigma_point[2], r->direction[0], r->direction[1], r->direction[2], r->distance,
-           r->confidence, r->inliers[0], r->inliers[1], r->proc_us * 1e-3, r->latency_us * 1e-3,
-           (r->flags & CDSPD_FLAG_TRACKED) ? "  tracked" : "", (unsigned long)r->frames_dropped);
+    snprintf(out, cap,
+             "%s ok  P_C (%8.2f %8.2f %8.2f) +-(%.2f %.2f %.2f)  v_L (%6.3f %6.3f %6.3f)  d %7.2f  "
+             "conf %.2f  inliers %u/%u  solve %.2f ms  latency %.2f ms%s  dropped %lu",
+             head, r->point[0], r->point[1], r->point[2], r->sigma_point[0], r->sigma_point[1],
+             r->sigma_point[2], r->direction[0], r->direction[1], r->direction[2], r->distance,
+             r->confidence, r->inliers[0], r->inliers[1], r->proc_us * 1e-3, r->latency_us * 1e-3,
+             (r->flags & CDSPD_FLAG_TRACKED) ? "  tracked" : "", (unsigned long)r->frames_dropped);
+}
+
+int cdsp_tool_listen_format(const uint8_t *buf, size_t len, int json, char *out, size_t cap,
+                            uint32_t *seq, const char **why)
+{
+    cdspd_record rec, *r = &rec;
+    if (cap)
+        out[0] = 0;
+    if (cdspd_proto_decode_any(buf, len, r, NULL, why))
+        return -1;
+    *seq = r->seq;
+    /* what was decoded, re-encoded: never the datagram's own bytes, so
+     * nothing a sender appends or embeds reaches the consumer's stream */
+    if (json) {
+        if (!cdspd_proto_encode_json(r, out, cap)) {
+            *why = "record too long to re-encode";
+            return -1;
+        }
+    } else {
+        format_human(r, out, cap);
+    }
+    return 0;
 }
 
 int cdsp_tool_listen(int argc, char **argv)
@@ -311,9 +337,8 @@ int cdsp_tool_listen(int argc, char **argv)
         struct pollfd pfd = {fd, POLLIN, 0};
         int wait_ms = 200, pr;
         ssize_t n;
-        cdspd_record r;
+        uint32_t seq;
         const char *why;
-        int is_json;
         if (t_end > 0) {
             double left = t_end - now_s();
             if (left <= 0)
@@ -324,30 +349,22 @@ int cdsp_tool_listen(int argc, char **argv)
         pr = poll(&pfd, 1, wait_ms);
         if (pr <= 0)
             continue;
-        n = recv(fd, buf, sizeof buf - 1, 0);
+        n = recv(fd, buf, sizeof buf, 0);
         if (n < 0)
             continue;
-        buf[n] = 0;
         received++;
-        if (cdspd_proto_decode_any(buf, (size_t)n, &r, &is_json, &why)) {
+        if (cdsp_tool_listen_format(buf, (size_t)n, json, out, sizeof out, &seq, &why)) {
             bad++;
             fprintf(stderr, "cdsp_tool listen: datagram of %zd bytes: %s\n", n, why);
             continue;
         }
-        if (have_seq && r.seq != last_seq + 1u && r.seq > last_seq)
-            missing += r.seq - last_seq - 1u;
-        last_seq = r.seq;
+        if (have_seq && seq != last_seq + 1u && seq > last_seq)
+            missing += seq - last_seq - 1u;
+        last_seq = seq;
         have_seq = 1;
         if (quiet)
             continue;
-        if (json) {
-            if (is_json)
-                printf("%s\n", (const char *)buf);
-            else if (cdspd_proto_encode_json(&r, out, sizeof out))
-                printf("%s\n", out);
-        } else {
-            print_human(&r);
-        }
+        printf("%s\n", out);
         fflush(stdout);
     }
     close(fd);

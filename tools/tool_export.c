@@ -124,6 +124,40 @@ static void centred(const double p[3], const double d[3], double len, double a[3
     }
 }
 
+/* Coordinates and radii the mesh takes, unit of the radius: beyond them a
+ * vertex (an end +- r along two unit vectors) or a difference of two ends
+ * would overflow to Inf and print as null. 1e12 radii is far beyond any
+ * pose libcdsp reports (CDSP_MAX_RADIUS is 1e9). */
+#define EXPORT_MAX_COORD 1e12
+
+/* A cylinder the mesh can be built of: 1, or 0 with *why. */
+static int pipe_ok(const double a[3], const double b[3], double r, const char **why)
+{
+    double d2 = 0;
+    int i;
+    if (!(r > 0) || !(r <= EXPORT_MAX_COORD)) {
+        *why = "the radius is not in (0, 1e12]";
+        return 0;
+    }
+    for (i = 0; i < 3; i++) {
+        if (!(fabs(a[i]) <= EXPORT_MAX_COORD) || !(fabs(b[i]) <= EXPORT_MAX_COORD)) {
+            *why = "a coordinate beyond 1e12 (unit of the radius): cannot be meshed";
+            return 0;
+        }
+        d2 += (b[i] - a[i]) * (b[i] - a[i]);
+    }
+    if (!(d2 > 0)) {
+        *why = "the axis has no direction (zero vector): cannot be meshed";
+        return 0;
+    }
+    return 1;
+}
+
+static int nonzero(const double d[3])
+{
+    return d[0] != 0 || d[1] != 0 || d[2] != 0;
+}
+
 /* One solve record; 1 added, 0 skipped (error record), -1 malformed. */
 static int from_record(json_object *o, const export_opts *E, parts *ps, const char **why)
 {
@@ -156,8 +190,14 @@ static int from_record(json_object *o, const export_opts *E, parts *ps, const ch
     len = sqrt((seg[1][0] - seg[0][0]) * (seg[1][0] - seg[0][0]) +
                (seg[1][1] - seg[0][1]) * (seg[1][1] - seg[0][1]) +
                (seg[1][2] - seg[0][2]) * (seg[1][2] - seg[0][2]));
+    if (!nonzero(dir)) {
+        *why = "\"direction\" is the zero vector";
+        return -1;
+    }
     if (!(len > 1e-9 * r)) /* extent unknown: a piece of the given length */
         centred(point, dir, E->length > 0 ? E->length : 20 * r, seg[0], seg[1]);
+    if (!pipe_ok(seg[0], seg[1], r, why))
+        return -1;
     if (add_part(ps, seg[0], seg[1], r, 0) != 0) {
         *why = "out of memory";
         return -1;
@@ -190,7 +230,13 @@ static int from_truth(json_object *o, const export_opts *E, parts *ps, const cha
             *why = "a frame without axis_point, axis_dir, half_length";
             return -1;
         }
+        if (!nonzero(d)) {
+            *why = "a frame whose axis_dir is the zero vector";
+            return -1;
+        }
         centred(p, d, half > 0 ? 2 * half : (E->length > 0 ? E->length : 20 * r), a, b);
+        if (!pipe_ok(a, b, r, why))
+            return -1;
         if (add_part(ps, a, b, r, 0) != 0) {
             *why = "out of memory";
             return -1;

@@ -17,10 +17,25 @@ typedef struct {
     int w, h;
 } canvas;
 
+/* (x, y) rounded to the nearest pixel when it lies within reach px of the
+ * canvas: 1, else 0 (also NaN). A projection can land far outside the
+ * frame, beyond what an int holds, so the test is made in doubles first. */
+static int near_canvas(const canvas *c, double x, double y, int reach, int *cx, int *cy)
+{
+    if (!(x > -1.0 - reach && x < (double)c->w + reach && y > -1.0 - reach &&
+          y < (double)c->h + reach))
+        return 0;
+    *cx = (int)floor(x + 0.5);
+    *cy = (int)floor(y + 0.5);
+    return 1;
+}
+
 /* A small '+' (arm length arm px): edge points stay visible on the lines. */
 static void mark(canvas *c, double x, double y, int arm, const uint8_t col[3])
 {
-    int cx = (int)floor(x + 0.5), cy = (int)floor(y + 0.5), k;
+    int cx, cy, k;
+    if (!near_canvas(c, x, y, arm, &cx, &cy))
+        return;
     for (k = -arm; k <= arm; k++) {
         int px[2] = {cx + k, cx}, py[2] = {cy, cy + k}, i;
         for (i = 0; i < 2; i++) {
@@ -35,7 +50,9 @@ static void mark(canvas *c, double x, double y, int arm, const uint8_t col[3])
 
 static void plot(canvas *c, double x, double y, int rad, const uint8_t col[3])
 {
-    int cx = (int)floor(x + 0.5), cy = (int)floor(y + 0.5), dx, dy;
+    int cx, cy, dx, dy;
+    if (!near_canvas(c, x, y, rad, &cx, &cy))
+        return;
     for (dy = -rad; dy <= rad; dy++)
         for (dx = -rad; dx <= rad; dx++) {
             int px = cx + dx, py = cy + dy;

@@ -548,7 +548,7 @@ int tool_solve_main(int argc, char **argv)
         const tool_opt opts[] = {
             {"calib", 'c', OPT_STR, &J.calib_path, 0, 0, "CAM.yaml",
              "The camera calibration, ROS camera_info YAML (required).", NULL, 1},
-            {"radius", 'r', OPT_REAL, &J.radius, 1e-9, 1e12, "R",
+            {"radius", 'r', OPT_REAL, &J.radius, 1e-9, CDSP_MAX_RADIUS, "R",
              "The pipe's radius in the unit wanted for the output, e.g. 8 for a 16 mm "
              "pipe in mm (required).", NULL, 1},
             {"out", 'o', OPT_STR, &J.out_dir, 0, 0, "DIR",
@@ -582,7 +582,8 @@ int tool_solve_main(int argc, char **argv)
              "Half-length of the subpixel edge window, px (covers blur up to about "
              "H/3 px sigma).", NULL, 0},
             {"min-contrast", 0, OPT_REAL, &J.min_contrast, 0.001, 1, "F",
-             "Smallest intensity step across an edge, as a fraction of full scale.", NULL, 0},
+             "Smallest intensity step across an edge, as a fraction of full scale "
+             "(below 1).", NULL, 0},
             {"inlier-px", 0, OPT_REAL, &J.inlier_px, 0.01, 100, "PX",
              "RANSAC inlier distance to a contour line, px.", NULL, 0},
             {"band", 0, OPT_REAL, &J.band, 1, 1000, "PX",
@@ -667,6 +668,15 @@ int tool_solve_main(int argc, char **argv)
     J.params.pair.max_distance = (cdsp_real)J.max_distance;
     J.params.min_confidence = (cdsp_real)J.min_confidence;
     J.params.track_band_px = (cdsp_real)J.band;
+    /* the library's own parameter checks before any frame: the options'
+     * ranges are inclusive, libcdsp's are not all (0 < min_contrast < 1) */
+    if (cdsp_params_check(&J.params) != CDSP_OK) {
+        tool_usage_error(J.cmd, "libcdsp refuses these solver options (--step %d --window %d "
+                         "--min-contrast %g --inlier-px %g --band %g): --min-contrast must be "
+                         "below 1, the other ranges are in --help",
+                         J.step, J.window, J.min_contrast, J.inlier_px, J.band);
+        goto out;
+    }
     rc = run(&J);
 out:
     tool_frames_free(&J.frames);

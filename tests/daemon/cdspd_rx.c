@@ -7,7 +7,9 @@
  *     (sim_path.h, from the same configuration the daemon read) or the fake
  *     GigE camera's (tests/fakecam/fakecam_path.h);
  *   - in-view frames give a pose, out-of-view frames give no pipe;
- *   - counts of statuses by token, bounds given on the command line.
+ *   - counts of statuses by token, bounds given on the command line;
+ *   - with --validate, every datagram on its own and against the previous
+ *     ones (validate() below): the soak and fault tests use it.
  *
  * Tolerance of a pose (as tests/lib/test_frame.c): |P_C - truth foot| <=
  * 6 sigma (the solver's own, from the datagram) + d delta (1/f + 2/w), with
@@ -58,7 +60,7 @@ typedef struct {
     long min_expect;
     double min_ok_ratio;        /* of frames whose pipe is in view */
     double delta_px;
-    int allow_seq_gaps, verbose, json_expected;
+    int allow_seq_gaps, verbose, json_expected, validate;
     long min_reconnects, min_bad, max_dropped;
     double resume_within;       /* after a source-down status: a pose within this many s */
     const char *compare;        /* --record's .jsonl: frame k of a replay = its line k */
@@ -148,6 +150,10 @@ static void usage(FILE *f, int st)
             "                         to last: a late frame may follow an early one closely)\n"
             "  --max-reconnects N     the daemon's reconnect counter at most N\n"
             "  --json                 datagrams must be JSON\n"
+            "  --validate             check every datagram: known kind and status, pose fields\n"
+            "                         finite and consistent (unit direction, distance = |P_C|)\n"
+            "                         when ok and zero otherwise; seq, frame t_host_us and the\n"
+            "                         daemon's counters never go backwards (gaps are counted)\n"
             "  -v                     one line per datagram\n");
     exit(st);
 }
@@ -167,7 +173,7 @@ static double num(const char *opt, const char *s)
 
 static void parse(int argc, char **argv, rx_options *o)
 {
-    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ, MSL, PG, CC, MI, XR };
+    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ, MSL, VA, PG, CC, MI, XR };
     static const struct option lo[] = {
         {"bind", 1, NULL, B}, {"port-file", 1, NULL, PF}, {"truth", 1, NULL, TR},
         {"config", 1, NULL, CF}, {"set", 1, NULL, ST}, {"calib", 1, NULL, CA},
@@ -176,8 +182,9 @@ static void parse(int argc, char **argv, rx_options *o)
         {"expect-status", 1, NULL, ES}, {"min-expect", 1, NULL, ME}, {"min-status", 1, NULL, MS},
         {"max-status", 1, NULL, XS}, {"min-reconnects", 1, NULL, MRC}, {"min-bad", 1, NULL, MB},
         {"max-dropped", 1, NULL, MD}, {"resume-within", 1, NULL, RW}, {"delta", 1, NULL, DL},
-        {"allow-seq-gaps", 0, NULL, SG}, {"compare-jsonl", 1, NULL, CJ}, {"min-slots", 1, NULL, MSL}, {"progress", 1, NULL, PG}, {"camera-clock", 1, NULL, CC}, {"min-interval", 1, NULL, MI},
-        {"max-reconnects", 1, NULL, XR}, {"json", 0, NULL, JS}, {"help", 0, NULL, 'h'},
+        {"allow-seq-gaps", 0, NULL, SG}, {"compare-jsonl", 1, NULL, CJ}, {"min-slots", 1, NULL, MSL}, {"json", 0, NULL, JS},
+        {"validate", 0, NULL, VA}, {"progress", 1, NULL, PG}, {"camera-clock", 1, NULL, CC},
+        {"min-interval", 1, NULL, MI}, {"max-reconnects", 1, NULL, XR}, {"help", 0, NULL, 'h'},
         {NULL, 0, NULL, 0}};
     int c;
     memset(o, 0, sizeof *o);
@@ -230,6 +237,7 @@ static void parse(int argc, char **argv, rx_options *o)
         case DL: o->delta_px = num("--delta", optarg); break;
         case SG: o->allow_seq_gaps = 1; break;
         case JS: o->json_expected = 1; break;
+        case VA: o->validate = 1; break;
         case CJ: o->compare = optarg; break;
         case MSL: o->min_slots = (long)num("--min-slots", optarg); break;
         case PG: o->progress = optarg; break;
@@ -308,6 +316,85 @@ static void pose_ratios(const rx_options *o, const cdspd_record *r, double f_px,
     *rd = ang / allow_d;
 }
 
+/* What --validate remembers of the datagrams before. */
+typedef struct {
+    int have, have_frame;
+    cdspd_record prev;            /* the previous datagram */
+    uint64_t last_frame_t_host;   /* t_host_us of the previous frame record */
+} rx_history;
+
+static int finite_all(const double *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+/* --validate: NULL when the record is well formed and consistent with the
+ * ones before, else what is wrong. A pose must be finite with a unit
+ * direction (1e-9: the daemon normalizes in double precision) and
+ * distance = |P_C| (1e-9 relative: the same computation, rounded once);
+ * every pose field of a record without a pose is zero (docs/protocol.md).
+ * seq, the frames' t_host_us (CLOCK_MONOTONIC, frames are processed in the
+ * order they became ready) and the counters (since the daemon started,
+ * across reloads) never decrease; seq gaps are the caller's business. */
+static const char *validate(rx_history *h, const cdspd_record *r)
+{
+    const char *why = NULL;
+    if (r->version != CDSPD_PROTO_VERSION)
+        why = "unknown version";
+    else if (r->kind != CDSPD_KIND_FRAME && r->kind != CDSPD_KIND_STATUS)
+        why = "unknown kind";
+    else if (!strcmp(cdspd_status_token(r->status), "unknown"))
+        why = "unknown status";
+    else if (r->kind == CDSPD_KIND_STATUS &&
+             (r->status == 0 || r->frame_id != 0))
+        why = "a status record with a pose status or a frame id";
+    else if (!(r->radius > 0) || !isfinite(r->radius))
+        why = "radius not positive";
+    else if (r->status == 0) {
+        double dn = norm3(r->direction), pn = norm3(r->point);
+        if (!finite_all(r->point, 3) || !finite_all(r->direction, 3) || !isfinite(r->distance) ||
+            !isfinite(r->alpha) || !finite_all(&r->lines[0][0], 6) ||
+            !finite_all(&r->segment[0][0], 6) || !finite_all(r->sigma_point, 3) ||
+            !finite_all(r->sigma_direction, 3) || !isfinite(r->sigma_distance) ||
+            !finite_all(r->rms, 2))
+            why = "a pose with a non-finite field";
+        else if (fabs(dn - 1) > 1e-9)
+            why = "a pose whose direction is not a unit vector";
+        else if (fabs(r->distance - pn) > 1e-9 * pn)
+            why = "a pose whose distance is not |P_C|";
+        else if (r->inliers[0] == 0 || r->inliers[1] == 0 || r->n_edges < r->inliers[0] + r->inliers[1])
+            why = "a pose with inconsistent inlier and edge counts";
+    } else {
+        static const cdspd_record zero;
+        if (memcmp(r->point, zero.point, sizeof r->point) ||
+            memcmp(r->direction, zero.direction, sizeof r->direction) || r->distance != 0 ||
+            r->alpha != 0 || memcmp(r->sigma_point, zero.sigma_point, sizeof r->sigma_point) ||
+            r->inliers[0] || r->inliers[1])
+            why = "pose fields set in a record without a pose";
+    }
+    if (!why && h->have) {
+        const cdspd_record *p = &h->prev;
+        if (r->seq <= p->seq)
+            why = "seq went backwards";
+        else if (r->frames_in < p->frames_in || r->frames_dropped < p->frames_dropped ||
+                 r->frames_bad < p->frames_bad || r->reconnects < p->reconnects)
+            why = "a counter (frames_in, dropped, bad, reconnects) went backwards";
+    }
+    if (!why && r->kind == CDSPD_KIND_FRAME && h->have_frame && r->t_host_us < h->last_frame_t_host)
+        why = "t_host_us went backwards";
+    if (r->kind == CDSPD_KIND_FRAME) {
+        h->last_frame_t_host = r->t_host_us;
+        h->have_frame = 1;
+    }
+    h->prev = *r;
+    h->have = 1;
+    return why;
+}
+
 int main(int argc, char **argv)
 {
     rx_options o;
@@ -322,7 +409,8 @@ int main(int argc, char **argv)
     double t0, t_last = 0, worst_ratio = 0, worst_dir_ratio = 0, t_down = -1, worst_resume = 0;
     long received = 0, poses = 0, statuses = 0, expect_hits = 0, in_view = 0, in_view_ok = 0;
     long gaps = 0, seq_errors = 0, away_poses = 0, bad_decode = 0, tracked = 0;
-    long compared = 0, cmp_fail = 0, slots_seen = 0, progress_at = -1, clock_fail = 0;
+    long compared = 0, cmp_fail = 0, slots_seen = 0, invalid = 0, progress_at = -1, clock_fail = 0;
+    static rx_history hist;
     uint64_t last_tcam = 0, first_tcam = 0;
     long n_tcam = 0;
     double min_dt_us = -1, mean_dt_us = -1;
@@ -438,6 +526,14 @@ int main(int argc, char **argv)
             fprintf(stderr, "cdspd_rx: FAIL: datagram %ld (%zd bytes): %s\n", received, n, why);
             bad_decode++;
             continue;
+        }
+        if (o.validate) {
+            const char *bad = validate(&hist, &r);
+            if (bad) {
+                if (invalid++ < 20)
+                    fprintf(stderr, "cdspd_rx: FAIL: datagram seq %lu (frame %llu): %s\n",
+                            (unsigned long)r.seq, (unsigned long long)r.frame_id, bad);
+            }
         }
         if (is_json != o.json_expected) {
             fprintf(stderr, "cdspd_rx: FAIL: datagram seq %lu is %s\n", (unsigned long)r.seq,
@@ -619,6 +715,8 @@ int main(int argc, char **argv)
             printf(" %s %ld", status_names[i], status_by[i]);
     printf("; daemon counters: reconnects %lu, bad %lu, dropped %lu\n", (unsigned long)max_reconnects,
            (unsigned long)max_bad, (unsigned long)max_dropped);
+    if (o.validate)
+        printf("cdspd_rx: validated %ld datagrams: %ld invalid\n", received - bad_decode, invalid);
     if (o.compare)
         printf("cdspd_rx: replay: %ld frames compared with %ld recorded results, %ld differ\n",
                compared, cmp_n, cmp_fail);
@@ -654,6 +752,7 @@ int main(int argc, char **argv)
     CHECK(!o.compare || (compared == cmp_n && cmp_fail == 0),
           "replay: %ld frames compared with the %ld recorded, %ld differ", compared, cmp_n, cmp_fail);
     CHECK(bad_decode == 0, "%ld datagrams could not be decoded", bad_decode);
+    CHECK(invalid == 0, "%ld datagrams invalid or inconsistent with the ones before", invalid);
     CHECK(status_by[7] == 0, "datagrams in the wrong format");
     CHECK(o.allow_seq_gaps || (gaps == 0 && seq_errors == 0), "sequence numbers not continuous "
           "(%ld missing, %ld out of order)", gaps, seq_errors);

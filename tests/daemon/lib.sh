@@ -11,6 +11,25 @@ work=$(mktemp -d "${CDSPD_TMP:-/tmp}/$(basename "$0" .sh).XXXXXX") || exit 2
 CALIB=daemon/demo-camera.yaml
 pids=()
 
+# CDSPD_SAN set (daemon/sanitize.mk): cdspd is a sanitizer build. Every
+# finding goes to $work/san.PID (log_path), and a script that leaves one
+# fails at its exit whatever else it checked.
+if [ -n "${CDSPD_SAN:-}" ]; then
+    for v in ASAN_OPTIONS UBSAN_OPTIONS TSAN_OPTIONS; do
+        export "$v=${!v:+${!v}:}log_path=$work/san"
+    done
+fi
+san_reports() {
+    local f found=1
+    for f in "$work"/san.*; do
+        [ -s "$f" ] || continue
+        echo "FAIL: sanitizer report $(basename "$f"):" >&2
+        head -n 60 "$f" >&2
+        found=0
+    done
+    return $found
+}
+
 cleanup() {
     local p
     for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null; done
@@ -19,7 +38,10 @@ cleanup() {
         kill -KILL "$p" 2>/dev/null
         wait "$p" 2>/dev/null
     done
+    local rc=0
+    [ -n "${CDSPD_SAN:-}" ] && san_reports && rc=1
     [ -n "${KEEP_TMP:-}" ] || rm -rf "$work"
+    [ $rc -eq 0 ] || exit 1
 }
 trap cleanup EXIT
 trap 'exit 1' INT TERM HUP
@@ -32,7 +54,7 @@ fail() {
         echo "--- $(basename "$f") (last 25 lines)" >&2
         tail -n 25 "$f" >&2
     done
-    exit 1
+    exit 1    # cleanup (the EXIT trap) shows any sanitizer report
 }
 
 # start_rx NAME ARGS...: cdspd_rx in the background; sets RX_PORT and NAME_pid.
@@ -62,9 +84,14 @@ start_cdspd() {
     eval "${name}_pid=$pid"
 }
 
+# CDSPD_WAIT_SCALE (integer, default 1): every bound of wait_for and
+# wait_log multiplied by it, for the sanitizer builds (daemon/sanitize.mk),
+# which run several times slower; the waits end as soon as the event comes.
+scale=${CDSPD_WAIT_SCALE:-1}
+
 # wait_for PID SECONDS: its exit status, or 124 (and it is killed) after SECONDS.
 wait_for() {
-    local pid=$1 n=$(( $2 * 10 ))
+    local pid=$1 n=$(( $2 * 10 * scale ))
     while [ $n -gt 0 ]; do
         if ! kill -0 "$pid" 2>/dev/null; then
             wait "$pid"
@@ -80,7 +107,7 @@ wait_for() {
 
 # wait_log FILE PATTERN SECONDS: until grep finds PATTERN in FILE.
 wait_log() {
-    local n=$(( $3 * 10 ))
+    local n=$(( $3 * 10 * scale ))
     while [ $n -gt 0 ]; do
         grep -q -- "$2" "$1" 2>/dev/null && return 0
         sleep 0.1

@@ -187,7 +187,7 @@ static void test_file_errors(void **state)
     expect_file_error("log:\n  level: default\n", "key 'log.level'", NULL);
     expect_file_error("log:\n  net: loud\n", "key 'log.net'", NULL);
     expect_file_error("- a\n- b\n", "bad.yaml:1:1: expected a mapping", NULL);
-    expect_file_error("radius: 3\n  bad indent: [\n", "bad.yaml:", "YAML syntax error");
+    expect_file_error("radius: 3\n  bad indent: [\n", "bad.yaml:", "YAML error at line 2");
     {
         static cdspd_config c;
         char err[512];
@@ -217,6 +217,12 @@ static void test_finish_errors(void **state)
         {"sim.bits", "11", "key 'sim.bits'"},
         {"net.multicast_interface", "eth0", "key 'net.multicast_interface'"},
         {"record", "/proc/cdspd-cannot-be-here", "key 'record': cannot create"},
+        /* issue 16 / issue 9 defect 3: values the library refuses, refused
+         * at load time (they used to pass --check-config) */
+        {"solver.min_contrast", "0", "key 'solver.min_contrast': libcdsp refuses '0'"},
+        {"solver.min_contrast", "1", "key 'solver.min_contrast': libcdsp refuses '1'"},
+        {"sim.blur", "8.5", "key 'sim.blur': expected a number in [0, 8]"},
+        {"sim.blur", "10", "key 'sim.blur'"},
     };
     size_t i;
     (void)state;
@@ -234,6 +240,55 @@ static void test_finish_errors(void **state)
             fail_msg("%s=%s: message '%s' lacks '%s'", cases[i].key, cases[i].value, err,
                      cases[i].frag);
     }
+}
+
+/* Issue 16: a hostile or careless config file. Duplicated keys and
+ * sections are refused with the line of both (the last used to win
+ * silently); nesting and aliases are bounded before libyaml builds the
+ * document (a 120 KB file of '[' took 15 s, blocking a SIGHUP reload; a
+ * 60 KB one ~4 s).
+ * The small versions are in tests/fuzz/corpus/config/regress-*. */
+static void test_hostile_files(void **state)
+{
+    static cdspd_config c;
+    char err[2048] = "", *deep;
+    size_t i, n = 60000; /* below the 64 KiB file limit */
+    const char *path;
+    (void)state;
+    expect_file_error("radius: 3\nradius: 4\n", "bad.yaml:2:1: key 'radius' given twice",
+                      "first at line 1");
+    expect_file_error("sim:\n  rate: 3\nsim:\n  frames: 4\n",
+                      "bad.yaml:3:1: section 'sim' given twice", "first at line 1");
+    expect_file_error("sim:\n  rate: 3\n  rate: 5\n", "bad.yaml:3:3: key 'sim.rate' given twice",
+                      "first at line 2");
+    expect_file_error("sim.rate: 3\nsim:\n  rate: 5\n", "bad.yaml:3:3: key 'sim.rate' given twice",
+                      "first at line 1");
+    expect_file_error("dest: [a:1]\ndest: [b:2]\n", "bad.yaml:2:1: key 'dest' given twice", NULL);
+    expect_file_error("solver:\n  min_contrast: 1\n", "bad.yaml:2:17: key 'solver.min_contrast'",
+                      "libcdsp refuses");
+    /* 9 levels (the root mapping and 8 lists): one beyond the bound */
+    expect_file_error("a: [[[[[[[[1]]]]]]]]\n",
+                      "bad.yaml: YAML nested deeper than 8 levels at line 1, column 11", NULL);
+    {
+        char text[2048];
+        size_t k = 0;
+        k += (size_t)snprintf(text + k, sizeof text - k, "x: &a 1\nl: [");
+        for (i = 0; i < 65; i++)
+            k += (size_t)snprintf(text + k, sizeof text - k, "%s*a", i ? ", " : "");
+        snprintf(text + k, sizeof text - k, "]\n");
+        expect_file_error(text, "bad.yaml: more than 64 YAML aliases, at line 2", NULL);
+    }
+    deep = malloc(n + 1);
+    assert_non_null(deep);
+    memset(deep, '[', n);
+    deep[n] = 0;
+    expect_file_error(deep, "nested deeper than 8 levels", NULL);
+    free(deep);
+    /* what a valid file may use: anchors and a few aliases */
+    path = write_file("alias.yaml", "sim:\n  center: &c [1, 2, 450]\n  sway: *c\n");
+    cdspd_config_defaults(&c);
+    assert_int_equal(cdspd_config_load_file(&c, path, err, sizeof err), 0);
+    assert_true(c.sim.sway[2] == 450);
 }
 
 /* --check-config's dump is a config file giving the same configuration. */
@@ -351,6 +406,7 @@ int main(void)
         cmocka_unit_test(test_defaults),       cmocka_unit_test(test_file),
         cmocka_unit_test(test_file_errors),    cmocka_unit_test(test_finish_errors),
         cmocka_unit_test(test_dump_round_trip), cmocka_unit_test(test_dest_syntax),
+        cmocka_unit_test(test_hostile_files),
         cmocka_unit_test(test_mavlink_keys),
     };
     return cmocka_run_group_tests_name("daemon-config", tests, setup, NULL);

@@ -284,6 +284,129 @@ static void test_json_fields(void **state)
     }
 }
 
+/* Issue 16: hostile JSON datagrams are refused, never crash or reach an
+ * undefined conversion: null kind/status/error (strcmp of NULL killed the
+ * receiver), counts out of range, non-finite numbers, bytes after the
+ * object (a second, fake record smuggled behind the first). Each is a
+ * valid record with one field replaced. The corpus files
+ * tests/fuzz/corpus/listen/regress-* (the fuzz target's seeds) are refused
+ * too. */
+static void test_json_hostile(void **state)
+{
+    static const struct {
+        const char *field, *value;
+    } bad[] = {
+        {"\"kind\":", "null"},          {"\"kind\":", "7"},           {"\"kind\":", "\"bogus\""},
+        {"\"status\":", "null"},        {"\"status\":", "[]"},        {"\"inliers\":", "[1e300,2]"},
+        {"\"inliers\":", "[-1,2]"},     {"\"inliers\":", "[4294967296,2]"},
+        {"\"inliers\":", "[1.5,2]"},    {"\"inliers\":", "[NaN,2]"},  {"\"edges\":", "-1"},
+        {"\"edges\":", "1e300"},        {"\"edges\":", "Infinity"},   {"\"edges\":", "null"},
+        {"\"point\":", "[NaN,0,0]"},    {"\"distance\":", "-Infinity"},
+    };
+    static const char *const files[] = {"regress-kind-null.json", "regress-status-null.json",
+                                        "regress-error-null.json",
+                                        "regress-trailing-injection.json",
+                                        "regress-binary-nan-radius.bin",
+                                        "regress-binary-unknown-status.bin",
+                                        "regress-binary-status-ok.bin"};
+    cdspd_record a, b;
+    char text[4096], mut[8400];
+    cdsp_rng g;
+    const char *why;
+    size_t i, n;
+    (void)state;
+    cdsp_rng_seed(&g, 8, 1);
+    random_record(&g, &a, 1);
+    a.kind = CDSPD_KIND_FRAME;
+    n = cdspd_proto_encode_json(&a, text, sizeof text);
+    assert_true(n > 0);
+    assert_int_equal(cdspd_proto_decode_json(text, n, &b, &why), 0);
+    for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        const char *at = strstr(text, bad[i].field), *end;
+        assert_non_null(at);
+        at += strlen(bad[i].field);
+        /* the old value ends at the first ',' or '}' outside brackets */
+        end = at;
+        if (*end == '[') {
+            end = strchr(end, ']') + 1;
+        } else {
+            while (*end != ',' && *end != '}')
+                end++;
+        }
+        snprintf(mut, sizeof mut, "%.*s%s%s", (int)(at - text), text, bad[i].value, end);
+        if (cdspd_proto_decode_json(mut, strlen(mut), &b, &why) != -1)
+            fail_msg("accepted %s%s", bad[i].field, bad[i].value);
+    }
+    /* an error record whose error is null, or not a known token */
+    random_record(&g, &a, 0);
+    a.kind = CDSPD_KIND_FRAME;
+    a.status = CDSP_E_NO_PIPE;
+    n = cdspd_proto_encode_json(&a, text, sizeof text);
+    assert_int_equal(cdspd_proto_decode_json(text, n, &b, &why), 0);
+    {
+        char *e = strstr(text, "\"error\":\"no-pipe\"");
+        assert_non_null(e);
+        snprintf(mut, sizeof mut, "%.*s\"error\":null%s", (int)(e - text), text, e + 17);
+        assert_int_equal(cdspd_proto_decode_json(mut, strlen(mut), &b, &why), -1);
+        snprintf(mut, sizeof mut, "%.*s\"error\":\"ok\"%s", (int)(e - text), text, e + 17);
+        assert_int_equal(cdspd_proto_decode_json(mut, strlen(mut), &b, &why), -1);
+    }
+    /* white space after the object is fine, anything else is not */
+    snprintf(mut, sizeof mut, "%s \r\n", text);
+    assert_int_equal(cdspd_proto_decode_json(mut, strlen(mut), &b, &why), 0);
+    snprintf(mut, sizeof mut, "%s\n%s", text, text);
+    assert_int_equal(cdspd_proto_decode_json(mut, strlen(mut), &b, &why), -1);
+    assert_string_equal(why, "bytes after the JSON object");
+    /* found by tests/fuzz listen (corpus/listen/regress-binary-nan-radius.bin):
+     * a binary record's NaN became JSON null, which no decoder takes back;
+     * both decoders now refuse non-finite numbers, radius included */
+    {
+        uint8_t bin[CDSPD_PROTO_SIZE];
+        double nan_v = NAN;
+        random_record(&g, &a, 1);
+        a.kind = CDSPD_KIND_FRAME;
+        assert_int_equal(cdspd_proto_encode(&a, bin, sizeof bin), CDSPD_PROTO_SIZE);
+        assert_int_equal(cdspd_proto_decode(bin, sizeof bin, &b, &why), 0);
+        memcpy(bin + 48, &nan_v, 8); /* OFF_RADIUS, docs/protocol.md */
+        assert_int_equal(cdspd_proto_decode(bin, sizeof bin, &b, &why), -1);
+        assert_string_equal(why, "a number in the record is not finite");
+        /* likewise a status without a token (regress-binary-unknown-status.bin) */
+        assert_int_equal(cdspd_proto_encode(&a, bin, sizeof bin), CDSPD_PROTO_SIZE);
+        bin[12] = 0x00;
+        bin[13] = 0x00;
+        bin[14] = 0x01; /* OFF_STATUS: 65536 */
+        bin[15] = 0x00;
+        assert_int_equal(cdspd_proto_decode(bin, sizeof bin, &b, &why), -1);
+        assert_string_equal(why, "unknown status");
+        /* and a status record with status 0 (regress-binary-status-ok.bin) */
+        a.kind = CDSPD_KIND_STATUS;
+        a.status = 0;
+        assert_int_equal(cdspd_proto_encode(&a, bin, sizeof bin), CDSPD_PROTO_SIZE);
+        assert_int_equal(cdspd_proto_decode(bin, sizeof bin, &b, &why), -1);
+        assert_string_equal(why, "a status record without a status");
+        n = cdspd_proto_encode_json(&a, text, sizeof text);
+        {
+            char *rad = strstr(text, "\"radius\":");
+            assert_non_null(rad);
+            snprintf(mut, sizeof mut, "%.*s\"radius\":null%s", (int)(rad - text), text,
+                     strchr(rad, ','));
+            assert_int_equal(cdspd_proto_decode_json(mut, strlen(mut), &b, &why), -1);
+        }
+    }
+    for (i = 0; i < sizeof files / sizeof files[0]; i++) {
+        char path[256];
+        FILE *f;
+        snprintf(path, sizeof path, "tests/fuzz/corpus/listen/%s", files[i]);
+        f = fopen(path, "rb");
+        if (!f)
+            fail_msg("%s: cannot open (run from the repository's top)", path);
+        n = fread(mut, 1, sizeof mut, f);
+        fclose(f);
+        if (cdspd_proto_decode_any((const uint8_t *)mut, n, &b, NULL, &why) != -1)
+            fail_msg("%s: accepted", path);
+    }
+}
+
 static void test_status_tokens(void **state)
 {
     int s, back;
@@ -308,6 +431,7 @@ int main(void)
         cmocka_unit_test(test_layout),         cmocka_unit_test(test_binary_round_trip),
         cmocka_unit_test(test_binary_rejects), cmocka_unit_test(test_json_round_trip),
         cmocka_unit_test(test_json_fields),    cmocka_unit_test(test_status_tokens),
+        cmocka_unit_test(test_json_hostile),
     };
     return cmocka_run_group_tests_name("daemon-proto", tests, NULL, NULL);
 }

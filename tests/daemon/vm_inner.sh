@@ -1,5 +1,5 @@
 #!/bin/sh
-# tests/daemon/vm_inner.sh FOURCC [loss]: runs inside the VM of
+# tests/daemon/vm_inner.sh FOURCC [loss [SECONDS]]: runs inside the VM of
 # tests/vm/run-in-vm.sh (vivid loaded, its output node looped to its
 # capture node, both 320x240 FOURCC). v4l2_feed writes cdspd's simulated
 # pipe frames into the output node; cdspd captures them from the capture
@@ -52,7 +52,7 @@ rxargs="--min-poses 20 --min-slots 4"
 dur=10
 if [ "$mode" = loss ]; then
     rxargs="$rxargs --min-bad 1 --min-reconnects 1 --expect-status source-down --resume-within 60"
-    dur=25
+    dur=${3:-25}   # longer for a sanitizer build (vm_v4l2.sh's VM_CDSPD_DURATION)
 fi
 cdspd_rx --port-file /tmp/port --truth sim-any --calib $cam $sets --duration 200 --idle 8 $rxargs \
     >/tmp/rx.out 2>&1 &

@@ -4,7 +4,10 @@
 # in GREY with a corrupted frame and the device unplugged and back, once in
 # YUYV, 320x240 (TCG is slow: small frames). The check
 # runs inside the VM (tests/daemon/vm_inner.sh) and prints PASS/FAIL on the
-# console. Exit status 0 when both pass.
+# console. Exit status 0 when both pass. VM_RUNS chooses the runs
+# (default "GREY-loss YUYV-plain"; daemon/sanitize.mk runs GREY-loss with
+# the ASan build, with VM_CDSPD_DURATION=60: cdspd's run in the "loss"
+# mode, 25 s by default).
 set -u
 cdspd=$1 rx=$2 feed=$3
 shift 3
@@ -18,13 +21,12 @@ distortion_model: plumb_bob
 distortion_coefficients: {rows: 1, cols: 5, data: [-0.05, 0.01, 0, 0, 0]}
 YAML
 rc=0
-for run in "GREY loss" "YUYV plain"; do
-    set -- $run
-    fourcc=$1 mode=$2
+for run in ${VM_RUNS:-GREY-loss YUYV-plain}; do
+    fourcc=${run%-*} mode=${run#*-}
     echo "=== v4l2 $fourcc ($mode) in the VM"
     tests/vm/run-in-vm.sh --timeout "${VM_TIMEOUT:-1200}" --format "320x240:$fourcc" \
         --file "$cdspd:/bin/cdspd" --file "$rx:/bin/cdspd_rx" --file "$feed:/bin/v4l2_feed" \
         --file "tests/daemon/vm_inner.sh:/bin/vm_inner.sh" --file "$work/cam.yaml:/etc/cdspd-cam.yaml" \
-        -- sh /bin/vm_inner.sh "$fourcc" "$mode" || rc=1
+        -- sh /bin/vm_inner.sh "$fourcc" "$mode" ${VM_CDSPD_DURATION:-} || rc=1
 done
 exit $rc

@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <math.h>
 #include <string.h>
@@ -502,6 +503,47 @@ static void test_hostile(void **state)
     assert_int_equal(n, 0);
 }
 
+/* Issue 16: roi.x + roi.w beyond INT_MAX used to overflow (a wrapped end
+ * found nothing, UBSan stops the sanitizer build); the end is clipped to
+ * the frame instead. A step beyond CDSP_EDGE_MAX_STEP is refused. */
+static void test_roi_overflow(void **state)
+{
+    uint8_t px[32 * 32];
+    cdsp_image img = {px, 32, 32, 32, 8};
+    cdsp_edge_params ep;
+    size_t n = 0, n_all = 0;
+    int i;
+    (void)state;
+    for (i = 0; i < 32 * 32; i++)
+        px[i] = (uint8_t)((i % 32) < 16 ? 10 : 200);
+    cdsp_edge_params_default(&ep);
+    assert_int_equal(cdsp_edges_detect(&img, &ep, edges, 100, &n_all), CDSP_OK);
+    assert_true(n_all > 0);
+    ep.roi.x = 0;
+    ep.roi.y = 0;
+    ep.roi.w = INT_MAX;
+    ep.roi.h = INT_MAX;
+    ep.roi.x = 1; /* 1 + INT_MAX overflows an int */
+    ep.roi.y = 1;
+    assert_int_equal(cdsp_edges_detect(&img, &ep, edges, 100, &n), CDSP_OK);
+    assert_true(n > 0 && n <= n_all);
+    ep.roi.x = INT_MAX;
+    ep.roi.y = INT_MAX; /* starts beyond the frame: nothing, no overflow */
+    assert_int_equal(cdsp_edges_detect(&img, &ep, edges, 100, &n), CDSP_OK);
+    assert_int_equal(n, 0);
+    ep.roi.x = INT_MIN;
+    ep.roi.y = INT_MIN;
+    ep.roi.w = 1;
+    ep.roi.h = 1; /* ends before the frame */
+    assert_int_equal(cdsp_edges_detect(&img, &ep, edges, 100, &n), CDSP_OK);
+    assert_int_equal(n, 0);
+    cdsp_edge_params_default(&ep);
+    ep.step = CDSP_EDGE_MAX_STEP;
+    assert_int_equal(cdsp_edges_detect(&img, &ep, edges, 100, &n), CDSP_OK);
+    ep.step = CDSP_EDGE_MAX_STEP + 1;
+    assert_int_equal(cdsp_edges_detect(&img, &ep, edges, 100, &n), CDSP_E_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -513,6 +555,7 @@ int main(void)
         cmocka_unit_test(test_hostile),
         cmocka_unit_test(test_every_window_safe),
         cmocka_unit_test(test_capacity_fair),
+        cmocka_unit_test(test_roi_overflow),
     };
     return cmocka_run_group_tests_name("edges", tests, NULL, NULL);
 }

@@ -14,6 +14,7 @@
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <math.h>
 #include <string.h>
@@ -476,6 +477,40 @@ static void test_args(void **state)
     free(buf);
 }
 
+/* Issue 16: track_band_px >= 2^31 (or +Inf) used to overflow its
+ * conversion to int; a band wider than the frame is the whole frame, and
+ * an roi ending beyond INT_MAX is clipped like the full search's. */
+static void test_huge_band(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_image img;
+    cdsp_params prm;
+    cdsp_rng rng;
+    cdsp_result prior, r;
+    double P[3] = {0, 0, 400}, v[3] = {0, 1, 0};
+    const double bands[] = {3e9, 1e300, (double)INFINITY};
+    void *buf;
+    int i;
+    (void)state;
+    sup_camera(&cam, W, H, F, 0, 0);
+    sup_scene(&s, P, v, 8);
+    buf = sup_render(&s, &cam, 8, 1, &img);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 1, 1);
+    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &prior), CDSP_OK);
+    for (i = 0; i < (int)(sizeof bands / sizeof bands[0]); i++) {
+        prm.track_band_px = (cdsp_real)bands[i];
+        prm.edge.roi.x = 1;
+        prm.edge.roi.y = 1;
+        prm.edge.roi.w = INT_MAX;
+        prm.edge.roi.h = INT_MAX;
+        assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, &prior, &ws, &rng, &r), CDSP_OK);
+        assert_true(r.flags & CDSP_FLAG_TRACKED);
+    }
+    free(buf);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -488,6 +523,7 @@ int main(void)
         cmocka_unit_test(test_tracking_newcomers),
         cmocka_unit_test(test_edge_buffer_full),
         cmocka_unit_test(test_args),
+        cmocka_unit_test(test_huge_band),
     };
     return cmocka_run_group_tests_name("frame", tests, NULL, NULL);
 }

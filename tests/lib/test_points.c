@@ -343,6 +343,66 @@ static void test_not_a_pipe(void **state)
     assert_int_equal(cdsp_points_solve(&cam, 8, pts, 400, &prm, NULL, &ws, &rng, &r), CDSP_E_NONFINITE);
 }
 
+/* Issue 16: the radius has a documented bound (CDSP_MAX_RADIUS). At the
+ * bound the same image (the geometry scaled by s = r / 8) solves with a finite
+ * uncertainty; far beyond it (1e256 used to return CDSP_OK with infinite
+ * sigma) it is refused. */
+static void test_radius_bound(void **state)
+{
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng rng, sampler;
+    cdsp_result r;
+    double P[3] = {10, -20, 400}, v[3] = {0.2, 1, 0.1}, s = CDSP_MAX_RADIUS / 8.0;
+    double d8;
+    size_t n;
+    int i;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&sampler, 3, 1);
+    n = sup_contour_points(&cam, P, v, 8, -100, 100, 400, 0.1, 100, &sampler, pts, CDSP_MAX_POINTS,
+                           NULL);
+    assert_true(n > 600);
+    cdsp_rng_seed(&rng, 1, 1);
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+    d8 = (double)r.distance;
+    cdsp_rng_seed(&rng, 1, 1);
+    assert_int_equal(cdsp_points_solve(&cam, (cdsp_real)CDSP_MAX_RADIUS, pts, n, &prm, NULL, &ws,
+                                       &rng, &r), CDSP_OK);
+    for (i = 0; i < 3; i++) {
+        assert_true(isfinite((double)r.sigma_point[i]) && isfinite((double)r.sigma_direction[i]));
+        assert_true(isfinite((double)r.point[i]));
+    }
+    assert_true(isfinite((double)r.sigma_distance));
+    /* the same points and RANSAC draws: the closed form is linear in r, so
+     * the distance scales exactly but for rounding (measured 0 to 2e-16
+     * relative in double; float keeps ~1e-7 per operation) */
+    assert_true(fabs((double)r.distance / s - d8) < T_EPS * 1e3 * d8);
+    assert_int_equal(cdsp_points_solve(&cam, (cdsp_real)(2 * CDSP_MAX_RADIUS), pts, n, &prm, NULL,
+                                       &ws, &rng, &r), CDSP_E_ARG);
+#ifndef CDSP_SINGLE
+    assert_int_equal(cdsp_points_solve(&cam, 1e256, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_E_ARG);
+#endif
+    {
+        cdsp_real l1[3], l2[3], pin[2];
+        cdsp_real Pr[3] = {(cdsp_real)P[0], (cdsp_real)P[1], (cdsp_real)P[2]};
+        cdsp_real vr[3] = {(cdsp_real)v[0], (cdsp_real)v[1], (cdsp_real)v[2]};
+        assert_int_equal(cdsp_cylinder_contours(&cam, Pr, vr, 8, 1, l1, l2, pin), CDSP_OK);
+        assert_int_equal(cdsp_axis_solve(&cam, l1, l2, pin, (cdsp_real)CDSP_MAX_RADIUS, &r), CDSP_OK);
+        assert_true(isfinite((double)r.distance));
+        assert_int_equal(cdsp_axis_solve(&cam, l1, l2, pin, (cdsp_real)(2 * CDSP_MAX_RADIUS), &r),
+                         CDSP_E_ARG);
+    }
+    /* the parameter check callers run before any frame */
+    assert_int_equal(cdsp_params_check(&prm), CDSP_OK);
+    assert_int_equal(cdsp_params_check(NULL), CDSP_E_ARG);
+    prm.edge.min_contrast = 1;
+    assert_int_equal(cdsp_params_check(&prm), CDSP_E_ARG);
+    prm.edge.min_contrast = 0;
+    assert_int_equal(cdsp_params_check(&prm), CDSP_E_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -352,6 +412,7 @@ int main(void)
         cmocka_unit_test(test_clutter),
         cmocka_unit_test(test_reproducible_and_prior),
         cmocka_unit_test(test_not_a_pipe),
+        cmocka_unit_test(test_radius_bound),
     };
     return cmocka_run_group_tests_name("points", tests, NULL, NULL);
 }

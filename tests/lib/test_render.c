@@ -440,6 +440,68 @@ static void test_cylinder_contours(void **state)
     }
 }
 
+/* Issue 16: every real of the scene is checked (a NaN level or light used
+ * to reach a conversion to long), and out-of-range but finite values are
+ * clamped, not converted out of range. */
+static void test_nonfinite_scene(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s, base;
+    uint8_t buf[64 * 48];
+    double P[3] = {0, 0, 300}, v[3] = {0.1, 1, 0};
+    cdsp_real *fields[8];
+    int i;
+    (void)state;
+    sup_camera(&cam, 64, 48, 80, -0.1, 0);
+    sup_scene(&base, P, v, 8);
+    base.blur_sigma_px = 0;
+    base.noise_sigma = 0;
+    for (i = 0; i < 8; i++) {
+        s = base;
+        fields[0] = &s.pipe_level;
+        fields[1] = &s.cap_level;
+        fields[2] = &s.background_level;
+        fields[3] = &s.light[1];
+        fields[4] = &s.ambient;
+        fields[5] = &s.texture;
+        fields[6] = &s.texture_scale_px;
+        fields[7] = &s.half_length;
+        *fields[i] = (cdsp_real)NAN;
+        assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_E_NONFINITE);
+        *fields[i] = (cdsp_real)INFINITY;
+        assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_E_NONFINITE);
+    }
+    s = base;
+    s.n_clutter = 1;
+    s.clutter[0].p0[0] = -50;
+    s.clutter[0].p1[0] = 50;
+    s.clutter[0].p0[2] = s.clutter[0].p1[2] = 500;
+    s.clutter[0].half_width = 5;
+    s.clutter[0].level = (cdsp_real)NAN;
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_E_NONFINITE);
+    /* finite extremes: clamped to the output's range */
+    s = base;
+    s.pipe_level = (cdsp_real)1e30;
+    s.background_level = (cdsp_real)-1e30;
+    s.texture = 1;
+    s.texture_scale_px = (cdsp_real)1e-30;
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_OK);
+    assert_int_equal(buf[0], 0);            /* corner: background */
+    assert_int_equal(buf[24 * 64 + 32], 255); /* centre: the pipe */
+    s = base;
+    s.blur_sigma_px = (cdsp_real)(CDSP_RENDER_MAX_BLUR_PX + 0.5);
+    assert_int_equal(cdsp_render(&s, &cam, buf, 0, 8, NULL, 0, NULL), CDSP_E_ARG);
+    /* found by fuzzing (tests/fuzz/corpus/points/regress-contours-infinite-fx.bin):
+     * the contours of a camera with fx = -Inf came back CDSP_OK and infinite */
+    {
+        cdsp_camera bad = cam;
+        cdsp_real l1[3], l2[3], pin[2];
+        bad.fx = (cdsp_real)-INFINITY;
+        assert_int_equal(cdsp_cylinder_contours(&bad, base.axis_point, base.axis_dir, 8, 1, l1, l2,
+                                                pin), CDSP_E_NONFINITE);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -450,6 +512,7 @@ int main(void)
         cmocka_unit_test(test_reproducible_and_args),
         cmocka_unit_test(test_cylinder_contours),
         cmocka_unit_test(test_scene_options),
+        cmocka_unit_test(test_nonfinite_scene),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);
 }

@@ -203,6 +203,9 @@ static void not_a_calibration_at_all(void **state)
         {"a: [1, 2\n", "YAML error"},
         {"a: &x [1]\nb: *y\n", "YAML error"},
         {"\xc3\x28: 1\n", "YAML error"},
+        /* issue 16: bounded before libyaml builds the document */
+        {"a: [[[[[[[[1]]]]]]]]\n", "YAML nested deeper than 8 levels at line 1, column 11"},
+        {"[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[", "YAML nested deeper than 8 levels"},
     };
     size_t i;
     (void)state;

@@ -521,6 +521,37 @@ static void png_bad_files(void **state)
     free(buf);
 }
 
+/* Issue 16: a 65-byte PNG whose header claims 16384 x 16384 RGBA16 used
+ * to reserve 2 GiB before decoding; the claim is now weighed against what
+ * its image data can inflate to (1032:1) first. A file of all-equal pixels
+ * compresses close to that ratio and must still decode. */
+static void png_claims_beyond_its_data(void **state)
+{
+    cdsp_host_image im;
+    cdsp_host_err err;
+    size_t n = 1024u * 1024u;
+    uint8_t *zeros = calloc(n, 1);
+    FILE *f;
+    unsigned char buf[256];
+    size_t len;
+    int rc;
+    (void)state;
+    f = fopen("tests/fuzz/corpus/image-png/regress-65-bytes-claims-2GiB.png", "rb");
+    assert_non_null(f); /* run from the repository's top, as make does */
+    len = fread(buf, 1, sizeof buf, f);
+    fclose(f);
+    assert_int_equal(len, 65);
+    rc = cdsp_host_png_decode(buf, len, "claims.png", &im, &err);
+    expect_fail(rc, CDSP_HOST_E_FORMAT, &err, "claims.png", "cannot inflate to that");
+    assert_null(im.data);
+    assert_non_null(zeros);
+    spng_write(tt_path("zeros.png"), zeros, n, 1024, 1024, SPNG_COLOR_TYPE_GRAYSCALE, 8, NULL);
+    free(zeros);
+    assert_int_equal(cdsp_host_png_read(tt_path("zeros.png"), &im, &err), CDSP_HOST_OK);
+    assert_int_equal(im.width, 1024);
+    cdsp_host_image_free(&im);
+}
+
 static void files_that_are_not_frames(void **state)
 {
     cdsp_host_image b;
@@ -569,6 +600,7 @@ int main(void)
         cmocka_unit_test(png_color_to_gray),
         cmocka_unit_test(png_low_bit_depth_gray),
         cmocka_unit_test(png_bad_files),
+        cmocka_unit_test(png_claims_beyond_its_data),
         cmocka_unit_test(files_that_are_not_frames),
     };
     return cmocka_run_group_tests_name("host_image", tests, NULL, teardown);

@@ -924,6 +924,9 @@ static void usage_errors_exit_2(void **state)
             {RUN("solve", "--calib", cal, "--radius", "8", "--polarity", "up", frame),
              "--polarity: expected one of any|bright|dark"},
             {RUN("solve", "--calib", cal, "--radius"), "--radius needs a value"},
+            /* issue 16: passed, then every frame came back bad-argument */
+            {RUN("solve", "--calib", cal, "--radius", "8", "--min-contrast", "1", frame),
+             "libcdsp refuses these solver options"},
             {RUN("overlay", "--calib", cal, "--radius", "8", frame), "--out DIR is required"},
             {RUN("sim", "--out", tt_path("x"), "--bits", "12"), "--bits: 8 or 16"},
             {RUN("sim", "--out", tt_path("x"), "--dir", "0,0,0"), "must not be zero"},
@@ -1163,6 +1166,33 @@ static void export_meshes(void **state)
     r = RUN("export", "--out", tt_path("none.ply"), tt_path("none.jsonl"));
     expect_status(&r, 1);
     run_free(&r);
+    /* issue 16: a zero direction or overflowing coordinates wrote null
+     * vertices and exited 0; the inputs are the fuzz target's regression
+     * seeds (run from the repository's top, as make does) */
+    {
+        static const struct {
+            const char *file, *msg;
+        } cases[] = {
+            {"tests/fuzz/corpus/export/regress-zero-direction.jsonl", "is the zero vector"},
+            {"tests/fuzz/corpus/export/regress-overflow-segment.jsonl", "beyond 1e12"},
+            {"tests/fuzz/corpus/export/regress-truth-zero-dir.json", "axis_dir is the zero vector"},
+        };
+        size_t c;
+        for (c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+            r = RUN("export", "--out", tt_path("hostile.ply"), cases[c].file);
+            if (r.status != 2 || !strstr(r.err, cases[c].msg))
+                fail_msg("%s: status %d, stderr \"%s\"", cases[c].file, r.status, r.err);
+            run_free(&r);
+        }
+        r = RUN("export", "--out", tt_path("seed.ply"), "tests/fuzz/corpus/export/seed-records.jsonl");
+        expect_status(&r, 0);
+        run_free(&r);
+        {
+            char *mesh = slurp(tt_path("seed.ply"), NULL);
+            assert_null(strstr(mesh, "null"));
+            free(mesh);
+        }
+    }
 }
 
 static void bench_files(void **state)

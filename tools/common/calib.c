@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <yaml.h>
+#include "host_yaml.h"
 
 /* Messages name the file, or this when no name was given. */
 #define fail(err, rc, name, ...) cdsp_host__fail(err, rc, (name) ? (name) : "(calibration)", __VA_ARGS__)
@@ -248,7 +248,6 @@ static int from_document(ctx *c, cdsp_camera *cam)
 int cdsp_host_calib_parse(const char *text, size_t len, const char *name, cdsp_camera *cam,
                           cdsp_host_err *err)
 {
-    yaml_parser_t parser;
     yaml_document_t doc;
     ctx c;
     int rc;
@@ -257,23 +256,14 @@ int cdsp_host_calib_parse(const char *text, size_t len, const char *name, cdsp_c
     if (len > CDSP_HOST_YAML_MAX_BYTES)
         return fail(err, CDSP_HOST_E_LIMIT, name, "calibration file larger than %d bytes",
                     CDSP_HOST_YAML_MAX_BYTES);
-    if (!yaml_parser_initialize(&parser))
-        return fail(err, CDSP_HOST_E_NOMEM, name, "out of memory (YAML parser)");
-    yaml_parser_set_input_string(&parser, (const unsigned char *)text, len);
-    if (!yaml_parser_load(&parser, &doc)) {
-        rc = fail(err, CDSP_HOST_E_FORMAT, name, "YAML error at line %lu, column %lu: %s",
-                  (unsigned long)parser.problem_mark.line + 1,
-                  (unsigned long)parser.problem_mark.column + 1,
-                  parser.problem ? parser.problem : "unknown");
-        yaml_parser_delete(&parser);
+    rc = cdsp_host_yaml_load(text, len, name ? name : "(calibration)", &doc, err);
+    if (rc)
         return rc;
-    }
     c.doc = &doc;
     c.name = name;
     c.err = err;
     rc = from_document(&c, cam);
     yaml_document_delete(&doc);
-    yaml_parser_delete(&parser);
     return rc;
 }
 

@@ -38,9 +38,13 @@ extern "C" {
 #define CDSP_HOST_PGM_MAX_HEADER 65536
 #endif
 
-/* Largest calibration file, bytes (ROS's are under 1 KiB). */
+/* Largest YAML file (calibration, cdspd's config), bytes. ROS's camera_info
+ * files are under 1 KiB and daemon/cdspd.yaml, every key commented, under
+ * 8 KiB; libyaml loads about 3 MB/s of the worst case here (issue 16), so
+ * the largest file costs ~20 ms, also in a SIGHUP reload on the daemon's
+ * main loop. */
 #ifndef CDSP_HOST_YAML_MAX_BYTES
-#define CDSP_HOST_YAML_MAX_BYTES (1024 * 1024)
+#define CDSP_HOST_YAML_MAX_BYTES (64 * 1024)
 #endif
 
 typedef enum {

@@ -3,13 +3,17 @@
  * short text header and a raw raster), PNG through libspng. Every size is
  * checked against CDSP_HOST_MAX_DIM before anything is allocated, and a
  * file's length against the raster it claims before the pixels are read, so
- * a hostile header cannot make us allocate more than its own file backs.
+ * a hostile header cannot make us allocate more than its own file backs:
+ * for PGM the raster itself, for PNG what its image data can inflate to
+ * (at most 1032 times its length), decoded into at most 4 bytes a pixel
+ * (RGBA) and then the gray image.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "host_internal.h"
 
 #include <errno.h>
 #include <limits.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -434,6 +438,27 @@ static int png_has_iend(const unsigned char *p, size_t len)
     return 0;
 }
 
+/* Bytes of image data (IDAT chunks) in the file; chunk lengths walked as
+ * in png_has_iend. */
+static size_t png_idat_bytes(const unsigned char *p, size_t len)
+{
+    size_t pos = 8, sum = 0;
+    while (len >= 12 && pos <= len - 12) {
+        uint32_t n = ((uint32_t)p[pos] << 24) | ((uint32_t)p[pos + 1] << 16) |
+                     ((uint32_t)p[pos + 2] << 8) | p[pos + 3];
+        if (n > 0x7fffffffu || n > len - 12 - pos)
+            break;
+        if (memcmp(p + pos + 4, "IDAT", 4) == 0)
+            sum += n;
+        pos += 12u + n;
+    }
+    return sum;
+}
+
+/* Deflate expands at most 1032:1 (zlib's FAQ: 258-byte matches at one bit
+ * each, plus block overhead). */
+#define PNG_MAX_INFLATE 1032u
+
 int cdsp_host_png_decode(const void *buf, size_t len, const char *name, cdsp_host_image *out,
                          cdsp_host_err *err)
 {
@@ -464,6 +489,24 @@ int cdsp_host_png_decode(const void *buf, size_t len, const char *name, cdsp_hos
         else
             rc = spng_fail(err, name, "header", e);
         goto done;
+    }
+    {
+        /* what the header claims against what the file can back, before
+         * anything is allocated: the filtered raster is height x (1 + row
+         * bytes), and inflating the IDAT bytes yields at most 1032 times
+         * their length (a 69-byte file used to reserve 2 GiB) */
+        static const unsigned channels[7] = {1, 0, 3, 1, 2, 0, 4};
+        unsigned ch = ihdr.color_type < 7 ? channels[ihdr.color_type] : 0;
+        double row = ceil((double)ihdr.width * ch * ihdr.bit_depth / 8.0) + 1.0;
+        double need = row * (double)ihdr.height;
+        size_t idat = png_idat_bytes(buf, len);
+        if (ch == 0 || need > (double)PNG_MAX_INFLATE * (double)idat) {
+            rc = fail(err, CDSP_HOST_E_FORMAT, name,
+                      "PNG header claims %ux%u pixels (%.0f bytes of raster) but its %zu bytes "
+                      "of image data cannot inflate to that",
+                      ihdr.width, ihdr.height, need, idat);
+            goto done;
+        }
     }
     if (ihdr.color_type == SPNG_COLOR_TYPE_GRAYSCALE)
         fmt = ihdr.bit_depth == 16 ? SPNG_FMT_RAW : SPNG_FMT_G8;
