@@ -179,7 +179,8 @@ static const key_def keys[] = {
      "decode all frames at start when they fit in this many MiB, else read each in turn"},
     /* ---- aravis source ---------------------------------------------------- */
     {"aravis.pixel_format", K_STR, O(aravis.pixel_format), 0, 0, NULL, "auto",
-     "Mono8 | Mono10 | Mono12 | Mono16 | auto (Mono8 when offered, else the deepest)"},
+     "Mono8|10|12|16, Mono10|12Packed, Mono10|12p, BayerRG|GR|GB|BG8|10|12|16, RGB8, BGR8 | "
+     "auto (mono first, then packed mono, then Bayer, then RGB)"},
     {"aravis.exposure_us", K_REAL, O(aravis.exposure_us), 0, 1e9, NULL, "0",
      "exposure time, us, 0 = leave the camera's"},
     {"aravis.gain", K_REAL, O(aravis.gain), -1, 1e6, NULL, "-1", "gain (camera units), -1 = leave"},
@@ -194,6 +195,25 @@ static const key_def keys[] = {
      "Aravis's packet socket (root only): auto = off for loopback cameras (it sees nothing there)"},
     {"aravis.frame_timeout", K_REAL, O(aravis.frame_timeout), 0.1, 3600, NULL, "5",
      "seconds without any frame (complete or not) before the camera counts as lost"},
+    /* ---- aravis: formats, triggers, clock (issue 18) ------------------------ */
+    {"aravis.bayer_gains", K_VEC3, O(aravis.bayer_gains), 0, 1e6, NULL, "[0, 0, 0]",
+     "Bayer/RGB: the camera's R, G, B responses (white balance ratios); [0, 0, 0] = "
+     "measured in every frame (grey world)"},
+    {"aravis.bayer_phase", K_CHOICE, O(aravis.bayer_phase), 0, 0, "image|sensor", "image",
+     "what the Bayer format names: the delivered image's top-left cell (SFNC), or the "
+     "sensor's (then an odd region offset shifts it)"},
+    {"aravis.trigger_mode", K_CHOICE, O(aravis.trigger_mode), 0, 0, "leave|off|on", "leave",
+     "TriggerMode of FrameStart: on = a frame per trigger; with a hardware trigger, no frame "
+     "is not a lost camera"},
+    {"aravis.trigger_source", K_STR, O(aravis.trigger_source), 0, 0, NULL, "",
+     "TriggerSource: Software, Line0, Line1, ... as the camera names them; empty = leave"},
+    {"aravis.trigger_activation", K_STR, O(aravis.trigger_activation), 0, 0, NULL, "",
+     "TriggerActivation: RisingEdge, FallingEdge, AnyEdge, LevelHigh, LevelLow; empty = leave"},
+    {"aravis.trigger_rate", K_REAL, O(aravis.trigger_rate), 0, 10000, NULL, "0",
+     "software triggers per second cdspd sends (trigger_source Software); 0 = none"},
+    {"aravis.ptp", K_CHOICE, O(aravis.ptp), 0, 0, "leave|off|on", "leave",
+     "IEEE 1588 (PTP) time on the camera (PtpEnable or GevIEEE1588): t_camera_us is then "
+     "PTP time"},
     /* ---- v4l2 source -------------------------------------------------------- */
     {"v4l2.format", K_STR, O(v4l2.format), 0, 0, NULL, "auto",
      "GREY | Y16 | YUYV | YU12 (libv4l2 converts to it) | auto (GREY, Y16, YUYV if offered, else YU12)"},

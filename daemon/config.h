@@ -91,24 +91,32 @@ typedef struct {
 
     /* aravis source */
     struct {
-        char pixel_format[64];
+        char pixel_format[CDSPD_STR];   /* K_STR fields hold CDSPD_STR bytes */
         double exposure_us, gain, frame_rate;
         int region[4];
         int packet_size, buffers;
         int packet_socket;      /* 0 off, 1 on, 2 auto (off on loopback) */
         double frame_timeout;   /* seconds before a missing frame counts */
+        /* pixel formats, triggers, clock (issue 18; docs/cdspd.md) */
+        double bayer_gains[3];  /* camera's R, G, B responses; all 0 = measure per frame */
+        int bayer_phase;        /* 0 the format names the image's phase, 1 the sensor's */
+        int trigger_mode;       /* 0 leave, 1 off, 2 on */
+        char trigger_source[CDSPD_STR];     /* "" leave; Software, Line0, Line1, ... */
+        char trigger_activation[CDSPD_STR]; /* "" leave; RisingEdge, FallingEdge, ... */
+        double trigger_rate;    /* software triggers per second cdspd sends; 0 none */
+        int ptp;                /* 0 leave, 1 off, 2 on (GevIEEE1588 / PtpEnable) */
     } aravis;
 
     /* v4l2 source */
     struct {
-        char format[16];        /* "auto" or a fourcc */
+        char format[CDSPD_STR]; /* "auto" or a fourcc (K_STR: CDSPD_STR bytes) */
         int buffers;
         double frame_rate;
     } v4l2;
 
     /* libcamera source */
     struct {
-        char format[32];        /* "auto" or a libcamera pixel format name */
+        char format[CDSPD_STR]; /* "auto" or a libcamera pixel format name (K_STR) */
         int buffers;
     } libcamera;
 

@@ -21,7 +21,7 @@ daemon_sys = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(1) 2>/dev/n
 daemon_PKGS := yaml-0.1 spng json-c libjpeg libtiff-4
 daemon_DEFS :=
 daemon_SRC := config.c log.c proto.c sim_path.c source.c src_sim.c src_file.c pool.c stats.c \
-              sender.c record.c notify.c pipeline.c mavlink.c mount.c mavout.c
+              sender.c record.c notify.c pipeline.c mavlink.c mount.c mavout.c pixfmt.c
 daemon_CXX_SRC :=
 daemon_LINK := $(CC)
 
@@ -91,7 +91,7 @@ ALL_TARGETS += $(daemon_BIN)
 daemon_TDIR := $(BUILD)/tests/daemon
 daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool \
                $(daemon_TDIR)/test_mavlink $(daemon_TDIR)/test_mount \
-               $(daemon_TDIR)/test_stats
+               $(daemon_TDIR)/test_stats $(daemon_TDIR)/test_pixfmt
 daemon_RX := $(daemon_TDIR)/cdspd_rx
 daemon_MAVRX := $(daemon_TDIR)/mavlink_rx
 daemon_FEED := $(daemon_TDIR)/v4l2_feed
@@ -148,6 +148,11 @@ ifneq ($(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),)
 check-daemon-aravis: $(daemon_BIN) $(daemon_RX) $(BUILD)/fakecam/cdsp_fakecam
 	@$(daemon_ENV) $(RUN) "daemon/aravis-fakecam" tests/daemon/aravis_e2e.sh $(BUILD)/fakecam/cdsp_fakecam
 daemon_CHECKS += check-daemon-aravis
+# pixel formats, triggers, camera clock (issue 18)
+.PHONY: check-daemon-aravis-formats
+check-daemon-aravis-formats: $(daemon_BIN) $(daemon_RX) $(BUILD)/fakecam/cdsp_fakecam
+	@$(daemon_ENV) $(RUN) "daemon/aravis-formats" tests/daemon/aravis_formats.sh $(BUILD)/fakecam/cdsp_fakecam
+daemon_CHECKS += check-daemon-aravis-formats
 endif
 
 ifneq ($(filter -DCDSPD_HAVE_V4L2,$(daemon_DEFS)),)
@@ -166,6 +171,19 @@ CHECK_STEPS += $(daemon_CHECKS)
 bench-daemon: $(daemon_BIN) $(daemon_RX) $(if $(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),$(BUILD)/fakecam/cdsp_fakecam)
 	@$(daemon_ENV) tests/daemon/bench.sh $(if $(filter -DCDSPD_HAVE_ARAVIS,$(daemon_DEFS)),$(BUILD)/fakecam/cdsp_fakecam)
 BENCH_STEPS += bench-daemon
+
+# pixel-format conversion beside the solve (daemon/pixfmt.c is dependency-free)
+daemon_BENCH_PIXFMT := $(BUILD)/bench/bench_pixfmt
+$(daemon_BENCH_PIXFMT): tests/bench/bench_pixfmt.c daemon/pixfmt.c daemon/pixfmt.h \
+                        tests/fakecam/fakecam_pixels.h tests/lib/support.c $(host_LIB)
+	@mkdir -p $(@D)
+	$(CC) $(HOST_CFLAGS) -O3 -Itests/lib -Idaemon -Itests/fakecam $< daemon/pixfmt.c tests/lib/support.c \
+	    $(host_LIB) -lm -o $@
+.PHONY: bench-pixfmt
+bench-pixfmt: $(daemon_BENCH_PIXFMT)
+	$(daemon_BENCH_PIXFMT)
+BENCH_STEPS += bench-pixfmt
+ALL_TARGETS += $(daemon_BENCH_PIXFMT)
 
 # --- demo ------------------------------------------------------------------------
 # cdspd on its simulated camera and `cdsp_tool listen` beside it, printing

@@ -3,22 +3,38 @@
  * (0.8): aravis:[ID] opens the camera Aravis knows as ID (its device id,
  * serial number, or IP address), or the first one found when ID is empty.
  *
- * Open: pixel format (Mono8, Mono10/Mono12 unpacked, Mono16; "auto" takes
- * Mono8 when offered, since deeper pixels double the bandwidth, else the
- * deepest), region (the calibration's size unless aravis.region says
+ * Open: pixel format (any of daemon/pixfmt.h: mono, packed mono, Bayer,
+ * RGB; "auto" takes the first the camera offers in pixfmt.h's order: Mono8,
+ * since deeper pixels double the bandwidth, then the deeper mono formats,
+ * packed mono, Bayer, RGB), region (the calibration's size unless aravis.region says
  * otherwise), exposure, gain, frame rate and packet size when asked and
  * available; the stream socket buffer sized to the payload (AUTO: the
  * kernel default lost most large frames on loopback, FACTS.md); the packet
  * socket disabled for loopback cameras (as root Aravis would use one, and it
  * sees nothing on lo). aravis.buffers buffers are queued once.
  *
- * Grab: pop a buffer (timeout), copy the image into the pool's buffer, give
- * the buffer back. Incomplete buffers (missing packets...) are BAD and
- * counted. The camera counts as lost on Aravis's "control-lost" signal
- * (from its heartbeat thread: only an atomic flag is set there) or after
+ * Triggers (aravis.trigger_*): FrameStart's TriggerMode, TriggerSource and
+ * TriggerActivation where the camera has them; with aravis.trigger_rate
+ * cdspd itself sends TriggerSoftware at that rate from the grab loop.
+ * Clock (aravis.ptp): PtpEnable (SFNC) or GevIEEE1588 (GigE Vision) when
+ * asked; the tick frequency and PTP state are logged at open.
+ *
+ * Grab: pop a buffer (timeout), convert the image into the pool's buffer
+ * (cdspd_pixfmt_convert: a copy for mono, unpacking, Bayer/RGB luminance;
+ * its scratch is allocated at open, never per frame), give the buffer
+ * back. Incomplete buffers (missing packets...) are BAD and counted.
+ * t_camera_us is the buffer's timestamp: the camera's own clock (GVSP
+ * leader ticks, which Aravis scales by GevTimestampTickFrequency; U3V
+ * leaders are in ns), PTP time when the camera runs IEEE 1588.
+ * The camera counts as lost on Aravis's "control-lost" signal (from its
+ * heartbeat thread: only an atomic flag is set there) or after
  * aravis.frame_timeout seconds without any buffer; the pipeline then closes
  * it (stop may time out on a dead camera: errors are ignored) and reopens
- * with back-off.
+ * with back-off. With an external trigger (trigger_mode on and no
+ * trigger_rate) no frame is normal, not a loss: the camera is then only
+ * lost on control-lost or when a register read fails after frame_timeout
+ * without frames, so a trigger that stops gives no-frame status datagrams
+ * and no reconnects.
  */
 #define _POSIX_C_SOURCE 200809L
 #include "source.h"
@@ -30,6 +46,7 @@
 #include <arv.h>
 
 #include "log.h"
+#include "pixfmt.h"
 
 typedef struct {
     ArvCamera *camera;
@@ -38,7 +55,13 @@ typedef struct {
     gint lost;              /* set by the control-lost handler (g_atomic) */
     uint64_t last_buffer_us;
     size_t payload;
-    int bits;
+    const cdspd_pixfmt *pf; /* the format set at open */
+    void *scratch;          /* cdspd_pixfmt_convert's, for the region's width */
+    size_t scratch_len;
+    int externally_triggered; /* no frame is not a loss (see the top) */
+    uint64_t trigger_period_us, next_trigger_us; /* software trigger, 0: none */
+    uint64_t triggers_sent;
+    uint64_t last_alive_check_us;
 } arv_priv;
 
 static void on_control_lost(ArvDevice *device, gpointer data)
@@ -48,26 +71,33 @@ static void on_control_lost(ArvDevice *device, gpointer data)
     g_atomic_int_set(&p->lost, 1);
 }
 
-static int bits_of(ArvPixelFormat pf)
+/* pixfmt.c's PFNC codes are Aravis's (checked here, where both are in
+ * scope: a typedef of negative size if one differs). */
+#define CDSPD_SAME(a, b) typedef char cdspd_code_##a[((b) == (a##u)) ? 1 : -1]
+CDSPD_SAME(0x01080001, ARV_PIXEL_FORMAT_MONO_8);
+CDSPD_SAME(0x010c0004, ARV_PIXEL_FORMAT_MONO_10_PACKED);
+CDSPD_SAME(0x010c0006, ARV_PIXEL_FORMAT_MONO_12_PACKED);
+CDSPD_SAME(0x01080009, ARV_PIXEL_FORMAT_BAYER_RG_8);
+CDSPD_SAME(0x01100031, ARV_PIXEL_FORMAT_BAYER_BG_16);
+CDSPD_SAME(0x02180014, ARV_PIXEL_FORMAT_RGB_8_PACKED);
+CDSPD_SAME(0x02180015, ARV_PIXEL_FORMAT_BGR_8_PACKED);
+
+/* The names "auto" and aravis.pixel_format know, for messages. */
+static void format_names(char *buf, size_t len)
 {
-    switch (pf) {
-    case ARV_PIXEL_FORMAT_MONO_8: return 8;
-    case ARV_PIXEL_FORMAT_MONO_10: return 10;
-    case ARV_PIXEL_FORMAT_MONO_12: return 12;
-    case ARV_PIXEL_FORMAT_MONO_16: return 16;
-    default: return 0;
-    }
+    size_t i, n = 0;
+    buf[0] = 0;
+    for (i = 0; cdspd_pixfmt_at(i) && n < len; i++)
+        n += (size_t)snprintf(buf + n, len - n, "%s%s", i ? ", " : "", cdspd_pixfmt_at(i)->name);
 }
 
-/* Formats in the order "auto" prefers them. */
-static const struct {
-    const char *name;
-    ArvPixelFormat pf;
-} formats[] = {{"Mono8", ARV_PIXEL_FORMAT_MONO_8},
-               {"Mono16", ARV_PIXEL_FORMAT_MONO_16},
-               {"Mono12", ARV_PIXEL_FORMAT_MONO_12},
-               {"Mono10", ARV_PIXEL_FORMAT_MONO_10}};
-#define N_FORMATS (sizeof formats / sizeof formats[0])
+static int has_feature(ArvCamera *camera, const char *name)
+{
+    GError *e = NULL;
+    gboolean ok = arv_camera_is_feature_available(camera, name, &e);
+    g_clear_error(&e);
+    return ok ? 1 : 0;
+}
 
 static void close_camera(arv_priv *p)
 {
@@ -86,6 +116,8 @@ static void close_camera(arv_priv *p)
          * fault); failures: incomplete frames (the network's) */
         LOG_I(SOURCE, "aravis: stream statistics: %llu frames complete, %llu failed, %llu underruns",
               (unsigned long long)done, (unsigned long long)failures, (unsigned long long)underruns);
+        if (p->trigger_period_us)
+            LOG_I(SOURCE, "aravis: %llu software triggers sent", (unsigned long long)p->triggers_sent);
         arv_stream_set_emit_signals(p->stream, FALSE);
         g_object_unref(p->stream);
         p->stream = NULL;
@@ -98,6 +130,9 @@ static void close_camera(arv_priv *p)
         g_object_unref(p->camera);
         p->camera = NULL;
     }
+    free(p->scratch);
+    p->scratch = NULL;
+    p->scratch_len = 0;
 }
 
 static int fail(arv_priv *p, GError **e, char *err, size_t errlen, const char *what, int rc)
@@ -123,6 +158,114 @@ static int camera_on_loopback(ArvCamera *camera)
     return lo;
 }
 
+/* Set an enumeration feature when the camera has it; *missing counts the
+ * ones it has not. Returns 0, or -1 with err when the camera refuses. */
+static int set_enum(ArvCamera *camera, const char *feature, const char *value, int *missing, char *err,
+                    size_t errlen)
+{
+    GError *e = NULL;
+    if (!has_feature(camera, feature)) {
+        (*missing)++;
+        LOG_W(SOURCE, "aravis: the camera has no %s: %s ignored", feature, value);
+        return 0;
+    }
+    arv_camera_set_string(camera, feature, value, &e);
+    if (e) {
+        snprintf(err, errlen, "aravis: setting %s to %s: %s", feature, value, e->message);
+        g_clear_error(&e);
+        return -1;
+    }
+    return 0;
+}
+
+/* aravis.trigger_*: FrameStart's trigger, and the software trigger's pace. */
+static int set_trigger(arv_priv *p, const cdspd_config *c, char *err, size_t errlen)
+{
+    const char *mode = c->aravis.trigger_mode == 2 ? "On" : "Off";
+    int missing = 0, software;
+
+    p->externally_triggered = 0;
+    p->trigger_period_us = 0;
+    p->triggers_sent = 0;
+    if (c->aravis.trigger_mode == 0 && !*c->aravis.trigger_source && !*c->aravis.trigger_activation &&
+        c->aravis.trigger_rate <= 0)
+        return CDSPD_OPEN_OK;
+    /* the selector first: the other three are per selector */
+    if (has_feature(p->camera, "TriggerSelector") &&
+        set_enum(p->camera, "TriggerSelector", "FrameStart", &missing, err, errlen))
+        return CDSPD_OPEN_FATAL;
+    if (*c->aravis.trigger_source &&
+        set_enum(p->camera, "TriggerSource", c->aravis.trigger_source, &missing, err, errlen))
+        return CDSPD_OPEN_FATAL;
+    if (*c->aravis.trigger_activation &&
+        set_enum(p->camera, "TriggerActivation", c->aravis.trigger_activation, &missing, err, errlen))
+        return CDSPD_OPEN_FATAL;
+    if (c->aravis.trigger_mode && set_enum(p->camera, "TriggerMode", mode, &missing, err, errlen))
+        return CDSPD_OPEN_FATAL;
+    if (c->aravis.trigger_mode == 2 && missing) {
+        snprintf(err, errlen, "aravis: aravis.trigger_mode on, but the camera lacks %d of the trigger "
+                 "features (see the warnings)", missing);
+        return CDSPD_OPEN_FATAL;
+    }
+    software = has_feature(p->camera, "TriggerSource") &&
+               !strcmp(arv_camera_get_string(p->camera, "TriggerSource", NULL) ?
+                       arv_camera_get_string(p->camera, "TriggerSource", NULL) : "", "Software");
+    if (c->aravis.trigger_rate > 0) {
+        if (!software || !has_feature(p->camera, "TriggerSoftware")) {
+            snprintf(err, errlen, "aravis: aravis.trigger_rate needs trigger_source Software and "
+                     "the camera's TriggerSoftware command");
+            return CDSPD_OPEN_FATAL;
+        }
+        p->trigger_period_us = (uint64_t)(1e6 / c->aravis.trigger_rate + 0.5);
+    }
+    p->externally_triggered = c->aravis.trigger_mode == 2 && p->trigger_period_us == 0;
+    {
+        const char *src = has_feature(p->camera, "TriggerSource")
+                              ? arv_camera_get_string(p->camera, "TriggerSource", NULL)
+                              : NULL;
+        char pace[64] = "";
+        if (p->trigger_period_us)
+            snprintf(pace, sizeof pace, ", %.4g software triggers per second", c->aravis.trigger_rate);
+        LOG_I(SOURCE, "aravis: trigger %s, source %s%s%s", c->aravis.trigger_mode == 2 ? "on" : "off",
+              src ? src : "(none)", pace,
+              p->externally_triggered ? "; external trigger: no frame is not a lost camera" : "");
+    }
+    return CDSPD_OPEN_OK;
+}
+
+/* aravis.ptp and the camera clock's description in the log. */
+static int set_clock(arv_priv *p, const cdspd_config *c, char *err, size_t errlen)
+{
+    GError *e = NULL;
+    const char *ptp = has_feature(p->camera, "PtpEnable")     ? "PtpEnable"
+                      : has_feature(p->camera, "GevIEEE1588") ? "GevIEEE1588"
+                                                              : NULL;
+    const char *status = has_feature(p->camera, "PtpStatus")            ? "PtpStatus"
+                         : has_feature(p->camera, "GevIEEE1588Status") ? "GevIEEE1588Status"
+                                                                       : NULL;
+    const char *tick = has_feature(p->camera, "GevTimestampTickFrequency") ? "GevTimestampTickFrequency"
+                       : has_feature(p->camera, "TimestampTickFrequency") ? "TimestampTickFrequency"
+                                                                          : NULL;
+    if (c->aravis.ptp) {
+        if (!ptp) {
+            LOG_W(SOURCE, "aravis: the camera has neither PtpEnable nor GevIEEE1588: aravis.ptp "
+                  "ignored, t_camera_us is its own free-running clock");
+        } else {
+            arv_camera_set_boolean(p->camera, ptp, c->aravis.ptp == 2, &e);
+            if (e) {
+                snprintf(err, errlen, "aravis: setting %s: %s", ptp, e->message);
+                g_clear_error(&e);
+                return CDSPD_OPEN_FATAL;
+            }
+        }
+    }
+    LOG_I(SOURCE, "aravis: camera clock: %s%llu Hz ticks%s; PTP %s%s%s", tick ? "" : "(no tick frequency "
+          "feature) ", tick ? (unsigned long long)arv_camera_get_integer(p->camera, tick, NULL) : 0ull,
+          tick ? "" : "", ptp ? (arv_camera_get_boolean(p->camera, ptp, NULL) ? "on" : "off") : "not offered",
+          status ? ", status " : "", status ? arv_camera_get_string(p->camera, status, NULL) : "");
+    return CDSPD_OPEN_OK;
+}
+
 static int aravis_open(cdspd_source *s, char *err, size_t errlen)
 {
     arv_priv *p = s->priv;
@@ -130,7 +273,7 @@ static int aravis_open(cdspd_source *s, char *err, size_t errlen)
     GError *e = NULL;
     ArvPixelFormat pf = 0;
     gint x, y, w, h;
-    int i;
+    int i, r;
     const char *id = *s->arg ? s->arg : NULL;
 
     g_atomic_int_set(&p->lost, 0);
@@ -146,39 +289,45 @@ static int aravis_open(cdspd_source *s, char *err, size_t errlen)
     /* pixel format */
     if (!strcmp(c->aravis.pixel_format, "auto")) {
         guint n = 0, k;
+        size_t j;
         gint64 *avail = arv_camera_dup_available_pixel_formats(p->camera, &n, &e);
         if (!avail)
             return fail(p, &e, err, errlen, "reading the pixel formats", CDSPD_OPEN_RETRY);
-        for (i = 0; i < (int)N_FORMATS && !pf; i++)
+        for (j = 0; cdspd_pixfmt_at(j) && !pf; j++)
             for (k = 0; k < n; k++)
-                if ((ArvPixelFormat)avail[k] == formats[i].pf) {
-                    pf = formats[i].pf;
+                if ((uint32_t)avail[k] == cdspd_pixfmt_at(j)->code) {
+                    pf = (ArvPixelFormat)avail[k];
                     break;
                 }
         g_free(avail);
         if (!pf) {
-            snprintf(err, errlen, "aravis: %s offers none of Mono8, Mono16, Mono12, Mono10 "
-                     "(packed and colour formats are not read)", arv_camera_get_model_name(p->camera, NULL));
+            char names[1024];
+            format_names(names, sizeof names);
+            snprintf(err, errlen, "aravis: %s offers none of %s", arv_camera_get_model_name(p->camera, NULL),
+                     names);
             close_camera(p);
             return CDSPD_OPEN_FATAL;
         }
     } else {
-        for (i = 0; i < (int)N_FORMATS; i++)
-            if (!strcmp(c->aravis.pixel_format, formats[i].name))
-                pf = formats[i].pf;
-        if (!pf) {
-            snprintf(err, errlen, "key 'aravis.pixel_format': '%s' is not Mono8, Mono10, Mono12, "
-                     "Mono16 or auto", c->aravis.pixel_format);
+        const cdspd_pixfmt *want = cdspd_pixfmt_find(c->aravis.pixel_format);
+        if (!want) {
+            char names[1024];
+            format_names(names, sizeof names);
+            snprintf(err, errlen, "key 'aravis.pixel_format': '%s' is not one of %s or auto",
+                     c->aravis.pixel_format, names);
             close_camera(p);
             return CDSPD_OPEN_FATAL;
         }
+        pf = (ArvPixelFormat)want->code;
     }
     arv_camera_set_pixel_format(p->camera, pf, &e);
     if (e)
         return fail(p, &e, err, errlen, "setting the pixel format", CDSPD_OPEN_FATAL);
-    p->bits = bits_of(arv_camera_get_pixel_format(p->camera, NULL));
-    if (!p->bits) {
-        snprintf(err, errlen, "aravis: the camera did not take pixel format %s", c->aravis.pixel_format);
+    p->pf = cdspd_pixfmt_from_code((uint32_t)arv_camera_get_pixel_format(p->camera, NULL));
+    if (!p->pf || p->pf->code != (uint32_t)pf) {
+        snprintf(err, errlen, "aravis: the camera did not take pixel format %s (it reports 0x%08x)",
+                 cdspd_pixfmt_from_code((uint32_t)pf)->name,
+                 (unsigned)arv_camera_get_pixel_format(p->camera, NULL));
         close_camera(p);
         return CDSPD_OPEN_FATAL;
     }
@@ -199,6 +348,19 @@ static int aravis_open(cdspd_source *s, char *err, size_t errlen)
                  "(aravis.region)", w, h, c->calib, c->cam.width, c->cam.height);
         close_camera(p);
         return CDSPD_OPEN_FATAL;
+    }
+    /* the converter's rows, for every format at this width: once per open */
+    p->scratch_len = 3 * (size_t)w * sizeof(uint32_t);
+    p->scratch = malloc(p->scratch_len);
+    if (!p->scratch) {
+        snprintf(err, errlen, "aravis: out of memory for a %d-pixel row", w);
+        close_camera(p);
+        return CDSPD_OPEN_RETRY;
+    }
+    if ((r = set_trigger(p, c, err, errlen)) != CDSPD_OPEN_OK ||
+        (r = set_clock(p, c, err, errlen)) != CDSPD_OPEN_OK) {
+        close_camera(p);
+        return r;
     }
 
     if (c->aravis.exposure_us > 0) {
@@ -251,10 +413,11 @@ static int aravis_open(cdspd_source *s, char *err, size_t errlen)
     if (e)
         return fail(p, &e, err, errlen, "starting the acquisition", CDSPD_OPEN_RETRY);
     p->last_buffer_us = cdspd_now_us();
-    LOG_I(SOURCE, "aravis: %s %s (%s): %dx%d at (%d, %d), %d bit, %.3g fps, payload %zu bytes, "
+    p->next_trigger_us = p->last_buffer_us;
+    LOG_I(SOURCE, "aravis: %s %s (%s): %dx%d at (%d, %d), %s (%d bit), %.3g fps, payload %zu bytes, "
           "packet socket %s",
           arv_camera_get_vendor_name(p->camera, NULL), arv_camera_get_model_name(p->camera, NULL),
-          arv_camera_get_device_id(p->camera, NULL), w, h, x, y, p->bits,
+          arv_camera_get_device_id(p->camera, NULL), w, h, x, y, p->pf->name, p->pf->out_bits,
           arv_camera_is_frame_rate_available(p->camera, NULL) ? arv_camera_get_frame_rate(p->camera, NULL)
                                                               : 0.0,
           p->payload,
@@ -274,18 +437,57 @@ static int aravis_grab(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *er
     ArvBufferStatus st;
     int r = CDSPD_GRAB_FRAME;
 
+    uint64_t now, wait_us = (uint64_t)timeout_ms * 1000u;
+
     if (g_atomic_int_get(&p->lost)) {
         snprintf(err, errlen, "aravis: control of the camera lost (no heartbeat answer)");
         return CDSPD_GRAB_LOST;
     }
-    b = arv_stream_timeout_pop_buffer(p->stream, (guint64)timeout_ms * 1000u);
+    now = cdspd_now_us();
+    if (p->trigger_period_us) {
+        /* one trigger per period; a late loop does not send a burst to
+         * catch up (the camera would only drop frames) */
+        if (now >= p->next_trigger_us) {
+            GError *e = NULL;
+            arv_camera_software_trigger(p->camera, &e);
+            p->triggers_sent++;
+            if (e) {
+                LOG_D(SOURCE, "aravis: software trigger: %s", e->message);
+                g_clear_error(&e);
+            }
+            p->next_trigger_us += p->trigger_period_us;
+            if (p->next_trigger_us <= now)
+                p->next_trigger_us = now + p->trigger_period_us;
+        }
+        if (p->next_trigger_us - now < wait_us)
+            wait_us = p->next_trigger_us - now;
+    }
+    b = arv_stream_timeout_pop_buffer(p->stream, wait_us);
     if (!b) {
-        if ((double)(cdspd_now_us() - p->last_buffer_us) * 1e-6 > s->cfg->aravis.frame_timeout) {
-            snprintf(err, errlen, "aravis: no frame for %.1f s (aravis.frame_timeout)",
-                     s->cfg->aravis.frame_timeout);
+        now = cdspd_now_us();
+        if ((double)(now - p->last_buffer_us) * 1e-6 <= s->cfg->aravis.frame_timeout)
+            return CDSPD_GRAB_TIMEOUT;
+        if (p->externally_triggered) {
+            /* no trigger, no frame: ask the camera whether it is there,
+             * once per frame_timeout (a read takes a round trip) */
+            GError *e = NULL;
+            if ((double)(now - p->last_alive_check_us) * 1e-6 < s->cfg->aravis.frame_timeout)
+                return CDSPD_GRAB_TIMEOUT;
+            p->last_alive_check_us = now;
+            arv_camera_get_string(p->camera, "TriggerMode", &e);
+            if (!e) {
+                LOG_D(SOURCE, "aravis: no trigger for %.1f s; the camera answers",
+                      (double)(now - p->last_buffer_us) * 1e-6);
+                return CDSPD_GRAB_TIMEOUT;
+            }
+            snprintf(err, errlen, "aravis: no frame for %.1f s and the camera does not answer (%s)",
+                     (double)(now - p->last_buffer_us) * 1e-6, e->message);
+            g_clear_error(&e);
             return CDSPD_GRAB_LOST;
         }
-        return CDSPD_GRAB_TIMEOUT;
+        snprintf(err, errlen, "aravis: no frame for %.1f s (aravis.frame_timeout)",
+                 s->cfg->aravis.frame_timeout);
+        return CDSPD_GRAB_LOST;
     }
     p->last_buffer_us = cdspd_now_us();
     st = arv_buffer_get_status(b);
@@ -298,23 +500,27 @@ static int aravis_grab(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *er
                  st == ARV_BUFFER_STATUS_MISSING_PACKETS ? ": missing packets" : "");
         r = CDSPD_GRAB_BAD;
     } else {
-        size_t size = 0, bpp, row;
+        size_t size = 0, row;
         const uint8_t *img = arv_buffer_get_image_data(b, &size);
-        int w = arv_buffer_get_image_width(b), h = arv_buffer_get_image_height(b), y;
-        int bits = bits_of(arv_buffer_get_image_pixel_format(b));
-        bpp = bits > 8 ? 2 : 1;
-        row = (size_t)w * bpp;
-        if (!bits || !img || w <= 0 || h <= 0 || size < row * (size_t)h || row * (size_t)h > f->cap) {
-            snprintf(err, errlen, "aravis: frame %llu: %dx%d, pixel format 0x%08x, %zu bytes: not usable",
+        int w = arv_buffer_get_image_width(b), h = arv_buffer_get_image_height(b);
+        const cdspd_pixfmt *pf = cdspd_pixfmt_from_code((uint32_t)arv_buffer_get_image_pixel_format(b));
+        /* aravis.bayer_phase sensor: the region's offset moves the phase */
+        int sensor = s->cfg->aravis.bayer_phase == 1;
+        int xp = sensor ? arv_buffer_get_image_x(b) & 1 : 0, yp = sensor ? arv_buffer_get_image_y(b) & 1 : 0;
+        const double *g = s->cfg->aravis.bayer_gains;
+        row = (size_t)w * (size_t)cdspd_pixfmt_out_bytes(pf);
+        if (!pf || !img || w <= 0 || h <= 0 || row * (size_t)h > f->cap ||
+            cdspd_pixfmt_scratch_bytes(pf, w) > p->scratch_len ||
+            cdspd_pixfmt_convert(pf, img, size, w, h, xp, yp, g[0] > 0 || g[1] > 0 || g[2] > 0 ? g : NULL,
+                                 f->data, row, p->scratch, p->scratch_len)) {
+            snprintf(err, errlen, "aravis: frame %llu: %dx%d, pixel format 0x%08x (%s), %zu bytes: not usable",
                      (unsigned long long)arv_buffer_get_frame_id(b), w, h,
-                     (unsigned)arv_buffer_get_image_pixel_format(b), size);
+                     (unsigned)arv_buffer_get_image_pixel_format(b), pf ? pf->name : "not known", size);
             r = CDSPD_GRAB_BAD;
         } else {
-            for (y = 0; y < h; y++)
-                memcpy(f->data + (size_t)y * row, img + (size_t)y * row, row);
             f->width = w;
             f->height = h;
-            f->bits = bits;
+            f->bits = pf->out_bits;
             f->stride = row;
         }
     }

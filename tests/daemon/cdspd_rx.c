@@ -65,6 +65,9 @@ typedef struct {
     double resume_within;       /* after a source-down status: a pose within this many s */
     const char *compare;        /* --record's .jsonl: frame k of a replay = its line k */
     const char *progress;       /* rewritten after every datagram: counts so far */
+    double camera_clock_us;     /* > 0: t_camera_us - t_host_us must be about this */
+    double min_interval_us;     /* > 0: frames' t_camera_us at least this far apart */
+    long max_reconnects;        /* < 0: no bound */
 } rx_options;
 
 /* The records of a --record results file, in order. */
@@ -141,6 +144,11 @@ static void usage(FILE *f, int st)
             "  --progress FILE        after every datagram, replace FILE by one line of counts\n"
             "                         'received N poses N statuses N source-down N bad N\n"
             "                         reconnects N', for a test that waits for counts, not time\n"
+            "  --camera-clock US      frames carry the fake camera's clock: t_camera_us increases\n"
+            "                         and t_camera_us - t_host_us is US less at most 10 s\n"
+            "  --min-interval US      frames' t_camera_us at least US apart on average (first\n"
+            "                         to last: a late frame may follow an early one closely)\n"
+            "  --max-reconnects N     the daemon's reconnect counter at most N\n"
             "  --json                 datagrams must be JSON\n"
             "  --validate             check every datagram: known kind and status, pose fields\n"
             "                         finite and consistent (unit direction, distance = |P_C|)\n"
@@ -165,7 +173,7 @@ static double num(const char *opt, const char *s)
 
 static void parse(int argc, char **argv, rx_options *o)
 {
-    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ, MSL, VA, PG };
+    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ, MSL, VA, PG, CC, MI, XR };
     static const struct option lo[] = {
         {"bind", 1, NULL, B}, {"port-file", 1, NULL, PF}, {"truth", 1, NULL, TR},
         {"config", 1, NULL, CF}, {"set", 1, NULL, ST}, {"calib", 1, NULL, CA},
@@ -175,7 +183,8 @@ static void parse(int argc, char **argv, rx_options *o)
         {"max-status", 1, NULL, XS}, {"min-reconnects", 1, NULL, MRC}, {"min-bad", 1, NULL, MB},
         {"max-dropped", 1, NULL, MD}, {"resume-within", 1, NULL, RW}, {"delta", 1, NULL, DL},
         {"allow-seq-gaps", 0, NULL, SG}, {"compare-jsonl", 1, NULL, CJ}, {"min-slots", 1, NULL, MSL}, {"json", 0, NULL, JS},
-        {"validate", 0, NULL, VA}, {"progress", 1, NULL, PG}, {"help", 0, NULL, 'h'},
+        {"validate", 0, NULL, VA}, {"progress", 1, NULL, PG}, {"camera-clock", 1, NULL, CC},
+        {"min-interval", 1, NULL, MI}, {"max-reconnects", 1, NULL, XR}, {"help", 0, NULL, 'h'},
         {NULL, 0, NULL, 0}};
     int c;
     memset(o, 0, sizeof *o);
@@ -185,6 +194,7 @@ static void parse(int argc, char **argv, rx_options *o)
     o->min_ok_ratio = 1;
     o->max_status = -1;
     o->max_dropped = -1;
+    o->max_reconnects = -1;
     o->min_expect = 1;
     o->delta_px = 0.12;
     while ((c = getopt_long(argc, argv, "vh", lo, NULL)) != -1) {
@@ -231,6 +241,9 @@ static void parse(int argc, char **argv, rx_options *o)
         case CJ: o->compare = optarg; break;
         case MSL: o->min_slots = (long)num("--min-slots", optarg); break;
         case PG: o->progress = optarg; break;
+        case CC: o->camera_clock_us = num("--camera-clock", optarg); break;
+        case MI: o->min_interval_us = num("--min-interval", optarg); break;
+        case XR: o->max_reconnects = (long)num("--max-reconnects", optarg); break;
         case 'v': o->verbose = 1; break;
         case 'h': usage(stdout, 0); break;
         default: usage(stderr, 2);
@@ -396,8 +409,11 @@ int main(int argc, char **argv)
     double t0, t_last = 0, worst_ratio = 0, worst_dir_ratio = 0, t_down = -1, worst_resume = 0;
     long received = 0, poses = 0, statuses = 0, expect_hits = 0, in_view = 0, in_view_ok = 0;
     long gaps = 0, seq_errors = 0, away_poses = 0, bad_decode = 0, tracked = 0;
-    long compared = 0, cmp_fail = 0, slots_seen = 0, invalid = 0, progress_at = -1;
+    long compared = 0, cmp_fail = 0, slots_seen = 0, invalid = 0, progress_at = -1, clock_fail = 0;
     static rx_history hist;
+    uint64_t last_tcam = 0, first_tcam = 0;
+    long n_tcam = 0;
+    double min_dt_us = -1, mean_dt_us = -1;
     static unsigned char slot_seen[4096];
     long status_by[8] = {0};
     const char *status_names[8] = {"no-pipe", "few-points", "no-frame", "source-down", "bad-frame",
@@ -566,6 +582,30 @@ int main(int argc, char **argv)
             if (r.status == CDSPD_ST_SOURCE_DOWN && t_down < 0)
                 t_down = t;
         }
+        if (r.kind == CDSPD_KIND_FRAME && r.status != CDSPD_ST_BAD_FRAME &&
+            (o.camera_clock_us > 0 || o.min_interval_us > 0)) {
+            /* the camera's clock: ahead of the host's by the offset, less
+             * the transfer (the camera stamps first); increasing. Not for
+             * bad-frame datagrams: an incomplete frame may lack its stamp */
+            double lead = (double)r.t_camera_us - (double)r.t_host_us;
+            if (o.camera_clock_us > 0 && (lead > o.camera_clock_us || lead < o.camera_clock_us - 10e6)) {
+                fprintf(stderr, "cdspd_rx: FAIL: frame %llu: t_camera_us - t_host_us = %.0f us, not "
+                        "the camera's clock (%.0f us less the transfer)\n",
+                        (unsigned long long)r.frame_id, lead, o.camera_clock_us);
+                clock_fail++;
+            }
+            if (have_frame && r.t_camera_us <= last_tcam) {
+                fprintf(stderr, "cdspd_rx: FAIL: frame %llu: t_camera_us %llu after %llu\n",
+                        (unsigned long long)r.frame_id, (unsigned long long)r.t_camera_us,
+                        (unsigned long long)last_tcam);
+                clock_fail++;
+            } else if (have_frame && (min_dt_us < 0 || (double)(r.t_camera_us - last_tcam) < min_dt_us)) {
+                min_dt_us = (double)(r.t_camera_us - last_tcam);
+            }
+            if (!n_tcam++)
+                first_tcam = r.t_camera_us;
+            last_tcam = r.t_camera_us;
+        }
         if (r.kind == CDSPD_KIND_FRAME) {
             if (!have_frame)
                 first_frame = r.frame_id;
@@ -696,6 +736,17 @@ int main(int argc, char **argv)
         }                                                                                         \
     } while (0)
     CHECK(received > 0, "no datagram received");
+    if (n_tcam > 1)
+        mean_dt_us = (double)(last_tcam - first_tcam) / (double)(n_tcam - 1);
+    if (o.camera_clock_us > 0 || o.min_interval_us > 0)
+        printf("cdspd_rx: camera clock: %s; interval between frames: mean %.0f us, shortest %.0f us\n",
+               clock_fail ? "FAILED" : "t_camera_us increasing, from the camera", mean_dt_us, min_dt_us);
+    CHECK(clock_fail == 0, "%ld frames with a t_camera_us not from the camera's clock", clock_fail);
+    CHECK(o.min_interval_us <= 0 || mean_dt_us >= o.min_interval_us,
+          "frames %.0f us apart on average, closer than %.0f us", mean_dt_us, o.min_interval_us);
+    CHECK(o.max_reconnects < 0 || (long)max_reconnects <= o.max_reconnects,
+          "the daemon reports %lu reconnects, expected <= %ld", (unsigned long)max_reconnects,
+          o.max_reconnects);
     CHECK(o.truth != TRUTH_SIM_ANY || slots_seen >= o.min_slots,
           "%ld different poses of the path seen, expected at least %ld", slots_seen, o.min_slots);
     CHECK(!o.compare || (compared == cmp_n && cmp_fail == 0),

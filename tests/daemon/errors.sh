@@ -83,6 +83,16 @@ if command -v systemd-analyze >/dev/null 2>&1; then
     sed "s#/usr/local/bin/cdspd#$(cd "$(dirname "$CDSPD")" && pwd)/$(basename "$CDSPD")#" \
         daemon/cdspd.service >"$work/cdspd.service"
     systemd-analyze verify "$work/cdspd.service" || fail "systemd-analyze verify daemon/cdspd.service"
+    # the template (several cameras): verified as an instance, and the same
+    # unit as cdspd.service but for the instance's config, state and user
+    sed "s#/usr/local/bin/cdspd#$(cd "$(dirname "$CDSPD")" && pwd)/$(basename "$CDSPD")#" \
+        daemon/cdspd@.service >"$work/cdspd@front.service"
+    systemd-analyze verify "$work/cdspd@front.service" || fail "systemd-analyze verify daemon/cdspd@.service"
+    diff <(sed -e '1,/^\[Unit\]/d' -e 's#/etc/cdspd/cdspd.yaml#/etc/cdspd/%i.yaml#' \
+               -e 's#^Description=cdsp capture daemon: pipe axis poses from a camera,#Description=cdsp capture daemon %i: pipe axis poses from camera %i,#' \
+               -e 's#^StateDirectory=cdspd$#StateDirectory=cdspd/%i#' -e 's#^User=cdspd$#User=cdspd-%i#' \
+               daemon/cdspd.service) <(sed '1,/^\[Unit\]/d' daemon/cdspd@.service) ||
+        fail "daemon/cdspd@.service differs from daemon/cdspd.service beyond the instance's lines"
 fi
 if [ -x "${NOTIFY_RX:-}" ] && "$CDSPD" --version | grep -q '^sd_notify: yes'; then
     sock=$(cd "$work" && pwd)/notify.sock   # NOTIFY_SOCKET must be absolute

@@ -80,10 +80,18 @@ if [ "$mode" = loss ]; then
     v4l2-ctl -d "$CDSP_VIVID_CAP" -c disconnect=1 || fail "cannot disconnect vivid"
     wait_for /tmp/cdspd.log " lost: " 100 || fail "cdspd did not notice the unplugged device"
     grep " lost: " /tmp/cdspd.log
-    # the output node went too: the feed stops; start it again
+    # The output node went too: the feed stops; start it again. vivid comes
+    # back only once every handle is closed, and then with its input reset:
+    # cdspd must not reopen the capture node before it is set up again (a
+    # reopen in between captured vivid's own pattern: "few-points" to the
+    # end). Its failed retry while the feed still holds the output node
+    # shows it holds no handle; it is stopped, in its back-off, meanwhile.
+    wait_for /tmp/cdspd.log "cannot open $CDSP_VIVID_CAP" 300 || fail "cdspd did not retry the device"
+    kill -STOP $d
     kill $feed 2>/dev/null; wait $feed
-    setup_vivid || fail "vivid setup after the disconnect"
+    setup_vivid || { kill -CONT $d; fail "vivid setup after the disconnect"; }
     start_feed
+    kill -CONT $d
     wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: reopened" 300 || fail "cdspd did not reopen the device"
 fi
 wait $d

@@ -40,6 +40,7 @@
 #include "cdsp.h"
 #include "cli.h"
 #include "fakecam_path.h"
+#include "fakecam_pixels.h"
 
 typedef struct {
     const char *serial;
@@ -55,6 +56,52 @@ typedef struct {
     const char *cache;          /* --cache DIR, or NULL */
     int verbose;
 } fakecam_options;
+
+/* The pixel formats served: each is drawn from a grey render of `base`
+ * bits (8 or 16: what cdsp_render writes) and turned into the format as a
+ * camera would deliver it (fakecam_pixels.h): 'm' mono, 'g' GigE Vision
+ * packed, 'p' PFNC packed, 'b' Bayer mosaic of cell `cell`, 'r' RGB with
+ * the channel order of `cell`. Those Aravis's fake camera does not list in
+ * its GenICam file are added to its PixelFormat enumeration (xml_with_formats). */
+typedef struct {
+    const char *name;
+    guint32 code;           /* PFNC */
+    int base, kind, bits;
+    const char *cell;
+} fakecam_format;
+
+static const fakecam_format formats[] = {
+    {"Mono8", 0x01080001u, 8, 'm', 8, NULL},       {"Mono16", 0x01100007u, 16, 'm', 16, NULL},
+    {"Mono10", 0x01100003u, 16, 'm', 10, NULL},    {"Mono12", 0x01100005u, 16, 'm', 12, NULL},
+    {"Mono10Packed", 0x010c0004u, 16, 'g', 10, NULL}, {"Mono12Packed", 0x010c0006u, 16, 'g', 12, NULL},
+    {"Mono10p", 0x010a0046u, 16, 'p', 10, NULL},   {"Mono12p", 0x010c0047u, 16, 'p', 12, NULL},
+    {"BayerRG8", 0x01080009u, 8, 'b', 8, "RGGB"},  {"BayerGR8", 0x01080008u, 8, 'b', 8, "GRBG"},
+    {"BayerGB8", 0x0108000au, 8, 'b', 8, "GBRG"},  {"BayerBG8", 0x0108000bu, 8, 'b', 8, "BGGR"},
+    {"BayerRG10", 0x0110000du, 16, 'b', 10, "RGGB"}, {"BayerGR10", 0x0110000cu, 16, 'b', 10, "GRBG"},
+    {"BayerGB10", 0x0110000eu, 16, 'b', 10, "GBRG"}, {"BayerBG10", 0x0110000fu, 16, 'b', 10, "BGGR"},
+    {"BayerRG12", 0x01100011u, 16, 'b', 12, "RGGB"}, {"BayerGR12", 0x01100010u, 16, 'b', 12, "GRBG"},
+    {"BayerGB12", 0x01100012u, 16, 'b', 12, "GBRG"}, {"BayerBG12", 0x01100013u, 16, 'b', 12, "BGGR"},
+    {"BayerRG16", 0x0110002fu, 16, 'b', 16, "RGGB"}, {"BayerGR16", 0x0110002eu, 16, 'b', 16, "GRBG"},
+    {"BayerGB16", 0x01100030u, 16, 'b', 16, "GBRG"}, {"BayerBG16", 0x01100031u, 16, 'b', 16, "BGGR"},
+    {"RGB8", 0x02180014u, 8, 'r', 8, "RGB"},       {"BGR8", 0x02180015u, 8, 'r', 8, "BGR"},
+};
+#define N_FORMATS (sizeof formats / sizeof formats[0])
+
+static const fakecam_format *format_of(guint32 code)
+{
+    size_t i;
+    for (i = 0; i < N_FORMATS; i++)
+        if (formats[i].code == code)
+            return &formats[i];
+    return NULL;
+}
+
+/* Bytes of a w x h frame in format f (PFNC: bits 16..23 of the code are
+ * the bits per pixel), as the fake camera's payload computes them. */
+static size_t format_bytes(const fakecam_format *f, int w, int h)
+{
+    return (size_t)w * (size_t)h * ((f->code >> 16) & 0xFFu) / 8u;
+}
 
 /* One pose rendered for --cycle, at both depths the renderer draws (the
  * 8-bit frame is not the 16-bit one shifted: noise and rounding differ, and
@@ -75,6 +122,9 @@ typedef struct {
     FILE *truth;
     const char *truth_path;
     unsigned long frames;
+    uint8_t *grey;          /* a grey render turned into another format */
+    uint16_t *tmp16;        /* packed formats: the shifted values */
+    size_t grey_len;
     int warned_format, warned_size, warned_render, warned_slow, warned_cache;
     int verbose;
 } fakecam_state;
@@ -212,11 +262,63 @@ static int prerender(fakecam_state *st, int w, int h, unsigned bits_mask, const 
     return 0;
 }
 
+/* A grey render (8 or 16 bit, fmt->base) as the camera delivers format fmt:
+ * Bayer and RGB are the scene through the FAKECAM_GAIN_* filters. */
+static void convert(const fakecam_format *fmt, const uint8_t *grey, int w, int h, uint16_t *tmp,
+                    void *out)
+{
+    static const double gain[3] = {FAKECAM_GAIN_R, FAKECAM_GAIN_G, FAKECAM_GAIN_B};
+    const uint16_t *g16 = (const uint16_t *)(const void *)grey;
+    uint8_t *o8 = out;
+    size_t n = (size_t)w * (size_t)h, i;
+    int x, y, shift = fmt->base - fmt->bits;
+
+    switch (fmt->kind) {
+    case 'm':   /* 16-bit render, the top `bits` bits, little endian */
+    case 'g':
+    case 'p':
+        for (i = 0; i < n; i++)
+            tmp[i] = (uint16_t)(g16[i] >> shift);
+        if (fmt->kind != 'm') {
+            fakecam_pack(tmp, n, fmt->bits, (char)fmt->kind, out);
+            return;
+        }
+        for (i = 0; i < n; i++) {
+            o8[2 * i] = (uint8_t)tmp[i];
+            o8[2 * i + 1] = (uint8_t)(tmp[i] >> 8);
+        }
+        return;
+    case 'b':
+        for (y = 0; y < h; y++)
+            for (x = 0; x < w; x++) {
+                size_t k = (size_t)y * (size_t)w + (size_t)x;
+                double gk = gain[fakecam_bayer_colour(fmt->cell, x, y)];
+                if (fmt->base == 8) {
+                    o8[k] = (uint8_t)(grey[k] * gk + 0.5);
+                } else {
+                    unsigned v = (unsigned)(g16[k] * gk + 0.5) >> shift;
+                    o8[2 * k] = (uint8_t)v;
+                    o8[2 * k + 1] = (uint8_t)(v >> 8);
+                }
+            }
+        return;
+    default:    /* 'r': three samples per pixel in the order of cell */
+        for (i = 0; i < n; i++) {
+            int c;
+            for (c = 0; c < 3; c++) {
+                int colour = fmt->cell[c] == 'R' ? 0 : fmt->cell[c] == 'G' ? 1 : 2;
+                o8[3 * i + (size_t)c] = (uint8_t)(grey[i] * gain[colour] + 0.5);
+            }
+        }
+        return;
+    }
+}
+
 static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint32 gain,
                        ArvPixelFormat pixel_format)
 {
     fakecam_state *st = data;
-    size_t size, need, bpp;
+    size_t size, need;
     /* The fake camera hands its own buffer to fill: the const is Aravis's
      * reader-side view. Its size: arv_buffer_get_data() reports the bytes
      * received so far (0 here); the fake camera has already checked that the
@@ -224,6 +326,8 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
     void *img = (void *)arv_buffer_get_data(buffer, NULL);
     int w = arv_buffer_get_image_width(buffer), h = arv_buffer_get_image_height(buffer);
     guint64 id = arv_buffer_get_frame_id(buffer);
+    const fakecam_format *fmt;
+    uint8_t *grey;
     int bits;
     cdsp_status s;
     guint32 period_us;
@@ -233,44 +337,60 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
     (void)gain;
     if (!img || w <= 0 || h <= 0)
         return;
-    switch (pixel_format) {
-    case ARV_PIXEL_FORMAT_MONO_8: bits = 8; break;
-    case ARV_PIXEL_FORMAT_MONO_16: bits = 16; break;
-    default: bits = 0; break;
-    }
+    fmt = format_of((guint32)pixel_format);
     size = arv_fake_camera_get_payload(st->fake);
-    bpp = bits > 8 ? 2 : 1;
-    need = (size_t)w * (size_t)h * bpp;
-    if (size < need) {
-        if (!st->warned_size++)
-            fprintf(stderr, "cdsp_fakecam: payload of %zu bytes for a %dx%d frame of %zu bytes: "
-                    "frame left as is\n", size, w, h, need);
-        return;
-    }
-    if (bits == 0) {
+    if (!fmt) {
         if (!st->warned_format++)
-            fprintf(stderr, "cdsp_fakecam: pixel format 0x%08x is not drawn (Mono8 and Mono16 "
-                    "are): frames are black\n", (unsigned)pixel_format);
+            fprintf(stderr, "cdsp_fakecam: pixel format 0x%08x is not drawn: frames are black\n",
+                    (unsigned)pixel_format);
         memset(img, 0, size);
         return;
+    }
+    bits = fmt->base;
+    need = (size_t)w * (size_t)h * (bits > 8 ? 2 : 1);
+    if (size < format_bytes(fmt, w, h)) {
+        if (!st->warned_size++)
+            fprintf(stderr, "cdsp_fakecam: payload of %zu bytes for a %dx%d %s frame of %zu bytes: "
+                    "frame left as is\n", size, w, h, fmt->name, format_bytes(fmt, w, h));
+        return;
+    }
+    /* Mono8 and Mono16 are drawn in place; the others from a grey render
+     * kept beside (grown once per size, never per frame) */
+    grey = img;
+    if (!(fmt->kind == 'm' && fmt->bits == fmt->base)) {
+        if (st->grey_len < need) {
+            uint8_t *g = realloc(st->grey, need);
+            uint16_t *t = realloc(st->tmp16, need);
+            if (g)
+                st->grey = g;
+            if (t)
+                st->tmp16 = t;
+            if (!g || !t) {
+                fprintf(stderr, "cdsp_fakecam: out of memory for a %dx%d frame\n", w, h);
+                memset(img, 0, size);
+                return;
+            }
+            st->grey_len = need;
+        }
+        grey = st->grey;
     }
 
     if (st->slots) {
         fakecam_slot *sl = &st->slots[(id & 0xFFFFu) % st->cycle];
         int d = bits > 8;
         if (sl->data[d] && sl->w[d] == w && sl->h[d] == h) {
-            memcpy(img, sl->data[d], need);
+            memcpy(grey, sl->data[d], need);
             goto drawn;
         }
     }
 
     t0 = now_s();
-    s = draw(st, id, w, h, bits, img);
+    s = draw(st, id, w, h, bits, grey);
     if (s != CDSP_OK) {
         if (!st->warned_render++)
             fprintf(stderr, "cdsp_fakecam: cdsp_render failed for frame %lu (%dx%d, %d bit): %s\n",
                     (unsigned long)id, w, h, bits, cdsp_strerror(s));
-        memset(img, 0, need);
+        memset(img, 0, size);
         return;
     }
     t_draw = now_s() - t0;
@@ -283,9 +403,13 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
                 "--formats of what the client sets keeps N frames drawn)\n", w, h, 1e3 * t_draw,
                 1e-3 * (double)period_us);
     }
-    if (st->slots && keep(st, id, w, h, bits, img) && !st->warned_cache++)
+    if (st->slots && keep(st, id, w, h, bits, grey) && !st->warned_cache++)
         fprintf(stderr, "cdsp_fakecam: out of memory for the frame cache: drawing every frame\n");
 drawn:
+    if (grey != img)
+        convert(fmt, grey, w, h, st->tmp16, img);
+    /* the camera's clock (fakecam_path.h): what the GVSP leader carries */
+    arv_buffer_set_timestamp(buffer, fakecam_clock_ns());
     st->frames++;
     if (st->truth) {
         double p[3], v[3];
@@ -313,7 +437,8 @@ static const cli_option option_table[] = {
     {{"rate", required_argument, NULL, OPT_RATE}, "FPS",
      "initial frame rate, 1..1000 (default 25)"},
     {{"pixel-format", required_argument, NULL, OPT_FORMAT}, "FMT",
-     "initial pixel format, Mono8 or Mono16 (default Mono8)"},
+     "initial pixel format (default Mono8): Mono8/10/12/16, Mono10Packed, Mono12Packed, "
+     "Mono10p, Mono12p, Bayer{RG,GR,GB,BG}{8,10,12,16}, RGB8, BGR8"},
     {{"gvsp-lost-ratio", required_argument, NULL, 'r'}, "N",
      "drop N of every 1000 GVSP packets, 0..1000 (default 0; the fake camera "
      "never answers resend requests)"},
@@ -352,11 +477,14 @@ static double parse_number(const char *opt, const char *s, double lo, double hi)
 
 static ArvPixelFormat parse_format(const char *opt, const char *s)
 {
-    if (!strcmp(s, "Mono8"))
-        return ARV_PIXEL_FORMAT_MONO_8;
-    if (!strcmp(s, "Mono16"))
-        return ARV_PIXEL_FORMAT_MONO_16;
-    fprintf(stderr, "cdsp_fakecam: %s '%s': expected Mono8 or Mono16\n", opt, s);
+    size_t i;
+    for (i = 0; i < N_FORMATS; i++)
+        if (!strcmp(s, formats[i].name))
+            return (ArvPixelFormat)formats[i].code;
+    fprintf(stderr, "cdsp_fakecam: %s '%s': expected one of", opt, s);
+    for (i = 0; i < N_FORMATS; i++)
+        fprintf(stderr, " %s", formats[i].name);
+    fprintf(stderr, "\n");
     exit(2);
 }
 
@@ -410,7 +538,7 @@ static void parse_options(int argc, char **argv, fakecam_options *o)
             char list[256], *tok, *save = NULL;
             snprintf(list, sizeof list, "%s", optarg);
             for (tok = strtok_r(list, ",", &save); tok; tok = strtok_r(NULL, ",", &save))
-                o->prerender_bits |= 1u << (parse_format("--formats", tok) == ARV_PIXEL_FORMAT_MONO_16 ? 16 : 8);
+                o->prerender_bits |= 1u << format_of((guint32)parse_format("--formats", tok))->base;
             if (!o->prerender_bits) {
                 fprintf(stderr, "cdsp_fakecam: --formats '%s': expected a list of formats\n", optarg);
                 exit(2);
@@ -434,7 +562,52 @@ static void parse_options(int argc, char **argv, fakecam_options *o)
         usage(stderr, 2);
     }
     if (!o->prerender_bits)
-        o->prerender_bits = 1u << (o->pixel_format == ARV_PIXEL_FORMAT_MONO_16 ? 16 : 8);
+        o->prerender_bits = 1u << format_of((guint32)o->pixel_format)->base;
+}
+
+/* Aravis's fake camera with every format of `formats` in its GenICam
+ * PixelFormat enumeration: its own file (arv_fake_camera_get_genicam_xml)
+ * with the missing entries added, written to a temporary file for
+ * arv_gv_fake_camera_new_full, which reads it at once. The registers stay
+ * Aravis's: the pixel format register takes any value, and the payload
+ * formula (width x height x bits per pixel from the code) holds for all. */
+static ArvGvFakeCamera *new_camera(const char *address, const char *serial)
+{
+    static const char anchor[] = "<pValue>PixelFormatRegister</pValue>";
+    ArvFakeCamera *base = arv_fake_camera_new(serial);
+    ArvGvFakeCamera *gv = NULL;
+    const char *xml, *at;
+    size_t len = 0, i;
+    char path[] = "/tmp/cdsp-fakecam-xml-XXXXXX";
+    FILE *f;
+    int fd;
+
+    xml = base ? arv_fake_camera_get_genicam_xml(base, &len) : NULL;
+    at = xml ? strstr(xml, anchor) : NULL;
+    fd = at ? mkstemp(path) : -1;
+    if (fd < 0 || !(f = fdopen(fd, "w"))) {
+        fprintf(stderr, "cdsp_fakecam: cannot extend the GenICam file (%s): only Aravis's own "
+                "formats are listed\n", at ? strerror(errno) : "no PixelFormat enumeration");
+        if (fd >= 0)
+            close(fd);
+        if (base)
+            g_object_unref(base);
+        return arv_gv_fake_camera_new(address, serial);
+    }
+    fwrite(xml, 1, (size_t)(at - xml), f);
+    for (i = 0; i < N_FORMATS; i++) {
+        char entry[64];
+        snprintf(entry, sizeof entry, "<EnumEntry Name=\"%s\"", formats[i].name);
+        if (!strstr(xml, entry))
+            fprintf(f, "<EnumEntry Name=\"%s\" NameSpace=\"Standard\"><Value>%u</Value></EnumEntry>\n\t\t",
+                    formats[i].name, (unsigned)formats[i].code);
+    }
+    fwrite(at, 1, len - (size_t)(at - xml), f);
+    if (fclose(f) == 0)
+        gv = arv_gv_fake_camera_new_full(address, serial, path);
+    remove(path);
+    g_object_unref(base);
+    return gv;
 }
 
 /* GigE Vision control (GVCP) listens on UDP port 3956. Aravis binds it with
@@ -506,7 +679,7 @@ int main(int argc, char **argv)
     /* Before the camera exists: no streaming thread shares st yet. */
     if (st.slots && prerender(&st, o.width, o.height, o.prerender_bits, o.cache, &t_prerender))
         return 1;
-    gv = arv_gv_fake_camera_new(o.address, o.serial);
+    gv = new_camera(o.address, o.serial);
     if (!gv || !arv_gv_fake_camera_is_running(gv)) {
         fprintf(stderr, "cdsp_fakecam: the fake camera did not start on '%s' (an address of this "
                 "machine? GVCP port 3956 already taken by another camera?)\n", o.address);
@@ -527,7 +700,7 @@ int main(int argc, char **argv)
 
     printf("cdsp_fakecam: ready: Aravis-Fake-%s on %s, %dx%d %s at %g fps, GVSP loss %g/1000",
            o.serial, o.address, o.width, o.height,
-           o.pixel_format == ARV_PIXEL_FORMAT_MONO_16 ? "Mono16" : "Mono8", o.rate,
+           format_of((guint32)o.pixel_format)->name, o.rate,
            o.loss_per_thousand);
     if (st.slots)
         printf(", %u poses drawn%s in %.1f s", o.cycle, o.cache ? " (or read from --cache)" : "",
@@ -544,6 +717,8 @@ int main(int argc, char **argv)
     if (st.truth)
         fclose(st.truth);
     free(st.scratch);
+    free(st.grey);
+    free(st.tmp16);
     if (st.slots) {
         unsigned i;
         for (i = 0; i < o.cycle; i++) {

@@ -15,11 +15,13 @@
 # UDP, and the fake camera never resends); each step still needs its count
 # of exact frames.
 # Speed (issue 9): every step counts frames; a slow machine only takes
-# longer. The camera of step 3 draws its 10 poses before it says ready
-# (--cycle at the size the probe sets), so 100 fps are served however slow
-# the drawing; steps 1, 2 and 4 draw every frame as it is sent (the frame
-# rate then follows the machine, the counts do not). The time-outs (300 s
-# a step, 600 s for a camera to start) only catch a hang.
+# longer. Every camera draws its 10 poses before it says ready (--cycle,
+# at the size and in the formats the probe sets), so it serves the asked
+# rate however slow the drawing: a camera drawing each frame as it is sent
+# stops answering GVCP while it draws, and on a loaded machine (3 s a
+# 640x480 frame was seen) the client's heartbeat then expires and the
+# camera stops streaming. The time-outs (300 s a step, 600 s for a camera
+# to start) only catch a hang.
 # Only 127.0.0.1 is used. GVCP has one fixed port (3956) and lo has one
 # address here, so one fake camera at a time per machine: every test that
 # runs one holds the lock /tmp/cdsp-fakecam-gvcp.lock (flock) while it does.
@@ -79,9 +81,12 @@ step() {
     fi
 }
 
-start_camera --truth "$work/truth.txt" || exit 1
-step "640x480 Mono8 with ground truth" -n 10 --truth "$work/truth.txt" --timeout 300
-step "320x240 Mono16" -n 20 --size 320x240 --pixel-format Mono16 --rate 50 --timeout 300
+start_camera --cycle 10 --truth "$work/truth.txt" || exit 1
+step "640x480 Mono8 with ground truth" -n 10 --cycle 10 --truth "$work/truth.txt" --timeout 300
+stop_camera
+
+start_camera --cycle 10 --size 320x240 --formats Mono8,Mono16 || exit 1
+step "320x240 Mono16" -n 20 --cycle 10 --size 320x240 --pixel-format Mono16 --rate 50 --timeout 300
 stop_camera
 
 start_camera --cycle 10 --size 320x240 || exit 1
@@ -89,11 +94,11 @@ step "16-bit frame id wrap, --cycle 10" -n 150 --cycle 10 --size 320x240 --rate 
     --expect-wrap --timeout 300
 stop_camera
 
-start_camera -r 20 --size 320x240 || exit 1
+start_camera -r 20 --size 320x240 --cycle 10 || exit 1
 # A 320x240 Mono8 frame is about 57 packets: 0.98^57 = 32 % arrive whole.
 # 20 whole frames with fewer than 5 incomplete ones: probability 0.32^20 *
 # sum_{k<5} C(19+k,k) 0.68^k < 1e-6 if the loss works.
-step "GVSP loss 20/1000" -n 20 --min-incomplete 5 --rate 50 --timeout 300
+step "GVSP loss 20/1000" -n 20 --cycle 10 --min-incomplete 5 --rate 50 --timeout 300
 stop_camera
 grep -v '^cdsp_fakecam: drawing' "$work/cam.err" >&2
 echo "PASS: fake GigE Vision camera on 127.0.0.1: frames pixel-exact in every step"

@@ -27,6 +27,7 @@
 
 #include <math.h>
 #include <stdint.h>
+#include <time.h>
 
 #include "cdsp.h"
 
@@ -115,6 +116,20 @@ static inline void fakecam_frame(uint64_t frame_id, unsigned cycle, int w, int h
     scene->radius = (cdsp_real)FAKECAM_RADIUS;
     scene->half_length = (cdsp_real)0;
     cdsp_rng_seed(rng, FAKECAM_NOISE_SEED, (uint64_t)fakecam_phase(frame_id, cycle));
+}
+
+/* The fake camera's own clock, stamped into every frame (the GVSP
+ * leader's timestamp): the host's CLOCK_MONOTONIC plus
+ * FAKECAM_CLOCK_OFFSET_US, so a receiver can tell the camera's time
+ * (t_camera_us - t_host_us = the offset, less the transfer time) from the
+ * host's arrival time (t_host_us). Needs clock_gettime (POSIX). */
+#define FAKECAM_CLOCK_OFFSET_US 1000000000000ull /* 11.6 days */
+
+static inline uint64_t fakecam_clock_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec + FAKECAM_CLOCK_OFFSET_US * 1000u;
 }
 
 #endif /* FAKECAM_PATH_H */
