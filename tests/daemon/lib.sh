@@ -62,7 +62,11 @@ fail() {
 start_rx() {
     local name=$1; shift
     rm -f "$work/$name.port" "$work/$name.progress"
-    "$CDSPD_RX" --port-file "$work/$name.port" --progress "$work/$name.progress" "$@" \
+    # --progress is cdspd_rx's (wait_rx reads it); other receivers started
+    # through here (mavlink_rx) do not take it
+    local progress=()
+    [ "$(basename "$CDSPD_RX")" = cdspd_rx ] && progress=(--progress "$work/$name.progress")
+    "$CDSPD_RX" --port-file "$work/$name.port" "${progress[@]}" "$@" \
         >"$work/$name.out" 2>"$work/$name.err" &
     local pid=$!
     pids+=("$pid")
