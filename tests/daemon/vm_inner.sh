@@ -54,7 +54,8 @@ if [ "$mode" = loss ]; then
     rxargs="$rxargs --min-bad 1 --min-reconnects 1 --expect-status source-down --resume-within 60"
     dur=${3:-25}   # longer for a sanitizer build (vm_v4l2.sh's VM_CDSPD_DURATION)
 fi
-cdspd_rx --port-file /tmp/port --truth sim-any --calib $cam $sets --duration 200 --idle 8 $rxargs \
+cdspd_rx --port-file /tmp/port --progress /tmp/rx.progress --truth sim-any --calib $cam $sets \
+    --duration 200 --idle 8 $rxargs \
     >/tmp/rx.out 2>&1 &
 rx=$!
 i=0
@@ -85,13 +86,20 @@ if [ "$mode" = loss ]; then
     # cdspd must not reopen the capture node before it is set up again (a
     # reopen in between captured vivid's own pattern: "few-points" to the
     # end). Its failed retry while the feed still holds the output node
-    # shows it holds no handle; it is stopped, in its back-off, meanwhile.
+    # shows it holds no handle; it is stopped, in its back-off, while vivid is
+    # set up (a few v4l2-ctl calls: well inside the receiver's --idle), and
+    # may then reopen before the feed streams (vivid's black test pattern:
+    # no-pipe statuses until the fed frames come round).
     wait_for /tmp/cdspd.log "cannot open $CDSP_VIVID_CAP" 300 || fail "cdspd did not retry the device"
+    # its retries fail while the feed holds the output node: wait until the
+    # receiver has the source-down status it must see, then stop cdspd
+    wait_for /tmp/rx.progress "source-down [1-9]" 300 || fail "no source-down status reached the receiver"
     kill -STOP $d
     kill $feed 2>/dev/null; wait $feed
-    setup_vivid || { kill -CONT $d; fail "vivid setup after the disconnect"; }
-    start_feed
+    setup_vivid; setup_rc=$?
     kill -CONT $d
+    [ $setup_rc -eq 0 ] || fail "vivid setup after the disconnect"
+    start_feed
     wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: reopened" 300 || fail "cdspd did not reopen the device"
 fi
 wait $d
