@@ -50,12 +50,17 @@ cat /tmp/feed.out
 
 rxargs="--min-poses 20 --min-slots 4"
 dur=10
+idle=8
 if [ "$mode" = loss ]; then
-    rxargs="$rxargs --min-bad 1 --min-reconnects 1 --expect-status source-down --resume-within 60"
+    # cdspd is stopped (no datagrams) while vivid is set up again after the
+    # unplug: the receiver must not take that for the end of the stream; it
+    # is ended once cdspd has exited (SIGTERM: it then judges what it got)
+    idle=300
+    rxargs="$rxargs --min-bad 1 --min-reconnects 1 --expect-status source-down --resume-within 120"
     dur=${3:-25}   # longer for a sanitizer build (vm_v4l2.sh's VM_CDSPD_DURATION)
 fi
 cdspd_rx --port-file /tmp/port --progress /tmp/rx.progress --truth sim-any --calib $cam $sets \
-    --duration 200 --idle 8 $rxargs \
+    --duration 300 --idle $idle $rxargs \
     >/tmp/rx.out 2>&1 &
 rx=$!
 i=0
@@ -94,18 +99,22 @@ if [ "$mode" = loss ]; then
     # its retries fail while the feed holds the output node: wait until the
     # receiver has the source-down status it must see, then stop cdspd
     wait_for /tmp/rx.progress "source-down [1-9]" 300 || fail "no source-down status reached the receiver"
+    # cdspd must reopen the capture node only once the feed streams again
+    # (a capture started before the output streams stays on vivid's own
+    # pattern): stopped until then, however long the feed takes to start
     kill -STOP $d
     kill $feed 2>/dev/null; wait $feed
     setup_vivid; setup_rc=$?
+    [ $setup_rc -eq 0 ] && start_feed
     kill -CONT $d
     [ $setup_rc -eq 0 ] || fail "vivid setup after the disconnect"
-    start_feed
     wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: reopened" 300 || fail "cdspd did not reopen the device"
 fi
 wait $d
 rc=$?
 cat /tmp/cdspd.log
 [ $rc -eq 0 ] || fail "cdspd exit status $rc"
+if [ "$mode" = loss ]; then sleep 1; kill -TERM $rx 2>/dev/null; fi
 wait $rx; rxrc=$?
 cat /tmp/rx.out
 [ $rxrc -eq 0 ] || fail "cdspd_rx"
