@@ -230,9 +230,10 @@ if [ -z "$fakecam" ] || ! "$CDSPD" --version | grep -q '^sources:.* aravis'; the
 else
     exec 8>/tmp/cdsp-fakecam-gvcp.lock
     flock -w 300 8 || fail "the fake camera's lock is held by another test for 300 s"
-    "$fakecam" -i 127.0.0.1 --duration 120 --cycle 25 >"$work/cam.out" 2>"$work/cam.err" &
+    "$fakecam" -i 127.0.0.1 --duration 600 --cycle 25 >"$work/cam.out" 2>"$work/cam.err" &
     cam_pid=$!; pids+=("$cam_pid")
-    for _ in $(seq 100); do grep -q '^cdsp_fakecam: ready' "$work/cam.out" && break; sleep 0.1; done
+    # it draws its poses before 'ready': a hang bound, not a speed requirement
+    wait_log "$work/cam.out" '^cdsp_fakecam: ready' 600
     grep -q '^cdsp_fakecam: ready' "$work/cam.out" || fail "cdsp_fakecam did not start"
     # frame_timeout 5: a camera drawing slowly on a loaded machine is not lost
     arv=(--source aravis:127.0.0.1 --calib "$CALIB" --radius 10 --set retry_min=0.5 --set retry_max=2

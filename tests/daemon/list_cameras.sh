@@ -29,7 +29,7 @@ exec 8>/tmp/cdsp-fakecam-gvcp.lock
 flock -w 300 8 || fail "the fake camera's lock is held by another test for 300 s"
 "$fakecam" -i 127.0.0.1 --duration 60 --serial LIST01 >"$work/cam.out" 2>"$work/cam.err" &
 pids+=("$!")
-wait_log "$work/cam.out" '^cdsp_fakecam: ready' 20 || fail "cdsp_fakecam did not start"
+wait_log "$work/cam.out" '^cdsp_fakecam: ready' 600 || fail "cdsp_fakecam did not start"
 expect_rc 0 list timeout -k 5 60 "$CDSPD" --list-cameras
 cat "$work/list.out"
 line=$(grep '^aravis:' "$work/list.out" | head -1)
