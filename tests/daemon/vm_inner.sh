@@ -104,7 +104,14 @@ if [ "$mode" = loss ]; then
     # pattern): stopped until then, however long the feed takes to start
     kill -STOP $d
     kill $feed 2>/dev/null; wait $feed
-    setup_vivid; setup_rc=$?
+    # vivid re-registers its nodes after the last handle closed: its first
+    # v4l2-ctl calls may find no device yet, so try again for a while
+    i=0
+    until setup_vivid; do
+        i=$((i + 1)); [ $i -le 60 ] || break
+        sleep 0.5
+    done
+    [ $i -le 60 ]; setup_rc=$?
     [ $setup_rc -eq 0 ] && start_feed
     kill -CONT $d
     [ $setup_rc -eq 0 ] || fail "vivid setup after the disconnect"
