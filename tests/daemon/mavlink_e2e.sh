@@ -63,7 +63,12 @@ grep -q "sending MAVLink (system 1, component 191) to udpout://127.0.0.1:$MAV_PO
 
 echo "--- 2. udpout, mount down-right with an offset, system 7 component 42, mavlink_rate 10"
 start_mrx r2 --min-targets 5 --mount 0,-90,90,50,-20,100 --sysid 7 --compid 42 --max-rate 10
-start_cdspd d2 "${common[@]}" --mavlink udpout://localhost:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
+# a host name in the URL; mavlink_rx listens on 127.0.0.1 only, so the name
+# is "localhost" where that resolves to 127.0.0.1 first (not where /etc/hosts
+# puts ::1 first)
+mhost=localhost
+getent ahosts localhost 2>/dev/null | head -n1 | grep -q '^127\.0\.0\.1 ' || mhost=127.0.0.1
+start_cdspd d2 "${common[@]}" --mavlink udpout://$mhost:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
     --set "mount=[down-right, 50, -20, 100]" --set mavlink_system_id=7 \
     --set mavlink_component_id=42 --set mavlink_rate=10 --duration 4
 finish r2 d2

@@ -28,7 +28,10 @@ echo "--- 1. binary, two destinations"
 start_rx rx1 --truth sim --calib "$CALIB" --set radius=10 --set sim.rate=50 \
     --duration $rx_max --idle 2 --min-poses 50 --expect-status "no-pipe|few-points"
 p1=$RX_PORT
-start_rx rx2 --truth sim --calib "$CALIB" --set radius=10 --set sim.rate=50 \
+# rx2 is reached as "localhost": it binds the address cdspd resolves that
+# name to (127.0.0.1 here; ::1 first on a Debian system whose /etc/hosts
+# lists both)
+start_rx rx2 --bind localhost:0 --truth sim --calib "$CALIB" --set radius=10 --set sim.rate=50 \
     --duration $rx_max --idle 2 --min-poses 50 --expect-status "no-pipe|few-points"
 p2=$RX_PORT
 start_cdspd d1 "${common[@]}" --dest 127.0.0.1:$p1 --dest localhost:$p2 --duration 4
