@@ -178,11 +178,20 @@ cat "$work/rx5.out"
 ro=$work/ro
 mkdir -p "$ro"
 as=()
+skip_ro=""
 if [ "$(id -u)" -eq 0 ] && command -v setpriv >/dev/null; then
     chown nobody "$ro"
     chmod o+rx "$work" "$(dirname "$work")" 2>/dev/null
     as=(setpriv --reuid=nobody --regid=nogroup --clear-groups)
+    # a tree under a private home (/root is 0700) keeps nobody from the
+    # program and the calibration: then root cannot show a read-only
+    # directory, and this part is skipped
+    "${as[@]}" test -x "$CDSPD" -a -r "$cam" -a -w "$ro" 2>/dev/null ||
+        skip_ro="nobody cannot reach $CDSPD, $cam or $ro from here"
 fi
+if [ -n "$skip_ro" ]; then
+    echo "SKIP: the recording directory made read-only ($skip_ro)"
+else
 start_rx rx6 --validate --duration 60 --idle 3 --min-poses 40
 "${as[@]}" "$CDSPD" "${simd[@]}" --set sim.rate=50 --dest 127.0.0.1:$RX_PORT --record "$ro" \
     --set record_every=1 >"$work/d6.out" 2>"$work/d6.log" &
@@ -197,6 +206,7 @@ kill -TERM "$d6_pid"
 wait_for "$d6_pid" 10 || fail "cdspd exit status $? (read-only directory)"
 wait_for "$rx6_pid" 10 || fail "datagrams stopped with the directory read-only"
 cat "$work/rx6.out"
+fi
 chmod u+w "$ro"
 
 echo "--- 5. the wall clock stepped back 1 h, then forward 2 h"
