@@ -85,6 +85,10 @@ $(eval $(call lib_variant,m4f,$(M4F_CC),M4F_CFLAGS))
 size-m4f: $(m4f_LIB)
 	@arm-none-eabi-size -t $(m4f_LIB)
 
+# Every check step records its result through this (before the fragments:
+# some expand it when they are read, in $(eval)).
+RUN := tests/run.sh $(BUILD)/check-results
+
 # ---------------------------------------------------------------------------
 # Component fragments (tools, daemon, MCU, VM harnesses...).
 # ---------------------------------------------------------------------------
@@ -93,7 +97,6 @@ include $(sort $(wildcard tools/*.mk daemon/*.mk tests/*/*.mk))
 # ---------------------------------------------------------------------------
 # Checks of the library itself.
 # ---------------------------------------------------------------------------
-RUN := tests/run.sh $(BUILD)/check-results
 
 .PHONY: check-lib-host check-lib-float check-lib-asan check-lib-symbols check-lib-m4f
 check-lib-host: $(host_TESTS)

@@ -24,10 +24,10 @@ fuzz_OBJ_DIR := $(fuzz_DIR)/obj
 fuzz_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -g
 fuzz_CFLAGS := $(BASE_CFLAGS) -O1 $(fuzz_SAN) -fsanitize=fuzzer-no-link
 # (included before tools/tool.mk: its variables are not set yet)
-fuzz_PKGS := yaml-0.1 spng json-c
+fuzz_PKGS := yaml-0.1 spng json-c libjpeg libtiff-4 cairo fontconfig
 fuzz_INC := -Itools/common -Itools -Idaemon -Itests/fuzz \
             $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(fuzz_PKGS) 2>/dev/null))
-fuzz_LIBS := $(shell pkg-config --libs $(fuzz_PKGS) 2>/dev/null || echo -lyaml -lspng -ljson-c) \
+fuzz_LIBS := $(shell pkg-config --libs $(fuzz_PKGS) 2>/dev/null || echo -lyaml -lspng -ljson-c -ljpeg -ltiff -lcairo -lfontconfig) \
              -lpthread -lm
 
 # libcdsp instrumented for coverage (build/fuzz/libcdsp.a)
@@ -68,7 +68,7 @@ fuzz_DEPS_config := $(fuzz_DAEMON_OBJ) $(fuzz_HOST_OBJ)
 fuzz_DEPS_listen := $(fuzz_OBJ_DIR)/tools/listen.o $(fuzz_OBJ_DIR)/daemon/proto.o $(fuzz_HOST_OBJ)
 fuzz_DEPS_export := $(fuzz_OBJ_DIR)/tools/tool_export.o $(fuzz_OBJ_DIR)/tools/tool_common.o \
                     $(fuzz_HOST_OBJ)
-fuzz_DEPS_overlay := $(fuzz_OBJ_DIR)/tools/tool_overlay.o $(fuzz_HOST_OBJ)
+fuzz_DEPS_overlay := $(fuzz_OBJ_DIR)/tools/tool_overlay.o $(fuzz_OBJ_DIR)/tools/tool_caption.o $(fuzz_HOST_OBJ)
 fuzz_DEPS_frame :=
 fuzz_DEPS_points :=
 fuzz_DEPS_mavlink := $(fuzz_DAEMON_OBJ) $(fuzz_HOST_OBJ)

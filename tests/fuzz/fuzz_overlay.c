@@ -2,7 +2,7 @@
  * fuzz_overlay.c - `cdsp_tool overlay`'s drawing (tools/tool_overlay.c)
  * fed edge points, contour lines and an axis segment anywhere (NaN, Inf,
  * far beyond the frame: a projection more than 2^31 px away was converted
- * to int, issue 16), over a small frame, written as a PNG to a memory file.
+ * to int, issue 16), over a small frame, with a ROI and caption lines, written as a PNG to a memory file.
  */
 #define _GNU_SOURCE
 #include <stddef.h>
@@ -31,8 +31,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cdsp_camera cam = {40, 40, 16, 12, 0, 0, 0, 0, 0, 32, 24};
     cdsp_result r;
     cdsp_host_err err;
+    cdsp_roi roi;
+    static const char *const caption[2] = {"frame 1  distance 123.4 mm", "conf 0.93 \xc3\xa9"};
     size_t n, i;
-    int k, with_result;
+    int k, with_result, ncaption;
     if (fd < 0) {
         fd = memfd_create("cdsp-fuzz-overlay", 0);
         if (fd < 0)
@@ -63,6 +65,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     img.height = 24;
     img.bits = 8;
     img.stride = 32;
-    (void)tool_overlay_write(path, &img, &cam, edges, label, n, with_result ? &r : NULL, &err);
+    roi.x = (int)fz_range(&in, -40, 40);
+    roi.y = (int)fz_range(&in, -40, 40);
+    roi.w = (int)fz_range(&in, -1, 60);
+    roi.h = (int)fz_range(&in, -1, 60);
+    ncaption = (int)fz_range(&in, 0, 2);
+    (void)tool_overlay_write(path, &img, &cam, edges, label, n, with_result ? &r : NULL,
+                             &roi, caption, ncaption, &err);
+    /* cairo's and fontconfig's caches live until this (as at the end of
+     * `cdsp_tool overlay`): what is left after it is ours, and leaks */
+    tool_cairo_done();
     return 0;
 }
