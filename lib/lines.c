@@ -2,13 +2,17 @@
  * lines.c - straight contour lines from edge points.
  *
  * Fit: total least squares, i.e. the right singular vector of the smallest
- * singular value of the N x 3 matrix [u v 1] (docs/method.md §3), computed on
- * Hartley-normalized points (centroid at the origin, RMS distance sqrt(2);
- * Hartley 1997) so the 3x3 problem is well conditioned. The 3x3 normal matrix
- * of the normalized points is built in one pass from moments about a nearby
- * origin, then decomposed with cdsp_svd3. Its two smallest singular values are
- * separated by (spread along the line / residual)^2, so the singular vector we
- * need is accurate to eps / gap even in float.
+ * singular value of the N x 3 matrix [u v 1] (docs/method.md §3). With the
+ * points centred on their centroid the 3x3 normal matrix is block diagonal,
+ * diag(C, 1) with C the 2x2 scatter (covariance) matrix, so the line's normal
+ * is the eigenvector of C's smallest eigenvalue and the line passes through
+ * the centroid: computed directly in closed form (mom_fit), from moments
+ * gathered in one pass about a nearby origin. The eigenvalues are the
+ * spread along the line and the residual across it (squared); the normal is
+ * accurate to about eps * spread^2 / (spread^2 - residual^2) (the
+ * eigenvector's condition number, Golub & Van Loan, Matrix Computations,
+ * 4th ed., Thm. 8.1.12), i.e. to eps for any line worth the name, in float
+ * too.
  *
  * Robust extraction: sequential RANSAC (Fischler & Bolles 1981). Two points
  * define a hypothesis, which is kept only if both points' gradients agree
@@ -108,11 +112,22 @@ static void mom_add(moments *m, const cdsp_edge *e)
 }
 
 /* TLS line from moments: fills l, centroid, dir (count, extent, residual
- * and strength are the stats pass's job). */
+ * and strength are the stats pass's job).
+ *
+ * The normal (a, b) is the eigenvector of the smaller eigenvalue of the
+ * centred scatter C = [cxx cxy; cxy cyy]. With d = (cxx - cyy) / 2 and
+ * r = hypot(d, cxy), the eigenvalues are (cxx + cyy) / 2 +- r and the
+ * larger one's eigenvector is (d + r, cxy) = (cxy, r - d) up to scale
+ * (C - lambda I annihilates it: (d - r)(d + r) + cxy^2 = 0). Of the two
+ * forms we take the one that adds numbers of one sign, (d + r, cxy) for
+ * d >= 0 and (cxy, r - d) for d < 0, so no digits cancel (the reasoning of
+ * the symmetric 2x2 Schur step, Golub & Van Loan, Alg. 8.5.1, which picks
+ * the rotation's root the same way); the normal is its perpendicular. r = 0 (the points spread
+ * alike in every direction) leaves no line: CDSP_E_DEGENERATE. Scaling C
+ * leaves its eigenvectors alone, so no normalization is needed. */
 static cdsp_status mom_fit(const moments *m, cdsp_line *out)
 {
-    cdsp_real mx, my, cxx, cyy, cxy, rms2, s, M[9], U[9], S[3], V[9], a, b, c, norm;
-    cdsp_status st;
+    cdsp_real mx, my, cxx, cyy, cxy, rms2, d, r, a, b, norm;
     if (m->n < R(2))
         return CDSP_E_FEW_POINTS;
     mx = m->sx / m->n;
@@ -128,37 +143,24 @@ static cdsp_status mom_fit(const moments *m, cdsp_line *out)
     rms2 = cxx + cyy;
     if (!(rms2 > R(0)) || !R_FINITE(rms2))
         return CDSP_E_DEGENERATE;
-    /* Hartley: scale so the RMS distance from the centroid is sqrt(2). */
-    s = R_SQRT(R(2) / rms2);
-    /* Normal matrix of the normalized points [x' y' 1] (per point, divided by
-     * N); cross terms with the constant vanish because the points are centred. */
-    M[0] = s * s * cxx;
-    M[1] = s * s * cxy;
-    M[2] = R(0);
-    M[3] = M[1];
-    M[4] = s * s * cyy;
-    M[5] = R(0);
-    M[6] = R(0);
-    M[7] = R(0);
-    M[8] = R(1);
-    st = cdsp_svd3(M, U, S, V);
-    if (st != CDSP_OK)
-        return st;
-    /* The smallest singular vector; in normalized coordinates a' x' + b' y' + c' = 0
-     * with x' = s (x - mean). Since the points are centred, c' is ~0. */
-    a = V[2];
-    b = V[5];
-    c = V[8];
+    d = (cxx - cyy) / R(2);
+    r = R_SQRT(d * d + cxy * cxy);
+    if (d >= R(0)) { /* major axis (d + r, cxy), normal (-cxy, d + r) */
+        a = -cxy;
+        b = d + r;
+    } else { /* major axis (cxy, r - d), normal (d - r, cxy) */
+        a = d - r;
+        b = cxy;
+    }
     norm = R_SQRT(a * a + b * b);
-    if (!(norm > R(0)))
+    if (!(norm > R(0)) || !R_FINITE(norm))
         return CDSP_E_DEGENERATE;
     a /= norm;
     b /= norm;
-    c /= norm * s;
-    /* back to pixels: a (x - mx - ox) + b (y - my - oy) + c = 0 */
+    /* back to pixels: a (x - mx - ox) + b (y - my - oy) = 0 */
     out->l[0] = a;
     out->l[1] = b;
-    out->l[2] = c - a * (mx + m->ox) - b * (my + m->oy);
+    out->l[2] = -a * (mx + m->ox) - b * (my + m->oy);
     /* polarity: (a, b) toward the brighter side = along the mean gradient */
     if (a * m->sgx + b * m->sgy < R(0) ||
         (a * m->sgx + b * m->sgy == R(0) && (b < R(0) || (b == R(0) && a < R(0))))) {
