@@ -696,6 +696,23 @@ cdsp_status cdsp_cylinder_contours(const cdsp_camera *cam, const cdsp_real axis_
                                    int pipe_brighter, cdsp_real l1[3], cdsp_real l2[3],
                                    cdsp_real p_in[2]);
 
+/* The paper's simulated set-up (docs/method.md §9), the scene the tests,
+ * `cdsp_tool sim` and `cdsp_tool bench` measure against:
+ * - the camera: 2448 x 2048 pixels of 3.45 um behind a 12 mm lens
+ *   (fx = fy = 3478.26 px), principal point at the centre of the pixel grid
+ *   ((w - 1) / 2, (h - 1) / 2), no distortion;
+ * - its pose: optical centre C = (150, 200, 300) mm in the world, looking
+ *   at the world origin with Z_W up; x_cam = R (X_world - C), R row-major
+ *   with rows (image right, image down, optical axis);
+ * - pipe k = 0..3 (the paper's p1..p4, 500 mm long, in the plane Z_W = 0):
+ *   the middle of its axis and its unit direction in camera coordinates
+ *   (mm), and half its length (half_length may be NULL); CDSP_E_ARG for any
+ *   other k. */
+void cdsp_render_paper_camera(cdsp_camera *cam);
+void cdsp_render_paper_pose(cdsp_real R[9], cdsp_real C[3]);
+cdsp_status cdsp_render_paper_pipe(int k, cdsp_real point[3], cdsp_real dir[3],
+                                   cdsp_real *half_length);
+
 #ifdef __cplusplus
 }
 #endif

@@ -754,3 +754,68 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
                   bpp, x, y);
     return CDSP_OK;
 }
+
+/* ---- the paper's simulated set-up (docs/method.md §9) ---------------------
+ * One definition for the tests, cdsp_tool's sim and bench, and the
+ * benchmarks: the camera, its pose and the four pipes. */
+
+void cdsp_render_paper_camera(cdsp_camera *cam)
+{
+    zero_bytes(cam, sizeof *cam); /* no distortion */
+    cam->fx = cam->fy = R(12.0 / 3.45e-3); /* f / pixel pitch = 3478.26 px */
+    cam->width = 2448;
+    cam->height = 2048;
+    /* the centre of the pixel grid: pixel centres are integers */
+    cam->cx = R((2448 - 1) / 2.0);
+    cam->cy = R((2048 - 1) / 2.0);
+}
+
+void cdsp_render_paper_pose(cdsp_real Rm[9], cdsp_real C[3])
+{
+    /* Looking from C at the world origin with Z_W up: forward = -C / |C|;
+     * image down = world down (0, 0, -1) made perpendicular to forward
+     * (Gram-Schmidt); image right = down x forward (a right-handed camera,
+     * x right, y down, z forward). */
+    cdsp_real fwd[3], down[3] = {R(0), R(0), R(-1)}, right[3], t;
+    int i;
+    C[0] = R(150);
+    C[1] = R(200);
+    C[2] = R(300);
+    for (i = 0; i < 3; i++)
+        fwd[i] = -C[i];
+    v3_normalize(fwd);
+    t = v3_dot(down, fwd);
+    for (i = 0; i < 3; i++)
+        down[i] -= t * fwd[i];
+    v3_normalize(down);
+    v3_cross(down, fwd, right);
+    for (i = 0; i < 3; i++) {
+        Rm[i] = right[i];
+        Rm[3 + i] = down[i];
+        Rm[6 + i] = fwd[i];
+    }
+}
+
+cdsp_status cdsp_render_paper_pipe(int k, cdsp_real point[3], cdsp_real dir[3],
+                                   cdsp_real *half_length)
+{
+    /* world: pipes in Z_W = 0; p1 along X_W through the origin, p2 = p1
+     * moved -100 mm along Y_W (away from the camera), p3 along Y_W, p4 = p3
+     * moved -100 mm along X_W; 500 mm long */
+    static const cdsp_real pw[4][3] = {{0, 0, 0}, {0, -100, 0}, {0, 0, 0}, {-100, 0, 0}};
+    static const cdsp_real dw[4][3] = {{1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 1, 0}};
+    cdsp_real Rm[9], C[3], rel[3];
+    int i;
+    if (k < 0 || k > 3)
+        return CDSP_E_ARG;
+    cdsp_render_paper_pose(Rm, C);
+    for (i = 0; i < 3; i++)
+        rel[i] = pw[k][i] - C[i];
+    for (i = 0; i < 3; i++) {
+        point[i] = v3_dot(&Rm[3 * i], rel);
+        dir[i] = v3_dot(&Rm[3 * i], dw[k]);
+    }
+    if (half_length)
+        *half_length = R(250);
+    return CDSP_OK;
+}

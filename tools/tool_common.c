@@ -565,13 +565,7 @@ void tool_progress_end(tool_progress *p)
 
 void tool_paper_camera(cdsp_camera *cam)
 {
-    cam->fx = cam->fy = 12.0 / 3.45e-3; /* f / pixel pitch = 3478.26 px */
-    cam->width = 2448;
-    cam->height = 2048;
-    /* the centre of the pixel grid: pixel centres are integers */
-    cam->cx = (cam->width - 1) / 2.0;
-    cam->cy = (cam->height - 1) / 2.0;
-    cam->k1 = cam->k2 = cam->p1 = cam->p2 = cam->k3 = 0;
+    cdsp_render_paper_camera(cam); /* defined once, in libcdsp (lib/render.c) */
 }
 
 static void cross3(const double a[3], const double b[3], double o[3])
@@ -586,39 +580,9 @@ static double dot3(const double a[3], const double b[3])
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-static void unit3(double v[3])
-{
-    double n = sqrt(dot3(v, v));
-    v[0] /= n;
-    v[1] /= n;
-    v[2] /= n;
-}
-
 void tool_paper_pipe(int k, double point[3], double dir[3], double *half_length)
 {
-    /* world: pipes in Z_W = 0, camera at C looking at the origin, Z_W up */
-    static const double C[3] = {150, 200, 300};
-    static const double pw[4][3] = {{0, 0, 0}, {0, -100, 0}, {0, 0, 0}, {-100, 0, 0}};
-    static const double dw[4][3] = {{1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 1, 0}};
-    static const double down[3] = {0, 0, -1};
-    double z[3] = {-C[0], -C[1], -C[2]}, y[3], x[3], rel[3], t;
-    int i;
-    unit3(z);
-    /* image down = world down made perpendicular to the optical axis */
-    t = dot3(down, z);
-    for (i = 0; i < 3; i++)
-        y[i] = down[i] - t * z[i];
-    unit3(y);
-    cross3(y, z, x); /* right-handed: x = y x z */
-    for (i = 0; i < 3; i++)
-        rel[i] = pw[k][i] - C[i];
-    point[0] = dot3(x, rel);
-    point[1] = dot3(y, rel);
-    point[2] = dot3(z, rel);
-    dir[0] = dot3(x, dw[k]);
-    dir[1] = dot3(y, dw[k]);
-    dir[2] = dot3(z, dw[k]);
-    *half_length = 250.0;
+    cdsp_render_paper_pipe(k, point, dir, half_length); /* lib/render.c */
 }
 
 void tool_axis_truth(const double point[3], const double dir[3], double foot[3],

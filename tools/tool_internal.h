@@ -120,14 +120,11 @@ void tool_progress_end(tool_progress *p);
 /* ------------------------------------------------------------------------
  * Geometry helpers shared by sim, bench and export.
  * ---------------------------------------------------------------------- */
-/* The paper's simulated camera (docs/method.md): 2448 x 2048, 3.45 um pixels,
- * f = 12 mm, principal point at the centre, no distortion. */
+/* The paper's simulated camera and its pipes p1..p4 (index 0..3) in camera
+ * coordinates, mm: libcdsp's cdsp_render_paper_camera and
+ * cdsp_render_paper_pipe (include/cdsp.h), in the tool's doubles. */
 void tool_paper_camera(cdsp_camera *cam);
 
-/* The paper's pipes p1..p4 (index 0..3) in camera coordinates, mm: a point
- * on the axis, the unit direction, and the half length (250 mm). The
- * camera sits at world (150, 200, 300) looking at the world origin, world
- * Z up (image up). */
 void tool_paper_pipe(int k, double point[3], double dir[3], double *half_length);
 
 /* Ground truth of an axis: foot of the perpendicular from the optical

@@ -24,7 +24,9 @@ void sup_camera(cdsp_camera *cam, int w, int h, double f, double k1, double k2)
 
 void sup_paper_camera(cdsp_camera *cam, double k1, double k2)
 {
-    sup_camera(cam, 2448, 2048, 12.0 / 3.45e-3, k1, k2);
+    cdsp_render_paper_camera(cam); /* the one definition, lib/render.c */
+    cam->k1 = (cdsp_real)k1;
+    cam->k2 = (cdsp_real)k2;
 }
 
 static void cross(const double a[3], const double b[3], double o[3])
@@ -47,58 +49,28 @@ static void normalize(double a[3])
     a[2] /= n;
 }
 
-/* Camera at C = (150, 200, 300) in the world looking at the origin; camera
- * Y down: x_c = R (X_w - C), rows of R = (right, down, forward). The world
- * "up" for choosing right/down is +Z_w. */
-static void world_rotation(double Rm[3][3], double C[3])
-{
-    double fwd[3], up[3] = {0, 0, 1}, right[3], down[3];
-    C[0] = 150;
-    C[1] = 200;
-    C[2] = 300;
-    fwd[0] = -C[0];
-    fwd[1] = -C[1];
-    fwd[2] = -C[2];
-    normalize(fwd);
-    cross(fwd, up, right);
-    normalize(right);
-    cross(fwd, right, down);
-    normalize(down);
-    memcpy(Rm[0], right, sizeof right);
-    memcpy(Rm[1], down, sizeof down);
-    memcpy(Rm[2], fwd, sizeof fwd);
-}
-
 void sup_world_to_camera(const double Xw[3], double Xc[3])
 {
-    double Rm[3][3], C[3], d[3];
+    cdsp_real Rm[9], C[3];
+    double d[3];
     int i;
-    world_rotation(Rm, C);
+    cdsp_render_paper_pose(Rm, C);
     for (i = 0; i < 3; i++)
-        d[i] = Xw[i] - C[i];
+        d[i] = Xw[i] - (double)C[i];
     for (i = 0; i < 3; i++)
-        Xc[i] = dot(Rm[i], d);
+        Xc[i] = (double)Rm[3 * i] * d[0] + (double)Rm[3 * i + 1] * d[1] + (double)Rm[3 * i + 2] * d[2];
 }
 
 void sup_paper_pipe(int i, double point[3], double dir[3])
 {
-    /* p1 along X_W through the origin; p2 = p1 moved -100 along Y_W (away
-     * from the camera, docs/method.md); p3 along Y_W; p4 = p3 moved -100 along X_W */
-    double pw[3] = {0, 0, 0}, dw[3] = {0, 0, 0}, Rm[3][3], C[3];
+    cdsp_real p[3], v[3];
     int k;
-    if (i == 0 || i == 1) {
-        dw[0] = 1;
-        if (i == 1)
-            pw[1] = -100;
-    } else {
-        dw[1] = 1;
-        if (i == 3)
-            pw[0] = -100;
+    if (cdsp_render_paper_pipe(i, p, v, NULL) != CDSP_OK)
+        return;
+    for (k = 0; k < 3; k++) {
+        point[k] = (double)p[k];
+        dir[k] = (double)v[k];
     }
-    sup_world_to_camera(pw, point);
-    world_rotation(Rm, C);
-    for (k = 0; k < 3; k++)
-        dir[k] = dot(Rm[k], dw);
 }
 
 static double urand(cdsp_rng *rng)
