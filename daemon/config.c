@@ -10,7 +10,6 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
-#include <netdb.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,6 +19,7 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include "addr.h"
 #include "cdsp_host.h"
 #include "host_yaml.h"
 #include "mavout.h"
@@ -816,67 +816,6 @@ int cdspd_config_load_file(cdspd_config *c, const char *path, char *err, size_t 
     return rc;
 }
 
-/* ------------------------------------------------------------------------
- * Destinations.
- * ---------------------------------------------------------------------- */
-int cdspd_resolve_dest(const char *text, int passive, struct sockaddr_storage *ss, socklen_t *len,
-                       char *err, size_t errlen)
-{
-    char host[CDSPD_STR], port[16];
-    const char *colon;
-    struct addrinfo hints, *res = NULL;
-    long long p = CDSPD_DEFAULT_PORT;
-    int r;
-
-    if (text[0] == '[') {
-        const char *close = strchr(text, ']');
-        if (!close || (close[1] && close[1] != ':') || close - text - 1 <= 0) {
-            errf(err, errlen, "'%s': expected [IPV6]:PORT", text);
-            return -1;
-        }
-        memcpy(host, text + 1, (size_t)(close - text - 1));
-        host[close - text - 1] = 0;
-        colon = close[1] ? close + 1 : NULL;
-    } else {
-        colon = strrchr(text, ':');
-        if (colon && strchr(text, ':') != colon) {
-            errf(err, errlen, "'%s': write IPv6 addresses as [ADDR]:PORT", text);
-            return -1;
-        }
-        if (strlen(text) >= sizeof host) {
-            errf(err, errlen, "'%s': too long", text);
-            return -1;
-        }
-        strcpy(host, text);
-        if (colon)
-            host[colon - text] = 0;
-    }
-    if (colon && (!parse_long(colon + 1, &p) || p < (passive ? 0 : 1) || p > 65535)) {
-        errf(err, errlen, "'%s': port '%s': expected 1..65535", text, colon + 1);
-        return -1;
-    }
-    if (!*host && !passive) {
-        errf(err, errlen, "'%s': no host", text);
-        return -1;
-    }
-    snprintf(port, sizeof port, "%lld", p);
-    memset(&hints, 0, sizeof hints);
-    hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = SOCK_DGRAM;
-    hints.ai_flags = passive ? AI_PASSIVE : 0;
-    r = getaddrinfo(*host ? host : NULL, port, &hints, &res);
-    if (r || !res) {
-        errf(err, errlen, "'%s': cannot resolve '%s': %s", text, host, r ? gai_strerror(r) : "no address");
-        if (res)
-            freeaddrinfo(res);
-        return -1;
-    }
-    memcpy(ss, res->ai_addr, res->ai_addrlen);
-    *len = res->ai_addrlen;
-    freeaddrinfo(res);
-    return 0;
-}
-
 int cdspd_source_kind_parse(const char *spec, const char **arg)
 {
     static const struct {
@@ -1014,9 +953,9 @@ int cdspd_config_finish(cdspd_config *c, char *err, size_t errlen)
     }
     for (i = 0; i < c->n_dest; i++) {
         cdspd_dest *d = &c->dest[i];
-        char e[CDSPD_STR + 128];
-        if (cdspd_resolve_dest(d->text, 0, &d->addr, &d->addr_len, e, sizeof e)) {
-            errf(err, errlen, "key 'dest': %s", e);
+        cdsp_host_err e;
+        if (cdsp_host_addr_parse(d->text, 0, &d->addr, &d->addr_len, &e)) {
+            errf(err, errlen, "key 'dest': %s", e.msg);
             return -1;
         }
         if (d->addr.ss_family == AF_INET) {

@@ -27,7 +27,6 @@
 #define CDSPD_MAX_DEST 16
 #define CDSPD_MAX_MAVLINK 8
 #define CDSPD_STR 1024
-#define CDSPD_DEFAULT_PORT 23770
 
 typedef struct {
     char text[CDSPD_STR];          /* as given: "HOST:PORT" */
@@ -161,11 +160,6 @@ void cdspd_config_dump(const cdspd_config *c, FILE *f);
 
 /* Key reference for --help-keys / docs: "key  type  default  help". */
 void cdspd_config_help(FILE *f);
-
-/* Split "HOST:PORT" / "[V6]:PORT" / "HOST" (port = CDSPD_DEFAULT_PORT) and
- * resolve it (numeric or by name). 0, or -1 with err. */
-int cdspd_resolve_dest(const char *text, int passive, struct sockaddr_storage *ss,
-                       socklen_t *len, char *err, size_t errlen);
 
 /* Source kinds as named in the source key. */
 typedef enum {

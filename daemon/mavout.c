@@ -17,6 +17,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "addr.h"
 #include "log.h"
 #include "mavlink.h"
 #include "source.h"
@@ -55,7 +56,8 @@ int cdspd_mavlink_url_parse(const char *text, cdspd_mavlink_url *u, int resolve,
     memset(u, 0, sizeof *u);
     if (!strncmp(text, udp, sizeof udp - 1)) {
         const char *hp = text + sizeof udp - 1, *colon = strrchr(hp, ':');
-        char e[CDSPD_STR + 128], *end;
+        cdsp_host_err e;
+        char *end;
         long port;
         u->kind = CDSPD_MAVLINK_UDPOUT;
         errno = 0;
@@ -64,8 +66,8 @@ int cdspd_mavlink_url_parse(const char *text, cdspd_mavlink_url *u, int resolve,
             snprintf(err, errlen, "'%s': expected udpout://HOST:PORT (PORT 1..65535)", text);
             return -1;
         }
-        if (resolve && cdspd_resolve_dest(hp, 0, &u->addr, &u->addr_len, e, sizeof e)) {
-            snprintf(err, errlen, "'%s': %s", text, e);
+        if (resolve && cdsp_host_addr_parse(hp, 0, &u->addr, &u->addr_len, &e)) {
+            snprintf(err, errlen, "'%s': %s", text, e.msg);
             return -1;
         }
         return 0;

@@ -25,9 +25,8 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 
+#include "addr.h"
 #include "proto.h"
-
-#define LISTEN_DEFAULT_PORT 23770
 
 static volatile sig_atomic_t listen_stop;
 
@@ -103,51 +102,7 @@ static void usage(FILE *f)
             "    1  some datagram could not be decoded\n"
             "    2  usage error, or the address cannot be bound (a unicast port takes one\n"
             "       listener: a second listen on it fails; a multicast group is shared)\n",
-            LISTEN_DEFAULT_PORT, LISTEN_DEFAULT_PORT, LISTEN_DEFAULT_PORT);
-}
-
-static int parse_addr(const char *text, struct sockaddr_storage *ss, socklen_t *len)
-{
-    char host[256], port[16];
-    const char *colon;
-    struct addrinfo hints, *res = NULL;
-    long p = LISTEN_DEFAULT_PORT;
-    char *end;
-
-    if (text[0] == '[') {
-        const char *close = strchr(text, ']');
-        if (!close || (size_t)(close - text) >= sizeof host)
-            return -1;
-        memcpy(host, text + 1, (size_t)(close - text - 1));
-        host[close - text - 1] = 0;
-        colon = close[1] == ':' ? close + 1 : NULL;
-        if (close[1] && !colon)
-            return -1;
-    } else {
-        colon = strrchr(text, ':');
-        if (strlen(text) >= sizeof host || (colon && strchr(text, ':') != colon))
-            return -1;
-        strcpy(host, text);
-        if (colon)
-            host[colon - text] = 0;
-    }
-    if (colon) {
-        errno = 0;
-        p = strtol(colon + 1, &end, 10);
-        if (end == colon + 1 || *end || errno || p < 0 || p > 65535)
-            return -1;
-    }
-    snprintf(port, sizeof port, "%ld", p);
-    memset(&hints, 0, sizeof hints);
-    hints.ai_family = *host ? AF_UNSPEC : AF_INET;
-    hints.ai_socktype = SOCK_DGRAM;
-    hints.ai_flags = AI_PASSIVE;
-    if (getaddrinfo(*host ? host : NULL, port, &hints, &res) || !res)
-        return -1;
-    memcpy(ss, res->ai_addr, res->ai_addrlen);
-    *len = res->ai_addrlen;
-    freeaddrinfo(res);
-    return 0;
+            CDSP_HOST_DEFAULT_PORT, CDSP_HOST_DEFAULT_PORT, CDSP_HOST_DEFAULT_PORT);
 }
 
 static int open_socket(const struct sockaddr_storage *ss, socklen_t len, const char *text)
@@ -308,10 +263,13 @@ int cdsp_tool_listen(int argc, char **argv)
         fprintf(stderr, "cdsp_tool listen: unexpected argument '%s'\n", argv[optind]);
         return 2;
     }
-    if (parse_addr(addr_text, &ss, &sslen)) {
-        fprintf(stderr, "cdsp_tool listen: '%s': expected ADDR:PORT, :PORT or [V6ADDR]:PORT\n",
-                addr_text);
-        return 2;
+    {
+        cdsp_host_err herr;
+        if (cdsp_host_addr_parse(addr_text, 1, &ss, &sslen, &herr)) {
+            fprintf(stderr, "cdsp_tool listen: %s (expected ADDR:PORT, :PORT or [V6ADDR]:PORT)\n",
+                    herr.msg);
+            return 2;
+        }
     }
     fd = open_socket(&ss, sslen, addr_text);
     if (fd < 0)

@@ -39,6 +39,7 @@
 #include <sys/socket.h>
 
 #include "cdsp.h"
+#include "addr.h"
 #include "cdsp_host.h"
 #include "config.h"
 #include "fakecam_path.h"
@@ -458,9 +459,12 @@ int main(int argc, char **argv)
     if (o.compare && load_compare(o.compare))
         return 2;
 
-    if (cdspd_resolve_dest(o.bind_text, 1, &ss, &sl, err, sizeof err)) {
-        fprintf(stderr, "cdspd_rx: --bind %s\n", err);
-        return 2;
+    {
+        cdsp_host_err herr;
+        if (cdsp_host_addr_parse(o.bind_text, 1, &ss, &sl, &herr)) {
+            fprintf(stderr, "cdspd_rx: --bind %s\n", herr.msg);
+            return 2;
+        }
     }
     fd = socket(ss.ss_family, SOCK_DGRAM, 0);
     {
