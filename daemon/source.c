@@ -124,17 +124,31 @@ cdspd_source *cdspd_source_new(const cdspd_config *cfg, char *err, size_t errlen
     default: break;
     }
     if (r) {
+        free(s->priv);
         free(s);
         return NULL;
     }
     return s;
 }
 
+int cdspd_source_init_priv(cdspd_source *s, const cdspd_source_ops *ops, size_t size, char *err,
+                           size_t errlen)
+{
+    s->priv = calloc(1, size);
+    if (!s->priv) {
+        snprintf(err, errlen, "%s: out of memory", ops->kind);
+        return -1;
+    }
+    s->ops = ops;
+    return 0;
+}
+
 void cdspd_source_free(cdspd_source *s)
 {
     if (!s)
         return;
-    if (s->ops && s->ops->destroy)
+    if (s->priv && s->ops && s->ops->destroy)
         s->ops->destroy(s);
+    free(s->priv);
     free(s);
 }

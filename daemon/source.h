@@ -58,7 +58,10 @@ typedef struct {
     /* Waits up to timeout_ms for a frame; fills f (f->cap bytes at f->data). */
     int (*grab)(cdspd_source *s, cdspd_frame *f, int timeout_ms, char *err, size_t errlen);
     void (*close)(cdspd_source *s);
-    void (*destroy)(cdspd_source *s);   /* frees priv; after close */
+    /* After close: releases what priv holds. cdspd_source_free() then
+     * frees priv itself (free()), unless destroy did and set it NULL (a
+     * C++ object). */
+    void (*destroy)(cdspd_source *s);
 } cdspd_source_ops;
 
 struct cdspd_source {
@@ -97,6 +100,11 @@ int cdspd_src_libcamera_list(FILE *out, char *err, size_t errlen);
 
 /* Whether a kind was built in; the error text when not. */
 int cdspd_source_available(int kind, const char **why);
+
+/* The start every C source's constructor shares: s->priv a zeroed block
+ * of size bytes, s->ops = ops. 0, or -1 with "KIND: out of memory". */
+int cdspd_source_init_priv(cdspd_source *s, const cdspd_source_ops *ops, size_t size, char *err,
+                           size_t errlen);
 
 /* Each source's constructor: fills s->ops and s->priv. 0 or -1 with err. */
 int cdspd_src_sim_init(cdspd_source *s, char *err, size_t errlen);

@@ -535,12 +535,7 @@ static void aravis_close(cdspd_source *s)
 
 static void aravis_destroy(cdspd_source *s)
 {
-    arv_priv *p = s->priv;
-    if (!p)
-        return;
-    close_camera(p);
-    free(p);
-    s->priv = NULL;
+    close_camera(s->priv);
 }
 
 static const cdspd_source_ops aravis_ops = {"aravis", aravis_open, aravis_grab, aravis_close,
@@ -548,14 +543,7 @@ static const cdspd_source_ops aravis_ops = {"aravis", aravis_open, aravis_grab, 
 
 int cdspd_src_aravis_init(cdspd_source *s, char *err, size_t errlen)
 {
-    arv_priv *p = calloc(1, sizeof *p);
-    if (!p) {
-        snprintf(err, errlen, "aravis: out of memory");
-        return -1;
-    }
-    s->priv = p;
-    s->ops = &aravis_ops;
-    return 0;
+    return cdspd_source_init_priv(s, &aravis_ops, sizeof(arv_priv), err, errlen);
 }
 
 int cdspd_src_aravis_list(FILE *out, char *err, size_t errlen)

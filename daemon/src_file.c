@@ -154,13 +154,9 @@ static void file_close(cdspd_source *s)
 static void file_destroy(cdspd_source *s)
 {
     file_priv *p = s->priv;
-    if (!p)
-        return;
     free_cache(p);
     if (p->have_glob)
         globfree(&p->g);
-    free(p);
-    s->priv = NULL;
 }
 
 static const cdspd_source_ops file_ops = {"file", file_open, file_grab, file_close, file_destroy};
@@ -218,13 +214,8 @@ int cdspd_src_file_find_calib(const char *glob_pattern, char *out, size_t cap)
 
 int cdspd_src_file_init(cdspd_source *s, char *err, size_t errlen)
 {
-    file_priv *p = calloc(1, sizeof *p);
-    if (!p) {
-        snprintf(err, errlen, "file: out of memory");
+    if (cdspd_source_init_priv(s, &file_ops, sizeof(file_priv), err, errlen))
         return -1;
-    }
-    s->priv = p;
-    s->ops = &file_ops;
     s->replay = 1; /* a recording is replayed whole, in order, whatever file.rate is */
     return 0;
 }

@@ -170,26 +170,19 @@ static void sim_close(cdspd_source *s)
 static void sim_destroy(cdspd_source *s)
 {
     sim_priv *p = s->priv;
-    if (!p)
-        return;
     free(p->ring);
     pthread_mutex_destroy(&p->mu);
-    free(p);
-    s->priv = NULL;
 }
 
 static const cdspd_source_ops sim_ops = {"sim", sim_open, sim_grab, sim_close, sim_destroy};
 
 int cdspd_src_sim_init(cdspd_source *s, char *err, size_t errlen)
 {
-    sim_priv *p = calloc(1, sizeof *p);
-    if (!p) {
-        snprintf(err, errlen, "sim: out of memory");
+    sim_priv *p;
+    if (cdspd_source_init_priv(s, &sim_ops, sizeof *p, err, errlen))
         return -1;
-    }
+    p = s->priv;
     pthread_mutex_init(&p->mu, NULL);
     p->cfg = s->cfg;
-    s->priv = p;
-    s->ops = &sim_ops;
     return 0;
 }

@@ -320,12 +320,7 @@ static void v4l2src_close(cdspd_source *s)
 
 static void v4l2src_destroy(cdspd_source *s)
 {
-    v4l2_priv *p = s->priv;
-    if (!p)
-        return;
-    close_dev(p);
-    free(p);
-    s->priv = NULL;
+    close_dev(s->priv);
 }
 
 static const cdspd_source_ops v4l2_ops = {"v4l2", v4l2src_open, v4l2src_grab, v4l2src_close,
@@ -333,14 +328,9 @@ static const cdspd_source_ops v4l2_ops = {"v4l2", v4l2src_open, v4l2src_grab, v4
 
 int cdspd_src_v4l2_init(cdspd_source *s, char *err, size_t errlen)
 {
-    v4l2_priv *p = calloc(1, sizeof *p);
-    if (!p) {
-        snprintf(err, errlen, "v4l2: out of memory");
+    if (cdspd_source_init_priv(s, &v4l2_ops, sizeof(v4l2_priv), err, errlen))
         return -1;
-    }
-    p->fd = -1;
-    s->priv = p;
-    s->ops = &v4l2_ops;
+    ((v4l2_priv *)s->priv)->fd = -1;
     return 0;
 }
 

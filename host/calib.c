@@ -14,6 +14,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -317,14 +318,52 @@ int cdsp_host_calib_read(const char *path, cdsp_camera *cam, cdsp_host_err *err)
     return rc;
 }
 
-int cdsp_host_calib_write(const char *path, const cdsp_camera *cam, const char *camera_name,
-                          cdsp_host_err *err)
+/* A double for YAML: the fewest of 15-17 significant digits that read back
+ * to the same value (17 always do), and always a '.' in the mantissa so YAML
+ * 1.1 readers (PyYAML, ROS's camera_info_manager_py) see a float: "0.0",
+ * "1.5e-05"; YAML's own spellings for the non-finite. */
+static const char *yaml_real(char buf[40], double x)
 {
-    char nm[64], b[12][32];
+    char mant[40];
+    const char *e;
+    int prec;
+    if (isnan(x))
+        return strcpy(buf, ".nan");
+    if (isinf(x))
+        return strcpy(buf, x > 0 ? ".inf" : "-.inf");
+    for (prec = 15; prec <= 17; prec++) {
+        snprintf(buf, 40, "%.*g", prec, x);
+        if (strtod(buf, NULL) == x)
+            break;
+    }
+    if (strchr(buf, '.'))
+        return buf;
+    /* no '.': "1" -> "1.0", "1e+20" -> "1.0e+20" */
+    e = strpbrk(buf, "eE");
+    snprintf(mant, sizeof mant, "%.*s.0%s", e ? (int)(e - buf) : (int)strlen(buf), buf,
+             e ? e : "");
+    return strcpy(buf, mant);
+}
+
+static void put_matrix(FILE *f, const char *key, int rows, int cols, const double *data)
+{
+    char b[40];
+    int i;
+    fprintf(f, "%s:\n  rows: %d\n  cols: %d\n  data: [", key, rows, cols);
+    for (i = 0; i < rows * cols; i++)
+        fprintf(f, "%s%s", i ? ", " : "", yaml_real(b, data[i]));
+    fprintf(f, "]\n");
+}
+
+int cdsp_host_calib_write_stream(FILE *f, const char *name, const cdsp_camera *cam,
+                                 const char *camera_name, const char *comment,
+                                 const double projection[12], cdsp_host_err *err)
+{
+    char nm[64];
     size_t i, k = 0;
-    FILE *f;
-    int bad;
     const char *src = camera_name ? camera_name : "cdsp";
+    double K[9], D[5], P[12];
+    static const double identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     for (i = 0; src[i] && k < sizeof nm - 1; i++) {
         char ch = src[i];
         if ((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
@@ -335,46 +374,51 @@ int cdsp_host_calib_write(const char *path, const cdsp_camera *cam, const char *
     if (k == 0)
         strcpy(nm, "cdsp");
     if (cdsp_camera_check(cam) != CDSP_OK)
+        return fail(err, CDSP_HOST_E_FORMAT, name, "refusing to write an invalid camera");
+    /* each line of the comment as a YAML comment */
+    while (comment && *comment) {
+        const char *nl = strchr(comment, '\n');
+        int n = nl ? (int)(nl - comment) : (int)strlen(comment);
+        fprintf(f, "# %.*s\n", n, comment);
+        comment += n + (nl != NULL);
+    }
+    K[0] = cam->fx, K[1] = 0, K[2] = cam->cx;
+    K[3] = 0, K[4] = cam->fy, K[5] = cam->cy;
+    K[6] = 0, K[7] = 0, K[8] = 1;
+    D[0] = cam->k1, D[1] = cam->k2, D[2] = cam->p1, D[3] = cam->p2, D[4] = cam->k3;
+    if (projection) {
+        memcpy(P, projection, sizeof P);
+    } else { /* [K | 0] */
+        for (i = 0; i < 12; i++)
+            P[i] = i % 4 == 3 ? 0 : K[(i / 4) * 3 + i % 4];
+    }
+    fprintf(f, "image_width: %d\nimage_height: %d\ncamera_name: %s\n", cam->width, cam->height,
+            nm);
+    put_matrix(f, "camera_matrix", 3, 3, K);
+    fprintf(f, "distortion_model: plumb_bob\n");
+    put_matrix(f, "distortion_coefficients", 1, 5, D);
+    put_matrix(f, "rectification_matrix", 3, 3, identity);
+    put_matrix(f, "projection_matrix", 3, 4, P);
+    if (ferror(f))
+        return fail(err, CDSP_HOST_E_IO, name, "write failed: %s", strerror(errno));
+    return CDSP_HOST_OK;
+}
+
+int cdsp_host_calib_write(const char *path, const cdsp_camera *cam, const char *camera_name,
+                          cdsp_host_err *err)
+{
+    FILE *f;
+    int rc, closed;
+    if (cdsp_camera_check(cam) != CDSP_OK)
         return fail(err, CDSP_HOST_E_FORMAT, path, "refusing to write an invalid camera");
     f = fopen(path, "w");
     if (!f)
         return fail(err, CDSP_HOST_E_IO, path, "cannot create: %s", strerror(errno));
-    cdsp_host_fmt_real(b[0], cam->fx);
-    cdsp_host_fmt_real(b[1], cam->fy);
-    cdsp_host_fmt_real(b[2], cam->cx);
-    cdsp_host_fmt_real(b[3], cam->cy);
-    cdsp_host_fmt_real(b[4], cam->k1);
-    cdsp_host_fmt_real(b[5], cam->k2);
-    cdsp_host_fmt_real(b[6], cam->p1);
-    cdsp_host_fmt_real(b[7], cam->p2);
-    cdsp_host_fmt_real(b[8], cam->k3);
-    fprintf(f,
-            "image_width: %d\n"
-            "image_height: %d\n"
-            "camera_name: %s\n"
-            "camera_matrix:\n"
-            "  rows: 3\n"
-            "  cols: 3\n"
-            "  data: [%s, 0, %s, 0, %s, %s, 0, 0, 1]\n"
-            "distortion_model: plumb_bob\n"
-            "distortion_coefficients:\n"
-            "  rows: 1\n"
-            "  cols: 5\n"
-            "  data: [%s, %s, %s, %s, %s]\n"
-            "rectification_matrix:\n"
-            "  rows: 3\n"
-            "  cols: 3\n"
-            "  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"
-            "projection_matrix:\n"
-            "  rows: 3\n"
-            "  cols: 4\n"
-            "  data: [%s, 0, %s, 0, 0, %s, %s, 0, 0, 0, 1, 0]\n",
-            cam->width, cam->height, nm, b[0], b[2], b[1], b[3], b[4], b[5], b[6], b[7], b[8],
-            b[0], b[2], b[1], b[3]);
-    bad = ferror(f);
-    if (fclose(f) != 0 || bad)
+    rc = cdsp_host_calib_write_stream(f, path, cam, camera_name, NULL, NULL, err);
+    closed = fclose(f);
+    if (rc == CDSP_HOST_OK && closed != 0)
         return fail(err, CDSP_HOST_E_IO, path, "write failed: %s", strerror(errno));
-    return CDSP_HOST_OK;
+    return rc;
 }
 
 int cdsp_host_calib_match(const cdsp_camera *cam, const char *calib_name, int width, int height,

@@ -1,12 +1,15 @@
 /*
- * cdsp_host.h - host-side code shared by cdsp_tool and cdspd: frame files
- * (PGM P5 read by hand, PNG through libspng, JPEG through libjpeg-turbo,
- * TIFF through libtiff), the ROS camera_info YAML
- * calibration (libyaml), the JSON record both programs emit for a pose and
- * its field table (fields.c: JSON, CSV and the manuals' field lists), and
- * the ground truth of an axis as the solver reports it (truth.c).
- * Built as build/libcdsp_host.a; link it with -lspng -ljpeg -ltiff -lyaml
- * and libcdsp.
+ * cdsp_host.h - host-side code shared by cdsp_tool, cdsp_calib and cdspd:
+ * frame files (PGM P5 read by hand, PNG through libspng, JPEG through
+ * libjpeg-turbo, TIFF through libtiff), the ROS camera_info YAML
+ * calibration (libyaml; read and written), the JSON record both programs
+ * emit for a pose and its field table (fields.c: JSON, CSV and the manuals'
+ * field lists), the ground truth of an axis as the solver reports it
+ * (truth.c), and the monotonic clock and stop signals of the programs and
+ * test peers (clock.c, stop.c). Beside it in the same library: the wire
+ * protocol (proto.h) and UDP addresses (addr.h). Built as
+ * build/libcdsp_host.a by host/host.mk; link it with the libraries of
+ * HOSTLIB_PKGS there (-lyaml -lspng -ljson-c -ljpeg -ltiff) and libcdsp.
  *
  * Conventions:
  * - Every call that can fail returns 0 on success or a negative
@@ -150,10 +153,21 @@ int cdsp_host_read_file(const char *path, size_t max_bytes, void **buf, size_t *
 int cdsp_host_calib_parse(const char *text, size_t len, const char *name, cdsp_camera *cam,
                           cdsp_host_err *err);
 int cdsp_host_calib_read(const char *path, cdsp_camera *cam, cdsp_host_err *err);
-/* camera_name may be NULL ("cdsp"); only [A-Za-z0-9_.-] are kept. Numbers
- * are written to round-trip exactly. */
+/* The layout ROS's camera_calibration writes (rectification identity;
+ * projection [K | 0]). camera_name may be NULL ("cdsp"); only
+ * [A-Za-z0-9_.-] are kept. Numbers carry the fewest of 15-17 significant
+ * digits that read back to the same double, and always a '.' ("0.0",
+ * "1.5e-05") so YAML 1.1 readers (PyYAML) see floats. An invalid camera
+ * (cdsp_camera_check) is refused before anything is written. */
 int cdsp_host_calib_write(const char *path, const cdsp_camera *cam, const char *camera_name,
                           cdsp_host_err *err);
+/* The same to an open stream (name for messages), after comment (NULL, or
+ * lines written as "# LINE"), with the 3x4 row-major projection matrix
+ * given (NULL: [K | 0]; cdsp_calib's is the undistorted image's camera
+ * matrix). CDSP_HOST_E_IO when the stream's error flag is set after it. */
+int cdsp_host_calib_write_stream(FILE *f, const char *name, const cdsp_camera *cam,
+                                 const char *camera_name, const char *comment,
+                                 const double projection[12], cdsp_host_err *err);
 /* CDSP_HOST_E_MISMATCH with "FRAME: image is WxH but CALIB is for WxH". */
 int cdsp_host_calib_match(const cdsp_camera *cam, const char *calib_name, int width, int height,
                           const char *frame_name, cdsp_host_err *err);
@@ -254,6 +268,18 @@ void cdsp_host_axis_truth(const double point[3], const double dir[3], double foo
 /* Bytes the pose fields take at most (every number at its longest); size
  * a record buffer as this plus the caller's own fields. */
 #define CDSP_HOST_JSON_POSE_MAX 2048
+
+/* ------------------------------------------------------------------------
+ * Running until told to stop (clock.c, stop.c): what cdsp_tool listen and
+ * the test peers (receivers, fake camera, feeders) share.
+ * ---------------------------------------------------------------------- */
+/* CLOCK_MONOTONIC, seconds. */
+double cdsp_host_now_s(void);
+/* SIGINT and SIGTERM set the process's stop flag (cleared here) and
+ * interrupt blocking calls (no SA_RESTART); cdsp_host_stop_requested()
+ * reads it. */
+void cdsp_host_stop_on_signals(void);
+int cdsp_host_stop_requested(void);
 
 #ifdef __cplusplus
 }

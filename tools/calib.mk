@@ -13,8 +13,11 @@ CALIB_CV_LIBS  := -lopencv_calib3d -lopencv_imgcodecs -lopencv_imgproc -lopencv_
 # cairo draws the printable board (--print-board): PDF, SVG, PNG
 CALIB_CAIRO_INC  := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags-only-I cairo 2>/dev/null))
 CALIB_CAIRO_LIBS := $(shell pkg-config --libs cairo 2>/dev/null || echo -lcairo)
+# the camera_info YAML is the host library's writer: libcdsp_host and
+# libcdsp (host/host.mk, the top Makefile), their headers and packages
 CALIB_CXXFLAGS := -std=c++17 -Wall -Wextra -pedantic -Werror -Wshadow -Wpointer-arith \
-                  -Wmissing-declarations $(OPT) -g -MMD -MP $(CALIB_CV_INC) $(CALIB_CAIRO_INC)
+                  -Wmissing-declarations $(OPT) -g -MMD -MP -Iinclude $(HOSTLIB_INC) \
+                  $(CALIB_CV_INC) $(CALIB_CAIRO_INC)
 
 CALIB_SRC := tools/cdsp_calib.cpp tools/calib_core.cpp tools/calib_output.cpp tools/calib_board.cpp
 CALIB_OBJ := $(patsubst tools/%.cpp,$(BUILD)/calib/%.o,$(CALIB_SRC))
@@ -23,8 +26,9 @@ $(BUILD)/calib/%.o: tools/%.cpp
 	@mkdir -p $(@D)
 	$(CALIB_CXX) $(CALIB_CXXFLAGS) -c $< -o $@
 
-$(BUILD)/cdsp_calib: $(CALIB_OBJ)
-	$(CALIB_CXX) $(CALIB_OBJ) $(CALIB_CV_LIBS) $(CALIB_CAIRO_LIBS) -o $@
+$(BUILD)/cdsp_calib: $(CALIB_OBJ) $(CDSP_HOST_LIB) $(host_LIB)
+	$(CALIB_CXX) $(CALIB_OBJ) $(CDSP_HOST_LIB) $(host_LIB) $(CALIB_CV_LIBS) $(CALIB_CAIRO_LIBS) \
+	    $(HOSTLIB_PKG_LIBS) -lm -o $@
 
 ALL_TARGETS += $(BUILD)/cdsp_calib
 

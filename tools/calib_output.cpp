@@ -10,59 +10,42 @@
 
 namespace calib {
 
-std::string format_real(double x)
+bool write_camera_info(std::FILE *f, const std::string &camera_name, cv::Size size,
+                       const Result &res, bool full_model, int n_given, std::string &why)
 {
-    if (std::isnan(x))
-        return ".nan";
-    if (std::isinf(x))
-        return x > 0 ? ".inf" : "-.inf";
-    // 17 significant digits always round-trip a double; fewer often do
-    // and read better (0.1, not 0.10000000000000001).
-    char buf[40];
-    for (int prec = 15; prec <= 17; prec++) {
-        std::snprintf(buf, sizeof buf, "%.*g", prec, x);
-        if (std::strtod(buf, nullptr) == x)
-            break;
-    }
-    std::string s(buf);
-    size_t e = s.find_first_of("eE");
-    std::string mant = s.substr(0, e);
-    std::string exp = e == std::string::npos ? "" : s.substr(e);
-    if (mant.find('.') == std::string::npos)
-        mant += ".0";
-    return mant + exp;
-}
-
-static void put_matrix(std::FILE *f, const char *name, int rows, int cols,
-                       const double *data)
-{
-    std::fprintf(f, "%s:\n  rows: %d\n  cols: %d\n  data: [", name, rows, cols);
-    for (int i = 0; i < rows * cols; i++)
-        std::fprintf(f, "%s%s", i ? ", " : "", format_real(data[i]).c_str());
-    std::fprintf(f, "]\n");
-}
-
-void write_camera_info(std::FILE *f, const std::string &camera_name,
-                       cv::Size size, const Result &res, bool full_model,
-                       int n_given)
-{
+    // the YAML itself is the host library's writer (host/calib.c), the one
+    // cdsp_tool sim and cdspd --record use; cdsp_calib adds its comment
+    // lines and the projection matrix of the undistorted image
     const cv::Vec<double, 9> &s = res.sigma;
-    std::fprintf(f, "# cdsp_calib: RMS reprojection error %.4f px over %d images (of %d given)\n",
-                 res.rms_px, res.n_used, n_given);
-    std::fprintf(f, "# model %s; 1-sigma: fx %.3g fy %.3g cx %.3g cy %.3g px, k1 %.3g k2 %.3g",
-                 full_model ? "plumb_bob k1 k2 p1 p2 k3" : "k1 k2 (p1 = p2 = k3 = 0)",
-                 s[0], s[1], s[2], s[3], s[4], s[5]);
-    if (full_model)
-        std::fprintf(f, " p1 %.3g p2 %.3g k3 %.3g", s[6], s[7], s[8]);
-    std::fprintf(f, "\n");
-    std::fprintf(f, "image_width: %d\nimage_height: %d\ncamera_name: %s\n",
-                 size.width, size.height, camera_name.c_str());
-    put_matrix(f, "camera_matrix", 3, 3, res.K.val);
-    std::fprintf(f, "distortion_model: plumb_bob\n");
-    put_matrix(f, "distortion_coefficients", 1, 5, res.D.val);
-    const double identity[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    put_matrix(f, "rectification_matrix", 3, 3, identity);
-    put_matrix(f, "projection_matrix", 3, 4, res.P.val);
+    char comment[512];
+    int n = std::snprintf(comment, sizeof comment,
+                          "cdsp_calib: RMS reprojection error %.4f px over %d images (of %d given)\n"
+                          "model %s; 1-sigma: fx %.3g fy %.3g cx %.3g cy %.3g px, k1 %.3g k2 %.3g",
+                          res.rms_px, res.n_used, n_given,
+                          full_model ? "plumb_bob k1 k2 p1 p2 k3" : "k1 k2 (p1 = p2 = k3 = 0)",
+                          s[0], s[1], s[2], s[3], s[4], s[5]);
+    if (full_model && n > 0 && (size_t)n < sizeof comment)
+        std::snprintf(comment + n, sizeof comment - (size_t)n, " p1 %.3g p2 %.3g k3 %.3g", s[6],
+                      s[7], s[8]);
+    cdsp_camera cam{};
+    cam.fx = res.K(0, 0);
+    cam.fy = res.K(1, 1);
+    cam.cx = res.K(0, 2);
+    cam.cy = res.K(1, 2);
+    cam.k1 = res.D[0];
+    cam.k2 = res.D[1];
+    cam.p1 = res.D[2];
+    cam.p2 = res.D[3];
+    cam.k3 = res.D[4];
+    cam.width = size.width;
+    cam.height = size.height;
+    cdsp_host_err err;
+    if (cdsp_host_calib_write_stream(f, "the calibration", &cam, camera_name.c_str(), comment,
+                                     res.P.val, &err) != CDSP_HOST_OK) {
+        why = err.msg;
+        return false;
+    }
+    return true;
 }
 
 static bool write_image(const std::string &path, const cv::Mat &img)

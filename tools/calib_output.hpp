@@ -4,6 +4,7 @@
 #define CDSP_CALIB_OUTPUT_HPP
 
 #include "calib_core.hpp"
+#include "cdsp_host.h"
 
 #include <cstdio>
 #include <string>
@@ -11,17 +12,12 @@
 
 namespace calib {
 
-// A double in the shortest "%.{15,16,17}g" form that reads back to the same
-// value, always with a '.' in the mantissa so YAML 1.1 readers (PyYAML,
-// ROS's camera_info_manager_py) see a float: "0.0", "1.5e-05".
-std::string format_real(double x);
-
-// The ROS camera_info YAML (the layout ROS's camera_calibration writes),
-// preceded by comment lines with the RMS error and the image count.
-// A failed write shows in ferror(f).
-void write_camera_info(std::FILE *f, const std::string &camera_name,
-                       cv::Size size, const Result &res, bool full_model,
-                       int n_given);
+// The ROS camera_info YAML (the layout ROS's camera_calibration writes,
+// host/calib.c's writer), preceded by comment lines with the RMS error, the
+// image count and the 1-sigma uncertainties. false, with why, when the
+// camera is unusable or the stream's error flag is set (a failed write).
+bool write_camera_info(std::FILE *f, const std::string &camera_name, cv::Size size,
+                       const Result &res, bool full_model, int n_given, std::string &why);
 
 // The image with its detected corners (green circles), the corners
 // reprojected by the final calibration (red crosses) and a caption.

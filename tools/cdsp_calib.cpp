@@ -487,6 +487,15 @@ struct Output {
         }
         return true;
     }
+    // the temporary file removed, the destination left as it was
+    void abandon()
+    {
+        if (f && f != stdout) {
+            std::fclose(f);
+            std::remove(tmp.c_str());
+        }
+        f = nullptr;
+    }
     bool commit()
     {
         if (f == stdout) {
@@ -728,9 +737,15 @@ int run(const Options &o)
     if (!out.open(o.output)) {
         rc = exit_usage;
     } else {
-        calib::write_camera_info(out.f, o.camera_name, size, res, o.full_model,
-                                 (int)views.size());
-        if (!out.commit())
+        std::string why;
+        if (!calib::write_camera_info(out.f, o.camera_name, size, res, o.full_model,
+                                      (int)views.size(), why) &&
+            !std::ferror(out.f)) {
+            // a camera the rest would refuse: nothing is written
+            std::fprintf(stderr, "%s: %s\n", prog, why.c_str());
+            out.abandon();
+            rc = exit_calib;
+        } else if (!out.commit())
             rc = exit_usage;
         else if (o.output != "-")
             std::fprintf(rep, "wrote %s\n", o.output.c_str());

@@ -10,7 +10,6 @@
 #include "listen.h"
 
 #include <errno.h>
-#include <getopt.h>
 #include <math.h>
 #include <poll.h>
 #include <signal.h>
@@ -26,84 +25,47 @@
 #include <sys/socket.h>
 
 #include "addr.h"
+#include "cdsp_host.h"
 #include "proto.h"
+#include "tool_internal.h"
 
-static volatile sig_atomic_t listen_stop;
+#define STR_(x) #x
+#define STR(x) STR_(x)
 
-static void on_signal(int sig)
-{
-    (void)sig;
-    listen_stop = 1;
-}
+static const char listen_description[] =
+    "    Receives cdspd's datagrams, binary (they start with the magic CDSP)\n"
+    "    or JSON (they start with '{'), see docs/protocol.md, and prints one\n"
+    "    line per datagram:\n"
+    "\n"
+    "      #SEQ  frame N  ok  P_C (x y z) +-(sx sy sz)  v_L (x y z)  d D\n"
+    "            conf C  inliers n1/n2  solve T ms  latency T ms  [tracked]\n"
+    "            dropped K\n"
+    "\n"
+    "    P_C is the foot of the perpendicular from the camera onto the pipe's\n"
+    "    axis and v_L the axis direction, in the camera frame (X right, Y down,\n"
+    "    Z forward), in the unit of the radius cdspd was given; +- are the\n"
+    "    standard deviations; \"tracked\" marks a frame solved in the bands\n"
+    "    around the previous pose. A frame without a pipe prints its status\n"
+    "    token (no-pipe, few-points, bad-frame, ...) instead of a pose, and a\n"
+    "    status datagram (no-frame: the source is open but silent;\n"
+    "    source-down: cdspd is reopening the camera) prints \"--\" with cdspd's\n"
+    "    counters. At the end a summary line counts the datagrams, the\n"
+    "    undecodable ones and the gaps in the sequence numbers.\n"
+    "\n"
+    "    ADDR:PORT is where to listen: default 0.0.0.0:" STR(CDSP_HOST_DEFAULT_PORT) " (cdspd's\n"
+    "    default --dest port). A multicast ADDR joins that group; [V6ADDR]:PORT\n"
+    "    for IPv6; :PORT for any address.\n";
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static const char listen_after[] =
+    "EXAMPLES\n"
+    "    cdsp_tool listen                      # beside cdspd --dest 127.0.0.1:" STR(CDSP_HOST_DEFAULT_PORT) "\n"
+    "    cdsp_tool listen 239.1.2.3:" STR(CDSP_HOST_DEFAULT_PORT) " --json  # a multicast stream, as JSON Lines\n";
 
-static void usage(FILE *f)
-{
-    fprintf(f,
-            "NAME\n"
-            "    cdsp_tool listen - decode and print the poses cdspd streams over UDP\n"
-            "\n"
-            "SYNOPSIS\n"
-            "    cdsp_tool listen [ADDR:PORT] [--json] [--count N] [--duration SECONDS] [--quiet]\n"
-            "\n"
-            "DESCRIPTION\n"
-            "    Receives cdspd's datagrams, binary (they start with the magic CDSP)\n"
-            "    or JSON (they start with '{'), see docs/protocol.md, and prints one\n"
-            "    line per datagram:\n"
-            "\n"
-            "      #SEQ  frame N  ok  P_C (x y z) +-(sx sy sz)  v_L (x y z)  d D\n"
-            "            conf C  inliers n1/n2  solve T ms  latency T ms  [tracked]  dropped K\n"
-            "\n"
-            "    P_C is the foot of the perpendicular from the camera onto the pipe's\n"
-            "    axis and v_L the axis direction, in the camera frame (X right, Y down,\n"
-            "    Z forward), in the unit of the radius cdspd was given; +- are the\n"
-            "    standard deviations; \"tracked\" marks a frame solved in the bands\n"
-            "    around the previous pose. A frame without a pipe prints its status\n"
-            "    token (no-pipe, few-points, bad-frame, ...) instead of a pose, and a\n"
-            "    status datagram (no-frame: the source is open but silent;\n"
-            "    source-down: cdspd is reopening the camera) prints \"--\" with cdspd's\n"
-            "    counters. At the end a summary line counts the datagrams, the\n"
-            "    undecodable ones and the gaps in the sequence numbers.\n"
-            "\n"
-            "OPTIONS\n"
-            "    ADDR:PORT\n"
-            "        Where to listen. Default 0.0.0.0:%d (cdspd's default --dest port).\n"
-            "        A multicast ADDR joins that group; [V6ADDR]:PORT for IPv6; :PORT\n"
-            "        for any address.\n"
-            "    --json\n"
-            "        Print each record as one JSON line, with the field names of\n"
-            "        `cdsp_tool solve` plus seq, t_camera_us and t_host_us, for\n"
-            "        scripts. The line is the decoded record encoded again (binary\n"
-            "        and JSON datagrams alike), never the datagram's own bytes: a\n"
-            "        JSON datagram with anything but white space after its object\n"
-            "        is undecodable.\n"
-            "    --count N\n"
-            "        Stop after N datagrams.\n"
-            "    --duration SECONDS\n"
-            "        Stop after this long. Without --count or --duration, listen runs\n"
-            "        until SIGINT or SIGTERM (Ctrl-C).\n"
-            "    --quiet\n"
-            "        Print only the summary.\n"
-            "    -h, --help\n"
-            "        This manual.\n"
-            "\n"
-            "EXAMPLES\n"
-            "    cdsp_tool listen                      # beside cdspd --dest 127.0.0.1:%d\n"
-            "    cdsp_tool listen 239.1.2.3:%d --json  # a multicast stream, as JSON Lines\n"
-            "\n"
-            "EXIT STATUS\n"
-            "    0  done (count or duration reached, or SIGINT/SIGTERM)\n"
-            "    1  some datagram could not be decoded\n"
-            "    2  usage error, or the address cannot be bound (a unicast port takes one\n"
-            "       listener: a second listen on it fails; a multicast group is shared)\n",
-            CDSP_HOST_DEFAULT_PORT, CDSP_HOST_DEFAULT_PORT, CDSP_HOST_DEFAULT_PORT);
-}
+static const char listen_exit[] =
+    "    0  done (count or duration reached, or SIGINT/SIGTERM)\n"
+    "    1  some datagram could not be decoded\n"
+    "    2  usage error, or the address cannot be bound (a unicast port takes one\n"
+    "       listener: a second listen on it fails; a multicast group is shared)\n";
 
 static int open_socket(const struct sockaddr_storage *ss, socklen_t len, const char *text)
 {
@@ -211,58 +173,45 @@ int cdsp_tool_listen_format(const uint8_t *buf, size_t len, int json, char *out,
 
 int cdsp_tool_listen(int argc, char **argv)
 {
-    static const struct option longopts[] = {{"json", no_argument, NULL, 'j'},
-                                             {"count", required_argument, NULL, 'n'},
-                                             {"duration", required_argument, NULL, 't'},
-                                             {"quiet", no_argument, NULL, 'q'},
-                                             {"help", no_argument, NULL, 'h'},
-                                             {NULL, 0, NULL, 0}};
+    static const tool_doc doc = {
+        "listen", "decode and print the poses cdspd streams over UDP", "[OPTIONS] [ADDR:PORT]",
+        listen_description, listen_after, listen_exit};
     const char *addr_text = "0.0.0.0";
     struct sockaddr_storage ss;
     socklen_t sslen;
-    struct sigaction sa;
-    int json = 0, quiet = 0, fd, c;
-    long count = 0;
+    int json = 0, quiet = 0, fd, rc, npos = 0, count = 0;
     double duration = 0, t_end = 0;
     unsigned long received = 0, bad = 0, missing = 0;
     uint32_t last_seq = 0;
     int have_seq = 0;
     static uint8_t buf[65536];
     static char out[4096];
-    char *end;
+    char **pos = NULL;
+    const tool_opt opts[] = {
+        {"json", 0, OPT_FLAG, &json, 0, 0, NULL,
+         "Print each record as one JSON line, with the field names of `cdsp_tool solve` plus "
+         "seq, t_camera_us and t_host_us, for scripts. The line is the decoded record encoded "
+         "again (binary and JSON datagrams alike), never the datagram's own bytes: a JSON "
+         "datagram with anything but white space after its object is undecodable.", NULL, 0},
+        {"count", 0, OPT_INT, &count, 1, 2147483647.0, "N", "Stop after N datagrams.", NULL, 1},
+        {"duration", 0, OPT_REAL, &duration, 1e-6, 1e12, "SECONDS",
+         "Stop after this long. Without --count or --duration, listen runs until SIGINT or "
+         "SIGTERM (Ctrl-C).", NULL, 1},
+        {"quiet", 0, OPT_FLAG, &quiet, 0, 0, NULL, "Print only the summary.", NULL, 0},
+        {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
+    };
 
-    optind = 0;
-    while ((c = getopt_long(argc, argv, "jn:t:qh", longopts, NULL)) != -1) {
-        switch (c) {
-        case 'j': json = 1; break;
-        case 'q': quiet = 1; break;
-        case 'n':
-            errno = 0;
-            count = strtol(optarg, &end, 10);
-            if (end == optarg || *end || errno || count < 1) {
-                fprintf(stderr, "cdsp_tool listen: --count '%s': expected a positive integer\n", optarg);
-                return 2;
-            }
-            break;
-        case 't':
-            errno = 0;
-            duration = strtod(optarg, &end);
-            if (end == optarg || *end || errno || !(duration > 0) || !isfinite(duration)) {
-                fprintf(stderr, "cdsp_tool listen: --duration '%s': expected a positive number of "
-                        "seconds\n", optarg);
-                return 2;
-            }
-            break;
-        case 'h': usage(stdout); return 0;
-        default: usage(stderr); return 2;
-        }
+    rc = tool_parse_alloc("listen", &doc, opts, argc, argv, &pos, &npos);
+    if (rc)
+        return rc - 1;
+    if (npos > 1) {
+        rc = tool_usage_error("listen", "unexpected argument '%s' (see --help)", pos[1]);
+        free(pos);
+        return rc;
     }
-    if (optind < argc)
-        addr_text = argv[optind++];
-    if (optind < argc) {
-        fprintf(stderr, "cdsp_tool listen: unexpected argument '%s'\n", argv[optind]);
-        return 2;
-    }
+    if (npos == 1)
+        addr_text = pos[0];
+    free(pos);
     {
         cdsp_host_err herr;
         if (cdsp_host_addr_parse(addr_text, 1, &ss, &sslen, &herr)) {
@@ -274,14 +223,9 @@ int cdsp_tool_listen(int argc, char **argv)
     fd = open_socket(&ss, sslen, addr_text);
     if (fd < 0)
         return 2;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-    listen_stop = 0;
+    cdsp_host_stop_on_signals();
     if (duration > 0)
-        t_end = now_s() + duration;
+        t_end = cdsp_host_now_s() + duration;
     if (!quiet && !json) {
         struct sockaddr_storage got;
         socklen_t gl = sizeof got;
@@ -291,14 +235,14 @@ int cdsp_tool_listen(int argc, char **argv)
                                                    : ((struct sockaddr_in *)&got)->sin_port);
         fprintf(stderr, "cdsp_tool listen: listening on %s (port %u)\n", addr_text, port);
     }
-    while (!listen_stop && (count == 0 || (long)received < count)) {
+    while (!cdsp_host_stop_requested() && (count == 0 || (long)received < count)) {
         struct pollfd pfd = {fd, POLLIN, 0};
         int wait_ms = 200, pr;
         ssize_t n;
         uint32_t seq;
         const char *why;
         if (t_end > 0) {
-            double left = t_end - now_s();
+            double left = t_end - cdsp_host_now_s();
             if (left <= 0)
                 break;
             if (left * 1000 < wait_ms)

@@ -103,20 +103,6 @@ static int load_compare(const char *path)
     return 0;
 }
 
-static volatile sig_atomic_t rx_stop;
-static void on_signal(int s)
-{
-    (void)s;
-    rx_stop = 1;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static void usage(FILE *f, int st)
 {
     fprintf(f,
@@ -405,7 +391,6 @@ int main(int argc, char **argv)
     int fd, i, fails = 0;
     struct sockaddr_storage ss;
     socklen_t sl;
-    struct sigaction sa;
     static uint8_t buf[65536];
     double t0, t_last = 0, worst_ratio = 0, worst_dir_ratio = 0, t_down = -1, worst_resume = 0;
     long received = 0, poses = 0, statuses = 0, expect_hits = 0, in_view = 0, in_view_ok = 0;
@@ -498,20 +483,17 @@ int main(int argc, char **argv)
         fprintf(pf, "%u\n", (unsigned)ntohs(((struct sockaddr_in *)&got)->sin_port));
         fclose(pf);
     }
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    cdsp_host_stop_on_signals();
 
-    t0 = now_s();
-    while (!rx_stop && now_s() - t0 < o.duration && (o.count == 0 || received < o.count)) {
+    t0 = cdsp_host_now_s();
+    while (!cdsp_host_stop_requested() && cdsp_host_now_s() - t0 < o.duration && (o.count == 0 || received < o.count)) {
         struct pollfd pfd = {fd, POLLIN, 0};
         cdspd_record r;
         const char *why;
         int is_json;
         ssize_t n;
         double t;
-        if (o.idle > 0 && received && now_s() - t_last > o.idle)
+        if (o.idle > 0 && received && cdsp_host_now_s() - t_last > o.idle)
             break;
         if (o.progress && received != progress_at) {
             write_progress(o.progress, received, poses, statuses, status_by[3], max_bad, max_reconnects);
@@ -523,7 +505,7 @@ int main(int argc, char **argv)
         if (n <= 0)
             continue;
         buf[n] = 0;
-        t = now_s();
+        t = cdsp_host_now_s();
         t_last = t;
         received++;
         if (cdspd_proto_decode_any(buf, (size_t)n, &r, &is_json, &why)) {

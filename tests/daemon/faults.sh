@@ -29,13 +29,7 @@ fakecam=${1:-}
 
 # A small camera: the sim renders in tenths of a second (each valid reload
 # of the storm renders again).
-cat >"$work/cam.yaml" <<YAML
-image_width: 320
-image_height: 240
-camera_matrix: {rows: 3, cols: 3, data: [400, 0, 159.5, 0, 400, 119.5, 0, 0, 1]}
-distortion_model: plumb_bob
-distortion_coefficients: {rows: 1, cols: 5, data: [-0.05, 0.01, 0, 0, 0]}
-YAML
+cp "$(dirname "$0")/cam320.yaml" "$work/cam.yaml"
 cam=$work/cam.yaml
 simk=(--set radius=10 --set sim.frames=4 --set sim.away=0)
 simd=(--calib "$cam" --radius 10 --set sim.frames=4 --set sim.away=0 --set stats_interval=0)

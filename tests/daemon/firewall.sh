@@ -10,13 +10,7 @@
 # The receiver sees two gaps in seq and otherwise valid datagrams.
 . "$(dirname "$0")/lib.sh"
 ip link set lo up || fail "ip link set lo up"
-cat >"$work/cam.yaml" <<YAML
-image_width: 320
-image_height: 240
-camera_matrix: {rows: 3, cols: 3, data: [400, 0, 159.5, 0, 400, 119.5, 0, 0, 1]}
-distortion_model: plumb_bob
-distortion_coefficients: {rows: 1, cols: 5, data: [-0.05, 0.01, 0, 0, 0]}
-YAML
+cp "$(dirname "$0")/cam320.yaml" "$work/cam.yaml"
 start_rx rx --validate --allow-seq-gaps --duration 120 --idle 6 --min-poses 40 --truth sim \
     --calib "$work/cam.yaml" --set radius=10 --set sim.frames=4 --set sim.away=0 --set sim.rate=50
 port=$RX_PORT

@@ -55,6 +55,7 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 
+#include "cdsp_host.h"
 #include "mavlink.h"
 #include "proto.h"
 
@@ -94,13 +95,6 @@ static void check(int cond, const char *fmt, ...)
         fputc('\n', stderr);
         va_end(ap);
     }
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* One UDP datagram and the kernel's arrival time (SO_TIMESTAMPNS, the
@@ -518,7 +512,7 @@ int main(int argc, char **argv)
             return 1;
         setsockopt(mav_fd, SOL_SOCKET, SO_TIMESTAMPNS, &one, sizeof one);
         clock_gettime(CLOCK_REALTIME, &rt);
-        real_minus_mono = (double)rt.tv_sec + 1e-9 * (double)rt.tv_nsec - now_s();
+        real_minus_mono = (double)rt.tv_sec + 1e-9 * (double)rt.tv_nsec - cdsp_host_now_s();
     }
     pf = fopen(o.port_file, "w");
     if (!pf)
@@ -526,10 +520,10 @@ int main(int argc, char **argv)
     fprintf(pf, "%d %d\n", mav_port, json_port);
     fclose(pf);
 
-    t0 = now_s();
+    t0 = cdsp_host_now_s();
     for (;;) {
         struct pollfd p[2];
-        double t = now_s();
+        double t = cdsp_host_now_s();
         int np = 1;
         if (t - t0 > o.duration)
             break;
@@ -561,7 +555,7 @@ int main(int argc, char **argv)
             np = 2;
         if (poll(p, (nfds_t)np, 50) <= 0)
             continue;
-        t = now_s();
+        t = cdsp_host_now_s();
         /* everything that is there (non-blocking reads until EAGAIN) */
         if (p[0].revents & POLLIN) {
             static uint8_t jbuf[1 << 16];
@@ -587,7 +581,7 @@ int main(int argc, char **argv)
                 t_last = t;
                 if (!o.pty_link) /* one datagram is whole frames */
                     check(have == 0, "a UDP datagram with a partial frame (%zu bytes left)", have);
-                ta = now_s(); /* the pty's bytes: when read */
+                ta = cdsp_host_now_s(); /* the pty's bytes: when read */
             }
         }
     }

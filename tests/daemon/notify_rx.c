@@ -17,24 +17,11 @@
 #include <time.h>
 #include <unistd.h>
 
-static volatile sig_atomic_t stop;
-static void on_signal(int s)
-{
-    (void)s;
-    stop = 1;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "cdsp_host.h"
 
 int main(int argc, char **argv)
 {
     struct sockaddr_un sa;
-    struct sigaction act;
     double t0, seconds;
     int fd;
     if (argc != 3 || strlen(argv[1]) >= sizeof sa.sun_path) {
@@ -51,12 +38,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "notify_rx: %s: %s\n", argv[1], strerror(errno));
         return 2;
     }
-    memset(&act, 0, sizeof act);
-    act.sa_handler = on_signal;
-    sigaction(SIGTERM, &act, NULL);
-    sigaction(SIGINT, &act, NULL);
-    t0 = now_s();
-    while (!stop && now_s() - t0 < seconds) {
+    cdsp_host_stop_on_signals();
+    t0 = cdsp_host_now_s();
+    while (!cdsp_host_stop_requested() && cdsp_host_now_s() - t0 < seconds) {
         struct pollfd p = {fd, POLLIN, 0};
         char buf[4096], *line, *save;
         ssize_t n;
@@ -67,7 +51,7 @@ int main(int argc, char **argv)
             continue;
         buf[n] = 0;
         for (line = strtok_r(buf, "\n", &save); line; line = strtok_r(NULL, "\n", &save))
-            printf("%.0f %s\n", 1e3 * (now_s() - t0), line);
+            printf("%.0f %s\n", 1e3 * (cdsp_host_now_s() - t0), line);
         fflush(stdout);
     }
     close(fd);

@@ -42,13 +42,6 @@ static int xioctl(int fd, unsigned long req, void *arg)
     return r;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 int main(int argc, char **argv)
 {
     static const struct option lo[] = {{"output", 1, NULL, 'o'}, {"calib", 1, NULL, 'c'},
@@ -163,7 +156,7 @@ int main(int argc, char **argv)
         return 1;
     }
     nbufs = req.count > 8 ? 8 : (int)req.count;
-    t0 = now_s();
+    t0 = cdsp_host_now_s();
     for (k = 0; k < nbufs; k++) {
         struct v4l2_buffer b;
         memset(&b, 0, sizeof b);
@@ -188,7 +181,7 @@ int main(int argc, char **argv)
             b.index = (unsigned)shown; /* the first round: every buffer once */
         } else {
             struct pollfd p = {fd, POLLOUT, 0};
-            if (now_s() - t0 > duration)
+            if (cdsp_host_now_s() - t0 > duration)
                 break;
             if (poll(&p, 1, 200) <= 0)
                 continue;

@@ -11,13 +11,7 @@
 # design until the process ends): counted and printed, not errors.
 . "$(dirname "$0")/lib.sh"
 command -v valgrind >/dev/null || { echo "SKIP: valgrind is not installed"; exit 0; }
-cat >"$work/cam.yaml" <<YAML
-image_width: 320
-image_height: 240
-camera_matrix: {rows: 3, cols: 3, data: [400, 0, 159.5, 0, 400, 119.5, 0, 0, 1]}
-distortion_model: plumb_bob
-distortion_coefficients: {rows: 1, cols: 5, data: [-0.05, 0.01, 0, 0, 0]}
-YAML
+cp "$(dirname "$0")/cam320.yaml" "$work/cam.yaml"
 # 100 frames: enough for every path of a frame to have run many times.
 # sim.rate 20, not 0: valgrind runs one thread at a time, and a capture
 # thread producing frames as fast as it can starved the solver (29 frames in

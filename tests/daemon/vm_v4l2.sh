@@ -13,13 +13,7 @@ cdspd=$1 rx=$2 feed=$3
 shift 3
 work=$(mktemp -d "${CDSPD_TMP:-/tmp}/vm_v4l2.XXXXXX") || exit 2
 trap 'rm -rf "$work"' EXIT
-cat >"$work/cam.yaml" <<YAML
-image_width: 320
-image_height: 240
-camera_matrix: {rows: 3, cols: 3, data: [400, 0, 159.5, 0, 400, 119.5, 0, 0, 1]}
-distortion_model: plumb_bob
-distortion_coefficients: {rows: 1, cols: 5, data: [-0.05, 0.01, 0, 0, 0]}
-YAML
+cp "$(dirname "$0")/cam320.yaml" "$work/cam.yaml"
 rc=0
 for run in ${VM_RUNS:-GREY-loss YUYV-plain}; do
     fourcc=${run%-*} mode=${run#*-}

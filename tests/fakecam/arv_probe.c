@@ -29,6 +29,7 @@
 #include <arv.h>
 
 #include "cdsp.h"
+#include "cdsp_host.h"
 #include "cli.h"
 #include "fakecam_path.h"
 
@@ -156,13 +157,6 @@ static void parse_options(int argc, char **argv, probe_options *o)
     }
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* Discovery is one UDP broadcast answered (or not) by each camera, so it is
  * repeated until the camera answers or the deadline passes: the camera may
  * still be starting, or a datagram may be lost. Returns a copy of the
@@ -186,7 +180,7 @@ static char *discover(const probe_options *o, double deadline)
             }
         }
         nanosleep(&pause, NULL);
-    } while (now_s() < deadline);
+    } while (cdsp_host_now_s() < deadline);
     fprintf(stderr, "arv_probe: no camera with serial %s at %s after %d discovery attempts; "
             "seen:%s\n", o->serial, o->address, attempts, n ? "" : " none");
     for (i = 0; i < n; i++)
@@ -353,7 +347,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "arv_probe: out of memory\n");
         return 1;
     }
-    t0 = now_s();
+    t0 = cdsp_host_now_s();
     deadline = t0 + o.timeout;
 
     /* discovery gets most of the time-out: a loaded machine answers late */
@@ -416,7 +410,7 @@ int main(int argc, char **argv)
 
     while (verified < o.frames) {
         ArvBuffer *b;
-        if (now_s() > deadline) {
+        if (cdsp_host_now_s() > deadline) {
             fprintf(stderr, "arv_probe: timeout after %g s: %ld of %d frames checked (%ld received, "
                     "%ld incomplete)\n", o.timeout, verified, o.frames, received, incomplete);
             goto stop;
@@ -472,7 +466,7 @@ int main(int argc, char **argv)
     }
     printf("arv_probe: %ld frames pixel-exact (ids %lu..%lu%s), %ld incomplete, %ld received in "
            "%.2f s\n", verified, (unsigned long)ids[0], (unsigned long)last_id,
-           wrapped ? ", across the 16-bit wrap" : "", incomplete, received, now_s() - t0);
+           wrapped ? ", across the 16-bit wrap" : "", incomplete, received, cdsp_host_now_s() - t0);
     if (o.truth && check_truth(&o, ids, verified) < 0)
         goto stop;
     rc = 0;

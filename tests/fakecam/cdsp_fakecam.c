@@ -38,6 +38,7 @@
 #include <arv.h>
 
 #include "cdsp.h"
+#include "cdsp_host.h"
 #include "cli.h"
 #include "fakecam_path.h"
 #include "fakecam_pixels.h"
@@ -129,21 +130,6 @@ typedef struct {
     int verbose;
 } fakecam_state;
 
-static volatile sig_atomic_t stop_requested;
-
-static void on_signal(int sig)
-{
-    (void)sig;
-    stop_requested = 1;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* Draw frame id (its pose and noise: fakecam_path.h) at w x h and bits into
  * out (w * h pixels of bits / 8 rounded up bytes). The scratch grows once per
  * larger size. */
@@ -226,7 +212,7 @@ static int prerender(fakecam_state *st, int w, int h, unsigned bits_mask, const 
                      double *seconds)
 {
     static const int depths[2] = {8, 16};
-    double t0 = now_s();
+    double t0 = cdsp_host_now_s();
     unsigned i;
     int d;
     uint8_t *img = malloc((size_t)w * (size_t)h * 2);
@@ -258,7 +244,7 @@ static int prerender(fakecam_state *st, int w, int h, unsigned bits_mask, const 
         }
     }
     free(img);
-    *seconds = now_s() - t0;
+    *seconds = cdsp_host_now_s() - t0;
     return 0;
 }
 
@@ -384,7 +370,7 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
         }
     }
 
-    t0 = now_s();
+    t0 = cdsp_host_now_s();
     s = draw(st, id, w, h, bits, grey);
     if (s != CDSP_OK) {
         if (!st->warned_render++)
@@ -393,7 +379,7 @@ static void fill_frame(ArvBuffer *buffer, void *data, guint32 exposure_us, guint
         memset(img, 0, size);
         return;
     }
-    t_draw = now_s() - t0;
+    t_draw = cdsp_host_now_s() - t0;
     if (!st->warned_slow && arv_fake_camera_read_register(st->fake,
             ARV_FAKE_CAMERA_REGISTER_ACQUISITION_FRAME_PERIOD_US, &period_us) &&
         t_draw * 1e6 > (double)period_us) {
@@ -639,7 +625,6 @@ int main(int argc, char **argv)
     fakecam_state st;
     ArvGvFakeCamera *gv;
     ArvFakeCamera *fake;
-    struct sigaction sa;
     struct timespec tick = {0, 100000000L};
     double t_end, t_prerender = 0;
 
@@ -664,11 +649,7 @@ int main(int argc, char **argv)
         }
     }
 
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    cdsp_host_stop_on_signals();
 
     if (gvcp_port_taken(o.address)) {
         fprintf(stderr, "cdsp_fakecam: UDP port 3956 (GVCP) on %s is already taken, by another "
@@ -708,8 +689,8 @@ int main(int argc, char **argv)
     printf("\n");
     fflush(stdout);
 
-    t_end = o.duration > 0 ? now_s() + o.duration : 0;
-    while (!stop_requested && (t_end == 0 || now_s() < t_end))
+    t_end = o.duration > 0 ? cdsp_host_now_s() + o.duration : 0;
+    while (!cdsp_host_stop_requested() && (t_end == 0 || cdsp_host_now_s() < t_end))
         nanosleep(&tick, NULL);
 
     /* Unref joins the streaming thread: st is no longer in use after it. */

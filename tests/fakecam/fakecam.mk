@@ -12,10 +12,10 @@ fakecam_ARV_CFLAGS = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags aravi
 fakecam_ARV_LIBS   = $(shell pkg-config --libs aravis-0.8 2>/dev/null || echo -laravis-0.8)
 
 $(fakecam_BINS): $(fakecam_DIR)/%: tests/fakecam/%.c tests/fakecam/cli.c tests/fakecam/cli.h \
-                 tests/fakecam/fakecam_path.h $(host_LIB)
+                 tests/fakecam/fakecam_path.h $(CDSP_HOST_LIB) $(host_LIB)
 	@mkdir -p $(@D)
-	$(CC) $(HOST_CFLAGS) $(fakecam_ARV_CFLAGS) -Itests/fakecam $< tests/fakecam/cli.c $(host_LIB) \
-	    $(fakecam_ARV_LIBS) -lm -o $@
+	$(CC) $(HOST_CFLAGS) $(HOSTLIB_INC) $(fakecam_ARV_CFLAGS) -Itests/fakecam $< tests/fakecam/cli.c \
+	    $(CDSP_HOST_LIB) $(host_LIB) $(fakecam_ARV_LIBS) -lm -o $@
 
 -include $(fakecam_BINS:=.d)
 

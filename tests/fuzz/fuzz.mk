@@ -68,7 +68,8 @@ fuzz_DEPS_image-pgm := $(fuzz_HOST_LIB)
 fuzz_DEPS_image-png := $(fuzz_HOST_LIB)
 fuzz_DEPS_calib := $(fuzz_HOST_LIB)
 fuzz_DEPS_config := $(fuzz_DAEMON_OBJ) $(fuzz_HOST_LIB)
-fuzz_DEPS_listen := $(fuzz_OBJ_DIR)/tools/listen.o $(fuzz_HOST_LIB)
+fuzz_DEPS_listen := $(fuzz_OBJ_DIR)/tools/listen.o $(fuzz_OBJ_DIR)/tools/tool_common.o \
+                    $(fuzz_HOST_LIB)
 fuzz_DEPS_export := $(fuzz_OBJ_DIR)/tools/tool_export.o $(fuzz_OBJ_DIR)/tools/tool_common.o \
                     $(fuzz_HOST_LIB)
 fuzz_DEPS_overlay := $(fuzz_OBJ_DIR)/tools/tool_overlay.o $(fuzz_OBJ_DIR)/tools/tool_caption.o $(fuzz_HOST_LIB)

@@ -119,6 +119,50 @@ static void write_read_roundtrip(void **state)
     assert_int_equal(cdsp_host_calib_write(path, &a, NULL, &err), CDSP_HOST_E_FORMAT);
 }
 
+/* The stream writer cdsp_calib uses: its comment lines first, the
+ * projection matrix it gives, and every number a YAML float (with a '.'),
+ * the whole read back by the reader to the same camera. */
+static void write_stream_layout(void **state)
+{
+    static const double P[12] = {1049.6875, 0, 515.090109501034, 0, 0, 1065.3953857421875,
+                                 380.00567687148214, 0, 0, 0, 1, 0};
+    cdsp_camera a, b;
+    cdsp_host_err err;
+    const char *path = tt_path("stream.yaml");
+    char *text;
+    size_t len;
+    FILE *f;
+    (void)state;
+    memset(&a, 0, sizeof a);
+    a.fx = 1099.9233091582812;
+    a.fy = 1094.9052438232538;
+    a.cx = 515.2955174558851;
+    a.cy = 380.67460706141213;
+    a.k1 = -0.2098985805018981;
+    a.k2 = 1e20;
+    a.width = 1024;
+    a.height = 768;
+    f = fopen(path, "w");
+    assert_non_null(f);
+    assert_int_equal(cdsp_host_calib_write_stream(f, path, &a, "camera", "first line\nsecond", P,
+                                                  &err),
+                     CDSP_HOST_OK);
+    assert_int_equal(fclose(f), 0);
+    assert_int_equal(cdsp_host_read_file(path, 1 << 16, (void **)&text, &len, &err), 0);
+    {
+        static const char head[] = "# first line\n# second\nimage_width: 1024\n";
+        assert_true(strncmp(text, head, strlen(head)) == 0);
+    }
+    tt_assert_contains(text, "  data: [1099.9233091582812, 0.0, 515.2955174558851, 0.0, "
+                             "1094.9052438232538, 380.67460706141213, 0.0, 0.0, 1.0]\n");
+    tt_assert_contains(text, "  data: [-0.2098985805018981, 1.0e+20, 0.0, 0.0, 0.0]\n");
+    tt_assert_contains(text, "  data: [1049.6875, 0.0, 515.090109501034, 0.0, 0.0, "
+                             "1065.3953857421875, 380.00567687148214, 0.0, 0.0, 0.0, 1.0, 0.0]\n");
+    assert_int_equal(cdsp_host_calib_parse(text, len, path, &b, &err), 0);
+    assert_memory_equal(&a, &b, sizeof a);
+    free(text);
+}
+
 /* A valid file with one line replaced (or removed when with == NULL). */
 static char *edit(const char *field_line, const char *with)
 {
@@ -291,14 +335,6 @@ static void size_mismatch(void **state)
     assert_string_equal(err.msg, "f.pgm: image is 640x480 but cam.yaml is for 2448x2048");
 }
 
-static int teardown(void **state)
-{
-    char cmd[640];
-    (void)state;
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tt_tmpdir());
-    return system(cmd) == 0 ? 0 : -1;
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -306,10 +342,11 @@ int main(void)
         cmocka_unit_test(reads_four_coefficients),
         cmocka_unit_test(block_style_and_comments),
         cmocka_unit_test(write_read_roundtrip),
+        cmocka_unit_test(write_stream_layout),
         cmocka_unit_test(malformed_files),
         cmocka_unit_test(not_a_calibration_at_all),
         cmocka_unit_test(limits_and_files),
         cmocka_unit_test(size_mismatch),
     };
-    return cmocka_run_group_tests_name("host_calib", tests, NULL, teardown);
+    return cmocka_run_group_tests_name("host_calib", tests, NULL, tt_teardown);
 }

@@ -577,14 +577,6 @@ static void files_that_are_not_frames(void **state)
                 "outside 1..16384");
 }
 
-static int teardown(void **state)
-{
-    char cmd[640];
-    (void)state;
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tt_tmpdir());
-    return system(cmd) == 0 ? 0 : -1;
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -603,5 +595,5 @@ int main(void)
         cmocka_unit_test(png_claims_beyond_its_data),
         cmocka_unit_test(files_that_are_not_frames),
     };
-    return cmocka_run_group_tests_name("host_image", tests, NULL, teardown);
+    return cmocka_run_group_tests_name("host_image", tests, NULL, tt_teardown);
 }

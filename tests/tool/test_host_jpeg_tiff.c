@@ -338,14 +338,6 @@ static void tiff_hostile(void **state)
     free(buf);
 }
 
-static int teardown(void **state)
-{
-    char cmd[700];
-    (void)state;
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tt_tmpdir());
-    return system(cmd) == 0 ? 0 : -1;
-}
-
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -354,5 +346,5 @@ int main(void)
         cmocka_unit_test(tiff_layouts),
         cmocka_unit_test(tiff_hostile),
     };
-    return cmocka_run_group_tests_name("host_jpeg_tiff", tests, NULL, teardown);
+    return cmocka_run_group_tests_name("host_jpeg_tiff", tests, NULL, tt_teardown);
 }

@@ -453,14 +453,6 @@ static int setup(void **state)
     return 0;
 }
 
-static int teardown(void **state)
-{
-    char cmd[640];
-    (void)state;
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tt_tmpdir());
-    return system(cmd) == 0 ? 0 : -1;
-}
-
 static char *calib_of(const char *dir)
 {
     static char p[4][700];
@@ -959,7 +951,7 @@ static void usage_errors_exit_2(void **state)
 static void help_pages(void **state)
 {
     static const char *const cmds[] = {"solve", "overlay", "sim", "export", "bench", "plot",
-                                       "compare"};
+                                       "compare", "listen"};
     static const char *const sections[] = {"NAME\n", "SYNOPSIS\n", "DESCRIPTION\n", "OPTIONS\n",
                                            "EXIT STATUS\n", "    -h, --help\n"};
     size_t i, k;
@@ -1004,7 +996,7 @@ static void help_pages(void **state)
 static void docs_match_help(void **state)
 {
     static const char *const cmds[] = {"solve", "overlay", "sim", "export", "bench", "plot",
-                                       "compare"};
+                                       "compare", "listen"};
     const char *env = getenv("CDSP_DOCS");
     char *doc = slurp(env && *env ? env : "docs/cdsp_tool.md", NULL);
     size_t i;
@@ -2010,5 +2002,5 @@ int main(void)
     /* CDSP_TEST_FILTER=pattern (cmocka's wildcards) runs only matching tests */
     if (getenv("CDSP_TEST_FILTER"))
         cmocka_set_test_filter(getenv("CDSP_TEST_FILTER"));
-    return cmocka_run_group_tests_name("tool_cli", tests, setup, teardown);
+    return cmocka_run_group_tests_name("tool_cli", tests, setup, tt_teardown);
 }

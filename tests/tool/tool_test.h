@@ -54,6 +54,15 @@ static inline void tt_write_str(const char *path, const char *s)
     tt_write(path, s, strlen(s));
 }
 
+/* The group teardown of every suite here: the scratch directory removed. */
+static inline int tt_teardown(void **state)
+{
+    char cmd[640];
+    (void)state;
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tt_tmpdir());
+    return system(cmd) == 0 ? 0 : -1;
+}
+
 #define tt_assert_contains(hay, needle)                                                   \
     do {                                                                                  \
         const char *h_ = (hay), *n_ = (needle);                                           \

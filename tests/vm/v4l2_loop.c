@@ -39,6 +39,8 @@
 #include <libv4l2.h>
 #include <linux/videodev2.h>
 
+#include "cdsp_host.h"
+
 #define LOOP_W 640
 #define LOOP_H 480
 #define LOOP_MAX_BUFS 8
@@ -71,13 +73,6 @@ static int xioctl(int fd, unsigned long req, void *arg)
         r = v4l2_ioctl(fd, req, arg);
     while (r == -1 && errno == EINTR);
     return r;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* Pixel (x, y) of pattern k: a 32-bit integer hash (lowbias32, C. Wellons)
@@ -375,14 +370,14 @@ int main(int argc, char **argv)
     }
     out.streaming = 1;
 
-    t0 = now_s();
+    t0 = cdsp_host_now_s();
     deadline = t0 + (double)timeout_s;
     while (seen < (unsigned)n_patterns) {
         struct pollfd pfd[2];
         struct v4l2_buffer b;
         int r;
 
-        if (now_s() > deadline) {
+        if (cdsp_host_now_s() > deadline) {
             fprintf(stderr, "v4l2_loop: timeout after %ld s waiting for pattern %u of %ld\n",
                     timeout_s, cur, n_patterns);
             goto done;
@@ -462,7 +457,7 @@ int main(int argc, char **argv)
                     printf("frame %ld: not looped (vivid's own pattern)\n", captured);
             } else if ((unsigned)match == cur) {
                 if (verbose)
-                    printf("frame %ld: pattern %d after %.3f s\n", captured, match, now_s() - t0);
+                    printf("frame %ld: pattern %d after %.3f s\n", captured, match, cdsp_host_now_s() - t0);
                 seen++;
                 if (cur + 1 < (unsigned)n_patterns)
                     cur++;
@@ -479,7 +474,7 @@ int main(int argc, char **argv)
     }
     printf("v4l2_loop: %u of %ld patterns came back pixel-exact and in order through %s -> %s "
            "in %.2f s (%ld frames captured: %ld repeats, %ld not looped, %ld of them after the "
-           "first looped frame)\n", seen, n_patterns, out.path, cap.path, now_s() - t0, captured,
+           "first looped frame)\n", seen, n_patterns, out.path, cap.path, cdsp_host_now_s() - t0, captured,
            repeats, foreign, foreign_after);
     rc = 0;
 done:

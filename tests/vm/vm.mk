@@ -12,9 +12,10 @@ vm_V4L2_LIBS = $(shell pkg-config --libs libv4l2 2>/dev/null || echo -lv4l2)
 # requirement: a loaded machine only waits longer.
 vm_TIMEOUT  ?= 1200
 
-$(vm_LOOP): tests/vm/v4l2_loop.c
+# (libcdsp_host for its clock only: nothing that needs another library)
+$(vm_LOOP): tests/vm/v4l2_loop.c $(CDSP_HOST_LIB)
 	@mkdir -p $(@D)
-	$(CC) $(HOST_CFLAGS) $< $(vm_V4L2_LIBS) -o $@
+	$(CC) $(HOST_CFLAGS) $(HOSTLIB_INC) $< $(CDSP_HOST_LIB) $(vm_V4L2_LIBS) -o $@
 
 -include $(vm_LOOP).d
 
