@@ -120,10 +120,11 @@ $(daemon_TDIR)/clockshim.so: tests/daemon/clockshim.c
 
 SOAK_SECONDS ?= 600
 SOAK_CHECK_SECONDS ?= 25
-check-daemon-soak: $(daemon_BIN) $(daemon_RX)
-	@$(daemon_ENV) SOAK_SECONDS=$(SOAK_CHECK_SECONDS) $(RUN) "daemon/soak" tests/daemon/soak.sh
-soak: $(daemon_BIN) $(daemon_RX)
-	@$(daemon_ENV) SOAK_SECONDS=$(SOAK_SECONDS) tests/daemon/soak.sh
+check-daemon-soak: $(daemon_BIN) $(daemon_RX) $(daemon_MAVRX)
+	@$(daemon_ENV) MAVLINK_RX=$(daemon_MAVRX) SOAK_SECONDS=$(SOAK_CHECK_SECONDS) $(RUN) "daemon/soak" \
+	    tests/daemon/soak.sh
+soak: $(daemon_BIN) $(daemon_RX) $(daemon_MAVRX)
+	@$(daemon_ENV) MAVLINK_RX=$(daemon_MAVRX) SOAK_SECONDS=$(SOAK_SECONDS) tests/daemon/soak.sh
 
 check-daemon-security: $(daemon_BIN) $(daemon_RX)
 	@$(daemon_ENV) $(RUN) "daemon/security" tests/daemon/security.sh
