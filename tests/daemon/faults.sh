@@ -10,6 +10,8 @@
 #   3. a SIGHUP storm: 100 reloads, valid and broken files alternating,
 #      while streaming: every broken one refused, every valid one applied,
 #      poses in every window of ten reloads, seq continuous throughout;
+#   3b. SIGHUP and SIGUSR1 sent while the configuration is still being read
+#      (from a FIFO): held, then taken (a reload, a report), never fatal;
 #   4. the recording directory removed, then (another run) made read-only:
 #      recording stops with one error line, datagrams go on, exit 0;
 #   5. the wall clock stepped back an hour and forward two (an LD_PRELOAD
@@ -150,6 +152,37 @@ wait_for "$d4_pid" 10 || fail "cdspd exit status $? after the storm"
 wait_for "$rx4_pid" 20 || fail "the receiver saw a gap, a bad datagram or a wrong pose in the storm"
 cat "$work/rx4.out"
 
+echo "--- 3b. SIGHUP and SIGUSR1 while the configuration is still being read"
+# The configuration comes from a FIFO: cdspd waits in its open (wchan
+# wait_for_partner) until the test writes it, so both signals arrive at
+# that exact point on any machine. Held until the signal thread runs, they
+# are then taken: one reload (of the same file: applied) and one report.
+mkfifo "$work/slow.yaml"
+start_cdspd d4b --config "$work/slow.yaml"
+for _ in $(seq $((300 * scale))); do
+    [ "$(cat /proc/"$d4b_pid"/wchan 2>/dev/null)" = wait_for_partner ] && break; sleep 0.1
+done
+[ "$(cat /proc/"$d4b_pid"/wchan 2>/dev/null)" = wait_for_partner ] ||
+    fail "cdspd did not reach the configuration's open"
+kill -HUP "$d4b_pid"
+kill -USR1 "$d4b_pid"
+sleep 0.2
+kill -0 "$d4b_pid" 2>/dev/null || fail "a SIGHUP or SIGUSR1 during start-up killed cdspd"
+# written twice: the held SIGHUP's reload reads the FIFO again; the second
+# writer only once the first read is over ("starting" is logged after the
+# file is closed), or both writes would reach the first read as one text
+# (timeout: a writer whose reader never comes must not outlive the test)
+timeout $((120 * scale)) cp "$work/good.yaml" "$work/slow.yaml" &
+pids+=("$!")
+wait_log "$work/d4b.log" "starting: source" 60 || fail "cdspd did not read its configuration"
+timeout $((120 * scale)) cp "$work/good.yaml" "$work/slow.yaml" &
+pids+=("$!")
+wait_log "$work/d4b.log" "reloaded: source" 60 || fail "the SIGHUP held during start-up was not taken"
+wait_log "$work/d4b.log" "SIGUSR1: " 60 || fail "the SIGUSR1 held during start-up was not taken"
+kill -TERM "$d4b_pid"
+wait_for "$d4b_pid" 20 || fail "cdspd exit status $? after the start-up signals"
+echo "signals held during start-up: one reload and one report taken, exit 0"
+
 echo "--- 4. the recording directory removed, then made read-only"
 start_rx rx5 --validate --duration 60 --idle 3 --min-poses 40 --truth sim --calib "$cam" \
     "${simk[@]}" --set sim.rate=50
@@ -186,9 +219,32 @@ fi
 if [ -n "$skip_ro" ]; then
     echo "SKIP: the recording directory made read-only ($skip_ro)"
 else
+# a sanitizer build run as nobody: its log (log_path) in a directory of
+# nobody's and its suppression files copied where nobody can read them
+# (the originals may sit under a private home); reports come back to
+# $work/san.* after the run, where cleanup's check finds them
+san_env=()
+if [ -n "${CDSPD_SAN:-}" ] && [ ${#as[@]} -gt 0 ]; then
+    mkdir -p "$work/san-nobody" && chown nobody "$work/san-nobody"
+    for v in ASAN_OPTIONS UBSAN_OPTIONS TSAN_OPTIONS LSAN_OPTIONS; do
+        [ -n "${!v:-}" ] || continue
+        val=""
+        IFS=: read -r -a opts <<<"${!v}"
+        for o in "${opts[@]}"; do
+            case $o in
+            log_path=*) o="log_path=$work/san-nobody/san" ;;
+            suppressions=*)
+                cp "${o#suppressions=}" "$work/$v.supp" && chmod a+r "$work/$v.supp"
+                o="suppressions=$work/$v.supp" ;;
+            esac
+            val=${val:+$val:}$o
+        done
+        san_env+=("$v=$val")
+    done
+fi
 start_rx rx6 --validate --duration 60 --idle 3 --min-poses 40
-"${as[@]}" "$CDSPD" "${simd[@]}" --set sim.rate=50 --dest 127.0.0.1:$RX_PORT --record "$ro" \
-    --set record_every=1 >"$work/d6.out" 2>"$work/d6.log" &
+env "${san_env[@]}" "${as[@]}" "$CDSPD" "${simd[@]}" --set sim.rate=50 --dest 127.0.0.1:$RX_PORT \
+    --record "$ro" --set record_every=1 >"$work/d6.out" 2>"$work/d6.log" &
 d6_pid=$!; pids+=("$d6_pid")
 wait_log "$work/d6.log" "sim: open" 60 || fail "cdspd (as ${as[2]:-itself}) did not start"
 sleep 1
@@ -197,7 +253,9 @@ wait_log "$work/d6.log" "recording stopped" 10 || fail "no message when the dire
 grep "recording stopped" "$work/d6.log"
 sleep 1
 kill -TERM "$d6_pid"
-wait_for "$d6_pid" 10 || fail "cdspd exit status $? (read-only directory)"
+wait_for "$d6_pid" 10; rc6=$?
+for f in "$work"/san-nobody/san.*; do [ -e "$f" ] && mv "$f" "$work/"; done
+[ $rc6 -eq 0 ] || fail "cdspd exit status $rc6 (read-only directory)"
 wait_for "$rx6_pid" 10 || fail "datagrams stopped with the directory read-only"
 cat "$work/rx6.out"
 fi
