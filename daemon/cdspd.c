@@ -19,6 +19,7 @@
 #include <time.h>
 
 #include "cdsp.h"
+#include "options.h"
 #include "config.h"
 #include "log.h"
 #include "notify.h"
@@ -64,10 +65,7 @@ static void *signal_thread(void *arg)
 enum { OPT_CALIB = 256, OPT_DURATION, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION, OPT_LIST,
        OPT_MAVLINK };
 
-static const struct {
-    struct option opt;
-    const char *arg, *help;
-} option_table[] = {
+static const cdsp_host_option option_table[] = {
     {{"config", required_argument, NULL, 'c'}, "FILE", "read keys from this YAML file first"},
     {{"source", required_argument, NULL, 's'}, "SRC",
      "sim | file:GLOB | aravis:[ID] | v4l2:/dev/videoN | libcamera:[ID] (key source)"},
@@ -100,7 +98,6 @@ static const char short_opts[] = "+c:s:r:d:f:o:k:vqh";
 
 static void usage(FILE *f)
 {
-    size_t i;
     fprintf(f,
             "usage: cdspd [--config FILE] --source SRC --calib CAM.yaml --radius R\n"
             "             --dest HOST:PORT [--dest HOST:PORT ...] [--format binary|json]\n"
@@ -109,17 +106,7 @@ static void usage(FILE *f)
             "Capture frames, solve the pipe's axis in each (libcdsp %d.%d.%d), stream the poses "
             "over UDP.\n\n",
             CDSP_VERSION_MAJOR, CDSP_VERSION_MINOR, CDSP_VERSION_PATCH);
-    for (i = 0; i < N_OPTIONS; i++) {
-        const struct option *o = &option_table[i].opt;
-        char left[64];
-        if (o->val < 256)
-            snprintf(left, sizeof left, "-%c, --%s%s%s", o->val, o->name, option_table[i].arg ? " " : "",
-                     option_table[i].arg ? option_table[i].arg : "");
-        else
-            snprintf(left, sizeof left, "    --%s%s%s", o->name, option_table[i].arg ? " " : "",
-                     option_table[i].arg ? option_table[i].arg : "");
-        fprintf(f, "  %-30s %s\n", left, option_table[i].help);
-    }
+    cdsp_host_options_usage(f, option_table, N_OPTIONS, 30);
     fprintf(f, "\nSignals: SIGTERM/SIGINT stop, SIGHUP reloads (a broken file keeps the running\n"
                "configuration), SIGUSR1 logs statistics. Exit status: 0 stopped, 1 runtime error,\n"
                "2 usage or configuration error, 3 the source could not be opened.\n"
@@ -137,14 +124,11 @@ typedef struct {
 static int cli_scan(cli *o, int argc, char **argv)
 {
     struct option longopts[N_OPTIONS + 1];
-    size_t i;
     int c;
     memset(o, 0, sizeof *o);
     o->argc = argc;
     o->argv = argv;
-    for (i = 0; i < N_OPTIONS; i++)
-        longopts[i] = option_table[i].opt;
-    memset(&longopts[N_OPTIONS], 0, sizeof longopts[N_OPTIONS]);
+    cdsp_host_options_getopt(option_table, N_OPTIONS, longopts);
     optind = 0;
     opterr = 1;
     while ((c = getopt_long(argc, argv, short_opts, longopts, NULL)) != -1) {
@@ -170,16 +154,13 @@ static int cli_scan(cli *o, int argc, char **argv)
 static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
 {
     struct option longopts[N_OPTIONS + 1];
-    size_t i;
     int ch, ndest_cli = 0, nmav_cli = 0, quiet = 0;
     char where[64];
 
     cdspd_config_defaults(c);
     if (o->config_path && cdspd_config_load_file(c, o->config_path, err, errlen))
         return -1;
-    for (i = 0; i < N_OPTIONS; i++)
-        longopts[i] = option_table[i].opt;
-    memset(&longopts[N_OPTIONS], 0, sizeof longopts[N_OPTIONS]);
+    cdsp_host_options_getopt(option_table, N_OPTIONS, longopts);
     optind = 0;
     opterr = 0;
     while ((ch = getopt_long(o->argc, o->argv, short_opts, longopts, NULL)) != -1) {

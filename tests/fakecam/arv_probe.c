@@ -51,7 +51,7 @@ typedef struct {
 enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TIMEOUT, OPT_MAXINC, OPT_MININC, OPT_CYCLE,
        OPT_TRUTH, OPT_WRAP };
 
-static const cli_option option_table[] = {
+static const cdsp_host_option option_table[] = {
     {{"address", required_argument, NULL, 'a'}, "ADDR",
      "loopback address of the camera, 127.x.y.z (default 127.0.0.1)"},
     {{"serial", required_argument, NULL, 's'}, "SERIAL", "its serial number (default CDSP01)"},
@@ -98,7 +98,7 @@ static void parse_options(int argc, char **argv, probe_options *o)
     struct in_addr a;
     int c;
 
-    cli_longopts(option_table, N_OPTIONS, longopts);
+    cdsp_host_options_getopt(option_table, N_OPTIONS, longopts);
     memset(o, 0, sizeof *o);
     o->address = "127.0.0.1";
     o->serial = "CDSP01";

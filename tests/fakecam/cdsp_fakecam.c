@@ -413,7 +413,7 @@ drawn:
  * ---------------------------------------------------------------------- */
 enum { OPT_SIZE = 256, OPT_RATE, OPT_FORMAT, OPT_TRUTH, OPT_DURATION, OPT_CYCLE, OPT_FORMATS, OPT_CACHE };
 
-static const cli_option option_table[] = {
+static const cdsp_host_option option_table[] = {
     {{"serial", required_argument, NULL, 's'}, "SERIAL",
      "serial number (default CDSP01; Aravis names the camera Aravis-Fake-SERIAL)"},
     {{"interface", required_argument, NULL, 'i'}, "ADDR",
@@ -479,7 +479,7 @@ static void parse_options(int argc, char **argv, fakecam_options *o)
     struct option longopts[N_OPTIONS + 1];
     int c;
 
-    cli_longopts(option_table, N_OPTIONS, longopts);
+    cdsp_host_options_getopt(option_table, N_OPTIONS, longopts);
 
     o->serial = "CDSP01";
     o->address = "127.0.0.1";

@@ -8,28 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-void cli_usage(FILE *f, const char *head, const cli_option *t, size_t n, int width)
+void cli_usage(FILE *f, const char *head, const cdsp_host_option *t, size_t n, int width)
 {
-    size_t i;
     fputs(head, f);
-    for (i = 0; i < n; i++) {
-        const struct option *o = &t[i].opt;
-        char left[64];
-        if (o->val < 256)
-            snprintf(left, sizeof left, "-%c, --%s%s%s", o->val, o->name, t[i].arg ? " " : "",
-                     t[i].arg ? t[i].arg : "");
-        else
-            snprintf(left, sizeof left, "    --%s %s", o->name, t[i].arg ? t[i].arg : "");
-        fprintf(f, "  %-*s %s\n", width, left, t[i].help);
-    }
-}
-
-void cli_longopts(const cli_option *t, size_t n, struct option *out)
-{
-    size_t i;
-    for (i = 0; i < n; i++)
-        out[i] = t[i].opt;
-    memset(&out[n], 0, sizeof out[n]);
+    cdsp_host_options_usage(f, t, n, width);
 }
 
 double cli_number(const char *prog, const char *opt, const char *s, double lo, double hi)
