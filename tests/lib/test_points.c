@@ -112,11 +112,10 @@ static void test_exact_points(void **state)
 }
 
 /* Noise 0.1 px on 1000 points per contour over the visible part of the
- * paper's pipes: the position error, normalized by the reported sigma, is
- * chi-square distributed: its mean over 60 trials x 3 axes must be near 1
- * (the mean of 180 chi2(1) variables has sd 0.105; 0.6..1.5 is > 3.8 sd
- * either way). Then the paper's figure, 0.013 mm at one point per pixel of
- * contour: the RMSE falls as 1/sqrt(points), so ours is scaled by
+ * paper's pipes: the paper's figure, 0.013 mm at one point per pixel of
+ * contour (whether the reported uncertainty matches the errors is
+ * test_covariance.c's Mahalanobis test: the per-axis chi-square band this
+ * test had assumed x, y, z independent, which they are not): the RMSE falls as 1/sqrt(points), so ours is scaled by
  * sqrt(1000 / visible px) before the comparison (CDSP_MAX_POINTS = 2048
  * holds 1024 per contour, fewer than the ~2000-2900 px the contours span). */
 static void test_noise_calibrated(void **state)
@@ -124,8 +123,8 @@ static void test_noise_calibrated(void **state)
     cdsp_camera cam;
     cdsp_params prm;
     cdsp_rng rng, noise;
-    double chi = 0, rmse_sum = 0, rmse_sq = 0, mean, se;
-    int t, k = 0, pipe;
+    double rmse_sum = 0, rmse_sq = 0, mean, se;
+    int t, pipe;
     (void)state;
     sup_paper_camera(&cam, 0, 0);
     cdsp_params_default(&prm);
@@ -133,10 +132,9 @@ static void test_noise_calibrated(void **state)
     cdsp_rng_seed(&noise, 4, 4);
     for (pipe = 0; pipe < 4; pipe++)
         for (t = 0; t < 15; t++) {
-            double P[3], v[3], f[3], got[3], dir[3], seg[2][3], s0, s1, vis[2];
+            double P[3], v[3], got[3], dir[3], seg[2][3], s0, s1, vis[2];
             cdsp_result r;
             size_t n;
-            int i;
             sup_paper_pipe(pipe, P, v);
             /* the 500 mm pipe, centred on its world point; the frame clips it */
             s0 = -250;
@@ -145,13 +143,7 @@ static void test_noise_calibrated(void **state)
                                    CDSP_MAX_POINTS, vis);
             assert_int_equal(n, 2000);
             assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
-            true_foot(P, v, f);
             sup_result_pose(&r, got, dir, seg);
-            for (i = 0; i < 3; i++) {
-                double z = (got[i] - f[i]) / (double)r.sigma_point[i];
-                chi += z * z;
-                k++;
-            }
             {
                 double e = sup_axis_rmse(seg[0], seg[1], P, v, 100) *
                            sqrt(1000.0 / ((vis[0] + vis[1]) / 2));
@@ -159,15 +151,12 @@ static void test_noise_calibrated(void **state)
                 rmse_sq += e * e;
             }
         }
-    chi /= k;
-    if (chi < 0.6 || chi > 1.5)
-        fail_msg("errors / reported sigma: mean chi2 %.3f (want ~1)", chi);
     /* mean (scaled) RMSE of 60 trials against the paper's 0.013 mm, allowing
      * two standard errors of the mean (the float build draws other noise) */
     mean = rmse_sum / 60;
     se = sqrt((rmse_sq / 60 - mean * mean) / 59);
     if (getenv("CDSP_TEST_VERBOSE"))
-        print_message("mean chi2 %.3f, mean RMSE %.4f +- %.4f mm\n", chi, mean, se);
+        print_message("mean RMSE %.4f +- %.4f mm\n", mean, se);
     if (mean - 2 * se > 0.013)
         fail_msg("mean RMSE %.4f +- %.4f mm > the paper's 0.013 mm", mean, se);
 }
