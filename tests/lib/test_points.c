@@ -287,6 +287,9 @@ static void test_not_a_pipe(void **state)
         {"staircase: same gradients", 1000, 1100, 60, 60, 0, 200, CDSP_E_NO_PIPE},
         {"X: lines cross in the middle", 1000, 1000, 60, -60, 0.5, 200, CDSP_E_NO_PIPE},
         {"two contours 1 px apart", 1000, 1001, 60, -60, 0, 200, CDSP_E_NO_PIPE},
+        /* the band must be as wide as the edge window, 2 half_window + 1 = 9 px */
+        {"band 8.5 px: narrower than the edge window", 1000, 1008.5, 60, -60, 0, 200, CDSP_E_NO_PIPE},
+        {"band 9.5 px: as wide as the edge window", 1000, 1009.5, 60, -60, 0, 200, CDSP_OK},
         {"too few points", 1000, 1100, 60, -60, 0, 1, CDSP_E_FEW_POINTS},
     };
     size_t i;
