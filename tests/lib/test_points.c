@@ -101,7 +101,14 @@ static void test_exact_points(void **state)
         for (i = 0; i < 3; i++)
             err[i] = got[i] - f[i];
         {
-            double tol = 3e3 * T_EPS / (double)r.alpha;
+            /* the points (~1e3 px) carry a rounding of eps relative; the
+             * fit's normal and the plane normals K^T l keep that, a few eps,
+             * and the closed form divides it by alpha (n1 x n2, |n1 - n2|
+             * ~ alpha): c eps / alpha with c ~ 10 from the moments' sums.
+             * Measured over the 100 poses: worst 13.3 (P_C) and 11.5
+             * (angle) eps/alpha in double, 13.9 and 12.6 in float; bound
+             * 40 eps / alpha (it was 3e3: 3.2 % in float at alpha 0.011). */
+            double tol = 40 * T_EPS / (double)r.alpha;
             if (vnorm(err) > tol * vnorm(f))
                 fail_msg("trial %d: P_C off by %.3g (rel %.3g > %.3g)", t, vnorm(err),
                          vnorm(err) / vnorm(f), tol);
