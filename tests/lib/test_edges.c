@@ -76,16 +76,21 @@ static void *flat_frame(cdsp_camera *cam, double k1, double blur, double noise, 
 
 /* Noise-free frames: the detector's error is the frame's rounding and the
  * blur that leaks across the edge to where the sides are sampled. 16 bit:
- * rounding < 1e-4 px. The second pass samples each side D = 2.25 px from the
+ * the window sum's rounding, sqrt(27/12) / (0.45 x 65535) = 5e-5 px rms,
+ * so <= 2e-4 px at the few-sigma tail of ~100 points and 1e-4 for their mean. The second pass samples each side D = 2.25 px from the
  * edge, interpolating between the two nearest pixels; a pixel whose centre
  * is c px from a sigma-blurred edge carries ~Phi(-c/sigma) of the other
  * side, and the two sides' nearest pixels differ in c by up to 1 px with
  * the subpixel phase: at sigma 0.7 the leak differs by up to ~0.1 % of the
  * contrast, times (h + 1/2) = 4.5 px: <= 0.01 px; at sigma 1.0 ~0.6 %:
  * <= 0.035 px; near 45 degrees the outer rows move the edge by ~1 px
- * toward one sample: <= 0.02 px. The errors change sign with the phase, so
- * a contour's mean stays within a tenth of that. 8 bit adds the window
- * sum's rounding, sqrt(27/12)/contrast(0.45*255) ~ 0.013 px rms. */
+ * toward one sample: <= 0.02 px. The errors change sign with the phase,
+ * which sweeps ~30 cycles along a contour here, so a contour's mean stays
+ * within 1/30-1/10 of the largest (2e-4 at sigma 0.7, 5e-4 near 45 degrees,
+ * 3.5e-3 at sigma 1.0, whose leak is not symmetric in the phase). 8 bit
+ * adds the window sum's rounding, sqrt(27/12)/contrast(0.45*255) ~ 0.013 px
+ * rms: a deterministic rounding of one frame, 0.03 px at most and 5e-3
+ * for the mean. Each row's measured (max, |mean|) is beside it. */
 static void test_exact_positions(void **state)
 {
     static const struct {
@@ -94,11 +99,16 @@ static void test_exact_positions(void **state)
         double dir[3];
         double tol_max, tol_mean;
     } rows[] = {
-        {0, 0, 16, {0.2, 1, 0.2}, 1e-3, 2e-4},
-        {-0.2, 0.7, 16, {0.2, 1, 0.2}, 0.01, 1e-3},
+        /* measured (max, |mean|), double and float alike: (6.2e-5, 3.3e-5) */
+        {0, 0, 16, {0.2, 1, 0.2}, 2e-4, 1e-4},
+        /* (4.6e-3, 4.4e-5) */
+        {-0.2, 0.7, 16, {0.2, 1, 0.2}, 0.01, 2e-4},
+        /* (0.027, 1.1e-3) */
         {-0.2, 1.0, 16, {1, 0.3, 0.1}, 0.035, 3.5e-3},  /* near-horizontal: column scans */
-        {0.1, 0.7, 16, {1, 0.9, 0.3}, 0.02, 2e-3},      /* near 45 degrees: both families */
-        {-0.2, 0.7, 8, {0.2, 1, 0.2}, 0.06, 0.01},
+        /* (0.014, 1.5e-4) */
+        {0.1, 0.7, 16, {1, 0.9, 0.3}, 0.02, 5e-4},      /* near 45 degrees: both families */
+        /* (0.011, 2.0e-3) */
+        {-0.2, 0.7, 8, {0.2, 1, 0.2}, 0.03, 5e-3},
     };
     size_t r;
     (void)state;
