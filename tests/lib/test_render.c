@@ -202,8 +202,10 @@ static void test_caps_and_clutter(void **state)
     assert_true(abs(px[(int)lround((double)pix[1]) * 320 + (int)lround((double)pix[0])] -
                     (int)lround((double)s.pipe_level * 255)) <= 1);
     /* the bar crosses the frame at v = 300 * -60/600 + cy; at u = 100 it is
-     * at X = (100 - cx) * 600/300 = -119, inside its +-200 span */
-    assert_int_equal(px[(int)lround(-0.1 * 300 + (double)cam.cy) * 320 + 100], 242);
+     * at X = (100 - cx) * 600/300 = -119, inside its +-200 span, and its
+     * half-width 8 at 600 mm is 4 px: that pixel is all bar, its level */
+    assert_int_equal(px[(int)lround(-0.1 * 300 + (double)cam.cy) * 320 + 100],
+                     (int)lround((double)s.clutter[0].level * 255));
     assert_int_equal(cdsp_camera_project(&cam, beyond, pix), CDSP_OK);
     assert_int_equal(px[(int)lround((double)pix[1]) * 320 + (int)lround((double)pix[0])],
                      (int)lround((double)s.background_level * 255));
