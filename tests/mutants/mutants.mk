@@ -21,12 +21,17 @@ endef
 $(eval $(call mut_variant,host,$(CC),HOST_CFLAGS))
 $(eval $(call mut_variant,float,$(CC),FLOAT_CFLAGS))
 
-.PHONY: mutants mutant-lib-host mutant-lib-float mutant-tool
+.PHONY: mutants mutant-lib-host mutant-lib-float mutant-tool mutant-hostunit mutant-daemon
 mutant-lib-host: $(mut_host_TESTS)
 mutant-lib-float: $(mut_float_TESTS)
 # (tools/tool.mk is read after this file: its names expand at run time)
 mutant-tool:
 	@$(MAKE) --no-print-directory $(tool_BIN) $(tool_E2E)
+# the host library's unit suites (tests/tool/test_host_*) and the daemon's
+mutant-hostunit:
+	@$(MAKE) --no-print-directory $(tool_UNIT)
+mutant-daemon:
+	@$(MAKE) --no-print-directory $(daemon_UNIT)
 
 # MUTANTS=id1,id2 runs only those rows.
 mutants:

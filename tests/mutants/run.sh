@@ -15,7 +15,8 @@
 # Suites (column 5, in the order to run): host:NAME / float:NAME (one lib
 # test, tests/lib/NAME.c, in that build), host / float (every lib test of
 # that build not run yet), tool (tests/tool/test_tool_cli against the
-# mutated cdsp_tool).
+# mutated cdsp_tool), hostunit:NAME (tests/tool/NAME.c, a host library
+# suite), daemon:NAME (tests/daemon/NAME.c, a cdspd unit suite).
 set -u
 out=$1
 table=$2
@@ -31,10 +32,12 @@ die() { echo "mutants: $*" >&2; exit 2; }
 mkdir -p "$base"
 git ls-files -co --exclude-standard -z | (cd "$root" && xargs -0 cp -p --parents -t "$base") ||
     die "cannot copy the tree into $base"
-needs_tool=0
-grep -v '^#' "$table" | grep -q '|[^|]*\btool\b[^|]*|[^|]*$' && needs_tool=1
+# what the table's suites need built
+suites_col=$(grep -v '^#' "$table" | grep '|' | awk -F'|' '{print $5}')
 targets="mutant-lib-host mutant-lib-float"
-[ $needs_tool = 1 ] && targets="$targets mutant-tool"
+echo "$suites_col" | grep -qw tool && targets="$targets mutant-tool"
+echo "$suites_col" | grep -q 'hostunit:' && targets="$targets mutant-hostunit"
+echo "$suites_col" | grep -q 'daemon:' && targets="$targets mutant-daemon"
 echo "mutants: building the base tree ($base)"
 make -C "$base" --no-print-directory -j"$jobs" $targets >"$out/logs/base-build.log" 2>&1 ||
     die "the base tree does not build; see $out/logs/base-build.log"
@@ -59,6 +62,14 @@ run_suites() {
             case $one in
             tool)
                 (cd "$dir" && CDSP_TOOL=build/cdsp_tool timeout 600 build/tests/tool/test_tool_cli) \
+                    >>"$log" 2>&1 ;;
+            hostunit:*)
+                t=${one#*:}
+                (cd "$dir" && timeout 300 "build/tests/tool/$t") >>"$log" 2>&1 ;;
+            daemon:*)
+                t=${one#*:}
+                mkdir -p "$dir/build/tests/daemon/tmp"
+                (cd "$dir" && CDSPD_TMP=build/tests/daemon/tmp timeout 300 "build/tests/daemon/$t") \
                     >>"$log" 2>&1 ;;
             host:* | float:*)
                 v=${one%%:*}
@@ -120,9 +131,11 @@ grep -v '^#' "$table" | grep '|' | while IFS='|' read -r id file from to suites 
     btargets=
     for s in $suites; do
         case $s in
-        host* ) btargets="$btargets mutant-lib-host" ;;
+        host | host:*) btargets="$btargets mutant-lib-host" ;;
         float*) btargets="$btargets mutant-lib-float" ;;
         tool) btargets="$btargets mutant-tool" ;;
+        hostunit:*) btargets="$btargets mutant-hostunit" ;;
+        daemon:*) btargets="$btargets mutant-daemon" ;;
         esac
     done
     btargets=$(echo $btargets | tr ' ' '\n' | sort -u | tr '\n' ' ')
