@@ -136,11 +136,20 @@ static void test_exact_positions(void **state)
     }
 }
 
-/* Noise sigma (gray levels) -> position sd of the first-order estimate:
+/* Noise sigma (gray levels) -> position sd. The first pass,
  * a = (mean_k S_k - (h+1/2)(A+B)) / (A-B) with 3(2h+1) pixels in the sums
- * and 3 in each of A, B: var(a) = [(2h+1)/3 + 2 (h+1/2)^2 / 3] sigma^2 / (A-B)^2,
- * i.e. sd = 4.06 sigma / (A-B) for h = 4 (blur correlates neighbours, so
- * the measured value may be lower, never much higher). */
+ * and 3 in each of A, B, has var(a) = [(2h+1)/3 + 2 (h+1/2)^2 / 3]
+ * sigma^2 / (A-B)^2 (sd 4.06 sigma / (A-B) for h = 4); but the reported
+ * point is the second pass's, whose sides are 3 samples each interpolated
+ * between two pixels (weights w, 1 - w: variance (w^2 + (1-w)^2) sigma^2,
+ * 2/3 sigma^2 averaged over the phase) that also lie inside the row sums:
+ * var = [(2h+1)/3 + (h+1/2)^2 (4/9) - 2 (h+1/2)(2/3)] sigma^2 / (A-B)^2
+ * = 6 sigma^2 / (A-B)^2 for h = 4, sd 2.45 sigma / (A-B) (1.94-3.24 over
+ * the phases). The rms of n = 119 points has a relative sd of 1/sqrt(2n)
+ * = 6.5 %: band 0.74-1.26 of the prediction (4 sd). Measured 0.875-1.05
+ * (double), 0.875-0.92 (float); the mean, within 4 standard errors
+ * (0.020 px), measured <= 0.0064 px. (It checked 0.3-1.3 of the first
+ * pass's 4.06.) The frame's noise is white (added after the blur). */
 static void test_noise(void **state)
 {
     cdsp_camera cam;
@@ -148,14 +157,17 @@ static void test_noise(void **state)
     cdsp_edge_params ep;
     edge_stats st;
     double l[2][3], P[3] = {5, -3, 400}, v[3] = {0.2, 1, 0.2};
-    double sigma = 0.01, contrast = 0.7 - 0.25, pred = 4.06 * sigma / contrast;
+    double sigma = 0.01, contrast = 0.7 - 0.25, pred = 2.45 * sigma / contrast;
     void *buf = flat_frame(&cam, -0.2, 0.7, sigma, 16, P, v, &img, l);
     int k;
     (void)state;
     cdsp_edge_params_default(&ep);
     measure(&img, &cam, &ep, l, &st);
     for (k = 0; k < 2; k++) {
-        if (st.rms[k] > 1.3 * pred || st.rms[k] < 0.3 * pred)
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("noise line %d: rms %.5f px (predicted %.5f), mean %.2g over %d\n", k, st.rms[k], pred,
+                          st.mean[k], st.count[k]);
+        if (st.rms[k] > 1.26 * pred || st.rms[k] < 0.74 * pred)
             fail_msg("line %d: rms %.4f px, predicted %.4f", k, st.rms[k], pred);
         /* unbiased: mean within 4 standard errors */
         assert_true(fabs(st.mean[k]) < 4 * pred / sqrt(st.count[k]));
