@@ -444,11 +444,14 @@ static void test_cylinder_contours(void **state)
         assert_true(sup_contour_lines(&cam, P, v, 8, l, pin));
         assert_int_equal(cdsp_cylinder_contours(&cam, Pr, vr, 8, 1, l1, l2, pr), CDSP_OK);
         for (k = 0; k < 3; k++) {
-            assert_true(fabs((double)l1[k] - l[0][k]) < 1e4 * T_EPS * (k == 2 ? 3000 : 1));
-            assert_true(fabs((double)l2[k] - l[1][k]) < 1e4 * T_EPS * (k == 2 ? 3000 : 1));
+            /* the same formulas in the build's precision: a few roundings of
+             * eps (c: of its ~3000 px); measured 0 in double (identical
+             * arithmetic) and 0.97 eps in float; it allowed 1e4 eps */
+            assert_true(fabs((double)l1[k] - l[0][k]) < 4 * T_EPS * (k == 2 ? 3000 : 1));
+            assert_true(fabs((double)l2[k] - l[1][k]) < 4 * T_EPS * (k == 2 ? 3000 : 1));
         }
         assert_int_equal(cdsp_cylinder_contours(&cam, Pr, vr, 8, 0, l1, l2, pr), CDSP_OK);
-        assert_true(fabs((double)l1[0] + l[0][0]) < 1e4 * T_EPS);
+        assert_true(fabs((double)l1[0] + l[0][0]) < 4 * T_EPS);
     }
     {
         cdsp_real Pr[3] = {0, 0, 5}, vr[3] = {0, 1, 0}, l1[3], l2[3], pr[2];
