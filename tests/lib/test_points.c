@@ -49,13 +49,22 @@ static void test_line_fit(void **state)
         e[i].gy = (cdsp_real)-8;
     }
     assert_int_equal(cdsp_line_fit(e, NULL, 100, &ln), CDSP_OK);
-    assert_true(fabs((double)ln.l[0] - 0.6) < 1e3 * T_EPS);
-    assert_true(fabs((double)ln.l[1] + 0.8) < 1e3 * T_EPS);
-    assert_true(fabs((double)ln.l[2] - 100) < 1e6 * T_EPS);
-    assert_true((double)ln.rms < 1e4 * T_EPS);
+    /* exact points, so what is left is rounding: the unit normal of a 2 x 2
+     * eigenproblem a few eps (measured 1 eps double, 0.7 float: bound 3);
+     * the offset c = -(a, b) . centroid, eps of the ~1e3 px coordinates
+     * (measured 1.0e3 / 2.6e2 eps: bound 4e3); the residual of exact points
+     * likewise eps x ~1e3 px (measured 7.9e2 / 3.1e2 eps: bound 2.5e3); the
+     * extent 1650 px to eps (measured 0 / 1.0e3 eps: bound 4e3); the mean
+     * gradient of identical integer gradients, sqrt(100) = 10, exactly
+     * (measured 0: bound a sqrt's 4 eps x 10). They were 1e3, 1e6, 1e4,
+     * 1e5 and 1e3 eps. */
+    assert_true(fabs((double)ln.l[0] - 0.6) < 3 * T_EPS);
+    assert_true(fabs((double)ln.l[1] + 0.8) < 3 * T_EPS);
+    assert_true(fabs((double)ln.l[2] - 100) < 4e3 * T_EPS);
+    assert_true((double)ln.rms < 2.5e3 * T_EPS);
     assert_int_equal(ln.count, 100);
-    assert_true(fabs((double)(ln.t_max - ln.t_min) - 990 * 5.0 / 3) < 1e5 * T_EPS);
-    assert_true(fabs((double)ln.strength - 10) < 1e3 * T_EPS);
+    assert_true(fabs((double)(ln.t_max - ln.t_min) - 990 * 5.0 / 3) < 4e3 * T_EPS);
+    assert_true(fabs((double)ln.strength - 10) <= 40 * T_EPS);
     assert_int_equal(cdsp_line_fit(e, idx, 3, &ln), CDSP_OK);
     assert_int_equal(ln.count, 3);
     /* flipped gradients flip the orientation */
@@ -64,7 +73,7 @@ static void test_line_fit(void **state)
         e[i].gy = -e[i].gy;
     }
     assert_int_equal(cdsp_line_fit(e, NULL, 100, &ln), CDSP_OK);
-    assert_true(fabs((double)ln.l[0] + 0.6) < 1e3 * T_EPS);
+    assert_true(fabs((double)ln.l[0] + 0.6) < 3 * T_EPS);
     /* degenerate sets */
     assert_int_equal(cdsp_line_fit(e, NULL, 1, &ln), CDSP_E_FEW_POINTS);
     e[1] = e[0];
@@ -212,10 +221,14 @@ static void test_clutter(void **state)
         assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
         true_foot(P, v, f);
         sup_result_pose(&r, got, dir, NULL);
-        for (i = 0; i < 3; i++)
-            if (fabs(got[i] - f[i]) > 6 * (double)r.sigma_point[i] + 1e-6)
-                fail_msg("trial %d axis %zu: error %.4f > 6 sigma (%.4f)", t, i, fabs(got[i] - f[i]),
+        for (i = 0; i < 3; i++) {
+            /* Gaussian errors of the reported sigma (test_covariance.c):
+             * |z| > 5 has probability 5.7e-7 per check, 90 checks; measured
+             * worst 1.9 sigma (double), 2.8 (float); it allowed 6 */
+            if (fabs(got[i] - f[i]) > 5 * (double)r.sigma_point[i])
+                fail_msg("trial %d axis %zu: error %.4f > 5 sigma (%.4f)", t, i, fabs(got[i] - f[i]),
                          (double)r.sigma_point[i]);
+        }
         assert_true(r.inliers[0] >= 480 && r.inliers[1] >= 480);
     }
 }
@@ -315,7 +328,10 @@ static void test_reproducible_and_prior(void **state)
             n1p += (double)(rb.normals[0][i] * rb.point[i]);
             n2p += (double)(rb.normals[1][i] * rb.point[i]);
         }
-        assert_true(fabs(n1p - 8) < 1e-3 && fabs(n2p + 8) < 1e-3);
+        /* unit normals and P_C to eps each, a dot of three products: ~eps
+         * |P| (measured 0.29 eps |P| double, 0.12 float; it allowed 1e-3) */
+        double tol = T_EPS * (double)rb.distance;
+        assert_true(fabs(n1p - 8) < tol && fabs(n2p + 8) < tol);
     }
 }
 
@@ -436,8 +452,9 @@ static void test_radius_bound(void **state)
     assert_true(isfinite((double)r.sigma_distance));
     /* the same points and RANSAC draws: the closed form is linear in r, so
      * the distance scales exactly but for rounding (measured 0 to 2e-16
-     * relative in double; float keeps ~1e-7 per operation) */
-    assert_true(fabs((double)r.distance / s - d8) < T_EPS * 1e3 * d8);
+     * relative in double, 0.1 eps in float; bound 8 eps: a few roundings
+     * of the scale; it was 1e3 eps) */
+    assert_true(fabs((double)r.distance / s - d8) < T_EPS * 8 * d8);
     assert_int_equal(cdsp_points_solve(&cam, (cdsp_real)(2 * CDSP_MAX_RADIUS), pts, n, &prm, NULL,
                                        &ws, &rng, &r), CDSP_E_ARG);
 #ifndef CDSP_SINGLE
