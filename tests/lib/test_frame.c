@@ -4,11 +4,11 @@
  * the pipe again), 16-bit frames, and hostile arguments.
  *
  * Tolerances: the solver's own 1-sigma (from the line fits' residuals),
- * times 6, plus an allowance for the edge detector's shading bias where the
- * pipe is shaded: a contour shifted by delta px moves the axis by about
- * d * delta / f sideways and d * 2 delta / w in depth (w the pipe's width in
- * px), see edges.c; delta <= 0.12 px was measured for the default light at
- * this scale (README, "Accuracy").
+ * times 4 (see check_pose), plus an allowance for the edge detector's
+ * shading bias where the pipe is shaded: a contour shifted by delta px
+ * moves the axis by about d * delta / f sideways and d * 2 delta / w in
+ * depth (w the pipe's width in px), see edges.c; delta = 0.02 px, what the
+ * second pass leaves at 85 % ambient (README, "Accuracy").
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -163,7 +163,11 @@ static void test_clutter_and_caps(void **state)
     /* measured 1.49 mm (double), 1.80 (float): 1.4 / 2.9 sigma, within the
      * noise; the shaded limb's bias allowed as 0.02 px (was 0.12) */
     check_pose("clutter+caps", &r, P, v, 8, 0.02);
-    /* the segment ends near the cap: within the cap's radius plus a px */
+    /* the segment ends near the cap: the last inlier is up to one scan step
+     * (4 px: 4 d / F = 2.1 mm) short of the cap, the contour's end on the
+     * cap's rim is up to r |v_z| / |v| (2.6 mm) along the axis from its
+     * centre, plus a px of edge position (0.5 mm): 5.2 mm; measured 2.08 mm
+     * (double), 2.07 (float). It allowed 11 mm. */
     vn = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
     for (i = 0; i < 3; i++)
         endp[i] = P[i] - 90 * v[i] / vn;
@@ -176,7 +180,9 @@ static void test_clutter_and_caps(void **state)
         if (sqrt(d2) < seg_end)
             seg_end = sqrt(d2);
     }
-    if (seg_end > 8 + 2 * 420 / F + 2)
+    if (getenv("CDSP_TEST_VERBOSE"))
+        print_message("segment end %.3f mm from the cap's centre\n", seg_end);
+    if (seg_end > 4 * 420 / F + 8 * fabs(v[2]) / vn + 420 / F)
         fail_msg("visible segment ends %.2f from the cap", seg_end);
 }
 
