@@ -339,6 +339,35 @@ static void test_sigmas_are_cov_diagonal(void **state)
     sup_paper_pipe(1, P, v);
     n = sup_contour_points(&cam, P, v, 8, -250, 250, 1000, 0.1, 100, &gen, pts, CDSP_MAX_POINTS, NULL);
     assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+    {
+        /* singular along the two unobservable dof: |v| = 1 (dv . v = 0) and
+         * P_C . v = 0 (dP . v + P . dv = 0), i.e. n^T cov n = 0 for n = (0, v)
+         * and n = (v, P). The constraints are quadratic and the central
+         * differences cancel their even terms, so only rounding is left:
+         * ~eps of the block's variance. Measured (CDSP_TEST_VERBOSE=1)
+         * 5e-17 (double, 0.24 eps) and 1.05e-7 (float, 0.9 eps); bound
+         * 3 eps. */
+        double n1[6] = {0, 0, 0, 0, 0, 0}, n2[6], q1 = 0, q2 = 0, tv = 0, tp = 0;
+        int a, b;
+        for (i = 0; i < 3; i++) {
+            n1[3 + i] = (double)r.direction[i];
+            n2[i] = (double)r.direction[i];
+            n2[3 + i] = (double)r.point[i];
+            tp += (double)r.cov[i][i];
+            tv += (double)r.cov[3 + i][3 + i];
+        }
+        for (a = 0; a < 6; a++)
+            for (b = 0; b < 6; b++) {
+                q1 += n1[a] * (double)r.cov[a][b] * n1[b];
+                q2 += n2[a] * (double)r.cov[a][b] * n2[b];
+            }
+        /* n2's scale: |P|^2 tv + tp */
+        q2 /= (double)r.distance * (double)r.distance * tv + tp;
+        q1 /= tv;
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("null directions: %.3g %.3g of the variance\n", q1, q2);
+        assert_true(fabs(q1) < 3 * T_EPS && fabs(q2) < 3 * T_EPS);
+    }
     for (i = 0; i < 3; i++) {
         /* a square root's rounding: a few eps relative */
         double sp = (double)r.sigma_point[i], sd = (double)r.sigma_direction[i];
