@@ -81,9 +81,10 @@ static cdsp_real sample_at(const cdsp_image *img, int horizontal, int s, int t, 
 }
 
 /* Refine candidate (s, t): returns 1 and fills e when the partial-area
- * estimate is a valid edge owned by this scan direction. */
-static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
-                  cdsp_edge *e)
+ * estimate is a valid edge owned by this scan direction. Internal entry
+ * (internal.h): the reference scan of tests/lib/test_edges_scan.c calls it. */
+int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
+                       cdsp_edge *e)
 {
     int k, c, S[3], A = 0, B = 0, gs = 0, gt = 0;
     cdsp_real diff, a, b, norm, gsn, gtn;
@@ -162,42 +163,74 @@ static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, in
     return 1;
 }
 
-/* Candidates along a run are searched CHUNK pixels at a time: the central
- * differences of a chunk go into a small array (a loop compilers vectorize)
- * and a chunk whose largest |difference| is below the threshold, nearly all
- * of them in a frame, is skipped without further work. */
+/*
+ * The search for candidates. A candidate is a position s of a scanline
+ * where |g(s)|, g(s) = f(s+1) - f(s-1) the central difference along the
+ * scan, is at least thr and a local maximum: |g(s)| > |g(s-1)| and
+ * |g(s)| >= |g(s+1)| (ties broken to the left). For 8-bit frames the test
+ * is evaluated for many positions at once by one primitive,
+ * cdsp__edges_peaks (portable below; SIMD forms in lib/edges_simd.c), on
+ * five parallel runs of pixels f(s-2) .. f(s+2):
+ *   - rows: CHUNK positions of the row, the five runs the row shifted by
+ *     -2 .. +2;
+ *   - columns: CHUNK columns x = xs + k*step at a time, walked row by row
+ *     (memory order: a block of columns reads a few cache lines per row,
+ *     where a column at a time reads a new line at every pixel); for
+ *     candidate row c the five runs are rows c-2 .. c+2 over the block's
+ *     whole span xs .. xs + (ncols-1)*step, every pixel between the
+ *     sampled columns included (contiguous: no gather, and cheaper than
+ *     picking every step-th byte up to steps of 8), masked by `sel` to the
+ *     sampled columns, so a row without a candidate there is passed over
+ *     at once.
+ * Candidates are then refined in the order of the plain definition (along
+ * the scan for rows; for a block of columns row by row, left to right
+ * within a row), so the edges, and their order, are those of a pixel by
+ * pixel scan: tests/lib/test_edges_scan.c compares them bit for bit with
+ * one. 16-bit frames, column segments (tracking) and steps above
+ * PEAK_MAX_STEP take the per-pixel test.
+ */
 #define CHUNK 32
+#define PEAK_MAX_STEP 8
 
-/* Central differences g[i] = f(s0+i+1) - f(s0+i-1), i in [0, m), along a
- * run through `base` with element stride es (1 for a row, stride/bpp for a
- * column); returns max |g|. Rows get a copy with unit stride and a fixed
- * trip count, which compilers turn into SIMD code at -O2. */
-#define DEFINE_DIFFS(NAME, T)                                                                  \
-    static int NAME(const T *base, ptrdiff_t es, int s0, int m, int *g)                        \
-    {                                                                                          \
-        int i, mx = 0;                                                                         \
-        for (i = 0; i < m; i++) {                                                              \
-            int d = (int)base[(ptrdiff_t)(s0 + i + 1) * es] - (int)base[(ptrdiff_t)(s0 + i - 1) * es]; \
-            int ad = d < 0 ? -d : d;                                                           \
-            g[i] = d;                                                                          \
-            mx = ad > mx ? ad : mx;                                                            \
-        }                                                                                      \
-        return mx;                                                                             \
-    }                                                                                          \
-    static int NAME##_row(const T *row, int s0, int *g)                                        \
-    {                                                                                          \
-        int i, mx = 0;                                                                         \
-        const T *a = row + s0 + 1, *b = row + s0 - 1;                                          \
-        for (i = 0; i < CHUNK + 2; i++) {                                                      \
-            int d = (int)a[i] - (int)b[i];                                                     \
-            int ad = d < 0 ? -d : d;                                                           \
-            g[i] = d;                                                                          \
-            mx = ad > mx ? ad : mx;                                                            \
-        }                                                                                      \
-        return mx;                                                                             \
+/* Portable form of the primitive (internal.h). Byte-wide arithmetic (|a -
+ * b| of 8-bit samples fits a byte) and no early exit: a loop compilers
+ * turn into byte-vector code (restrict: flag never overlaps the frame, so
+ * no run-time overlap checks of seven pointers are needed). */
+int cdsp__edges_peaks_c(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
+                        uint8_t *flag)
+{
+    const uint8_t *restrict m2 = f[0], *restrict m1 = f[1], *restrict z = f[2];
+    const uint8_t *restrict p1 = f[3], *restrict p2 = f[4];
+    uint8_t *restrict out = flag;
+    size_t i;
+    uint8_t any = 0, t = (uint8_t)thr;
+    for (i = 0; i < n; i++) {
+        uint8_t gl = (uint8_t)(z[i] > m2[i] ? z[i] - m2[i] : m2[i] - z[i]);
+        uint8_t gc = (uint8_t)(p1[i] > m1[i] ? p1[i] - m1[i] : m1[i] - p1[i]);
+        uint8_t gr = (uint8_t)(p2[i] > z[i] ? p2[i] - z[i] : z[i] - p2[i]);
+        uint8_t c = (uint8_t)((gc >= t) & (gc > gl) & (gc >= gr) & (sel ? sel[i] : 1u));
+        out[i] = c;
+        any |= c;
     }
-DEFINE_DIFFS(diffs_u8, uint8_t)
-DEFINE_DIFFS(diffs_u16, uint16_t)
+    return any != 0;
+}
+
+/* |g| at position s of a run (pixel 0 at base, element stride es, in
+ * samples of the frame's size): |f(s+1) - f(s-1)|. */
+static inline int absg(const cdsp_image *img, const unsigned char *base, ptrdiff_t es, int s)
+{
+    if (img->bits <= 8)
+        return iabs((int)base[(s + 1) * es] - (int)base[(s - 1) * es]);
+    return iabs((int)((const uint16_t *)(const void *)base)[(s + 1) * es] -
+                (int)((const uint16_t *)(const void *)base)[(s - 1) * es]);
+}
+
+/* The per-pixel candidate test (16-bit frames, column segments). */
+static inline int is_peak(const cdsp_image *img, const unsigned char *base, ptrdiff_t es, int s, int thr)
+{
+    int a = absg(img, base, es, s);
+    return a >= thr && a > absg(img, base, es, s - 1) && a >= absg(img, base, es, s + 1);
+}
 
 /*
  * Scan one line: horizontal != 0 scans row `line` over x in [from, to);
@@ -212,10 +245,10 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
     int full = (1 << img->bits) - 1;
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
-    int g[CHUNK + 2];
     size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
     const unsigned char *base = (const unsigned char *)img->data;
     ptrdiff_t es;
+    uint8_t flag[CHUNK];
     if (to - from < 3 || cap == 0)
         return 0;
     /* the run's pixel s=0 and the element stride along it */
@@ -228,74 +261,58 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
     }
     /* candidates s in [from+1, to-1): a local maximum of |g| needs g at s-1..s+1 */
     for (s0 = from + 1; s0 < to - 1; s0 += CHUNK) {
-        int m = (to - 1 - s0) < CHUNK ? (to - 1 - s0) : CHUNK, mx, i;
-        /* g[0] is at s0 - 1, g[i + 1] at s0 + i */
-        if (es == 1 && m == CHUNK)
-            mx = bpp == 1 ? diffs_u8_row((const uint8_t *)(const void *)base, s0 - 1, g)
-                          : diffs_u16_row((const uint16_t *)(const void *)base, s0 - 1, g);
-        else
-            mx = bpp == 1 ? diffs_u8((const uint8_t *)(const void *)base, es, s0 - 1, m + 2, g)
-                          : diffs_u16((const uint16_t *)(const void *)base, es, s0 - 1, m + 2, g);
-        if (mx < thr)
-            continue;
-        for (i = 1; i <= m; i++) {
-            int a = iabs(g[i]);
-            /* local maximum of |central difference| (ties broken to the left) */
-            if (a >= thr && a > iabs(g[i - 1]) && a >= iabs(g[i + 1]) &&
-                refine(img, horizontal, s0 + i - 1, line, h, min_step, &out[n])) {
-                if (++n == cap)
-                    return n;
-            }
+        int m = (to - 1 - s0) < CHUNK ? (to - 1 - s0) : CHUNK, i;
+        if (es == 1 && bpp == 1) {
+            const uint8_t *r = (const uint8_t *)base + s0;
+            const uint8_t *const f[5] = {r - 2, r - 1, r, r + 1, r + 2};
+            if (!cdsp__edges_peaks(f, NULL, (size_t)m, thr, flag))
+                continue;
+        } else {
+            for (i = 0; i < m; i++)
+                flag[i] = (uint8_t)is_peak(img, base, es, s0 + i, thr);
         }
+        for (i = 0; i < m; i++)
+            if (flag[i] && cdsp__edges_refine(img, horizontal, s0 + i, line, h, min_step, &out[n]) &&
+                ++n == cap)
+                return n;
     }
     return n;
 }
 
 /*
  * Near-horizontal edges over the columns x = xs + k*step, k < ncols <=
- * CHUNK, rows [from, to): the same search as cdsp__edges_scan_segment on
- * each column, but walking the frame row by row so memory is read in order
- * (a column-at-a-time walk touches a new cache line at every pixel).
+ * CHUNK, rows [from, to): candidate rows c in [from, to - 1), listed row by
+ * row and left to right (see above).
  */
 static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, int step, int xs,
                               int ncols, int from, int to, cdsp_edge *out, size_t cap)
 {
-    int h = p->half_window, y, k;
+    int h = p->half_window, c, k;
     int full = (1 << img->bits) - 1;
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
-    int g0[CHUNK], g1[CHUNK], *gprev = g0, *gcur = g1, prev_hot = 0;
-    size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
-    /* g at row y - 1 (gprev) and y (gcur); a candidate at row y needs g(y+1) */
-    for (y = from - 1; y < to; y++) {
-        const unsigned char *up = (const unsigned char *)img->data + (size_t)(y - 1) * img->stride;
-        const unsigned char *dn = up + 2 * img->stride;
-        int hot = 0, *gnext = gprev; /* gprev's storage is free once gnext is computed */
-        int tmp[CHUNK];
+    int vec = img->bits <= 8 && step <= PEAK_MAX_STEP;
+    size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u, span = (size_t)(ncols - 1) * (size_t)step + 1;
+    ptrdiff_t es = (ptrdiff_t)(img->stride / bpp);
+    uint8_t flag[(CHUNK - 1) * PEAK_MAX_STEP + 1], sel[(CHUNK - 1) * PEAK_MAX_STEP + 1];
+    if (vec)
+        for (k = 0; k < (int)span; k++)
+            sel[k] = (uint8_t)(k % step == 0);
+    for (c = from; c < to - 1; c++) {
+        const uint8_t *r = (const uint8_t *)img->data + (size_t)c * img->stride + xs;
+        if (vec) {
+            const uint8_t *const f[5] = {r - 2 * img->stride, r - img->stride, r, r + img->stride,
+                                         r + 2 * img->stride};
+            if (!cdsp__edges_peaks(f, sel, span, thr, flag))
+                continue;
+        }
         for (k = 0; k < ncols; k++) {
-            size_t x = (size_t)(xs + k * step);
-            int d = bpp == 1 ? (int)dn[x] - (int)up[x]
-                             : (int)((const uint16_t *)(const void *)dn)[x] -
-                                   (int)((const uint16_t *)(const void *)up)[x];
-            tmp[k] = d;
-            hot |= iabs(d) >= thr;
+            int x = xs + k * step;
+            if ((vec ? flag[k * step]
+                     : is_peak(img, (const unsigned char *)img->data + (size_t)x * bpp, es, c, thr)) &&
+                cdsp__edges_refine(img, 0, c, x, h, min_step, &out[n]) && ++n == cap)
+                return n;
         }
-        /* candidates at row y - 1 use gprev (y - 2), gcur (y - 1), tmp (y) */
-        if (prev_hot && y - 1 > from - 1) {
-            for (k = 0; k < ncols; k++) {
-                int a = iabs(gcur[k]);
-                if (a >= thr && a > iabs(gprev[k]) && a >= iabs(tmp[k]) &&
-                    refine(img, 0, y - 1, xs + k * step, h, min_step, &out[n])) {
-                    if (++n == cap)
-                        return n;
-                }
-            }
-        }
-        for (k = 0; k < ncols; k++)
-            gnext[k] = tmp[k];
-        gprev = gcur;
-        gcur = gnext;
-        prev_hot = hot;
     }
     return n;
 }
