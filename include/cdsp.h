@@ -210,10 +210,21 @@ typedef struct {
                                Default 0.06 (15 gray levels at 8 bit). */
     cdsp_roi roi;           /* where to look; default whole frame; any
                                values (clipped to the frame, no overflow) */
+    int coarse;             /* coarse pass, 0..CDSP_EDGE_MAX_COARSE: with
+                               F >= 2, every F-th row and column of the
+                               search is read first, then the others only
+                               within bands around the edges found there
+                               (docs/method.md §2: every edge of a contour
+                               spanning F*step px across its scanlines is
+                               still found, in the same order). 0 or 1: off,
+                               the whole roi (the default here; cdsp_params
+                               turns it on for the frame path) */
 } cdsp_edge_params;
 
 /* Largest scanline spacing (a wider step than any frame reads one line). */
 #define CDSP_EDGE_MAX_STEP 65536
+/* Largest coarse factor (cdsp_edge_params.coarse). */
+#define CDSP_EDGE_MAX_COARSE 64
 
 void cdsp_edge_params_default(cdsp_edge_params *p);
 

@@ -33,6 +33,7 @@ void cdsp_edge_params_default(cdsp_edge_params *p)
     p->half_window = 4;
     p->min_contrast = R(0.06);
     p->roi.x = p->roi.y = p->roi.w = p->roi.h = 0;
+    p->coarse = 0;
 }
 
 cdsp_status cdsp_image_check(const cdsp_image *img)
@@ -306,6 +307,20 @@ static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, 
             if (!cdsp__edges_peaks(f, sel, span, thr, flag))
                 continue;
         }
+        if (!vec && bpp == 1) {
+            /* wide steps (the coarse pass's columns): 8-bit rows at hand,
+             * |g| at row c first, which nearly every column fails */
+            const uint8_t *um = r - img->stride, *dp = r + img->stride;
+            for (k = 0; k < ncols; k++) {
+                size_t o = (size_t)k * (size_t)step;
+                int a = iabs((int)dp[o] - (int)um[o]);
+                if (a >= thr && a > iabs((int)r[o] - (int)(um - img->stride)[o]) &&
+                    a >= iabs((int)(dp + img->stride)[o] - (int)r[o]) &&
+                    cdsp__edges_refine(img, 0, c, xs + k * step, h, min_step, &out[n]) && ++n == cap)
+                    return n;
+            }
+            continue;
+        }
         for (k = 0; k < ncols; k++) {
             int x = xs + k * step;
             if ((vec ? flag[k * step]
@@ -339,19 +354,27 @@ void cdsp__edges_clip_roi(const cdsp_image *img, const cdsp_roi *roi, int *x0, i
 cdsp_status cdsp__edge_params_check(const cdsp_edge_params *p)
 {
     if (!p || p->step < 1 || p->step > CDSP_EDGE_MAX_STEP || p->half_window < 2 || p->half_window > 8 ||
-        !(p->min_contrast > R(0)) || !(p->min_contrast < R(1)))
+        !(p->min_contrast > R(0)) || !(p->min_contrast < R(1)) || p->coarse < 0 ||
+        p->coarse > CDSP_EDGE_MAX_COARSE)
         return CDSP_E_ARG;
     return CDSP_OK;
 }
 
-/* Near-vertical edges: rows y0 + 1 + step/2 + k*step of the clipped roi. */
-static size_t scan_rows(const cdsp_image *img, const cdsp_edge_params *p, int step, int x0, int y0,
+/* The first row (column) the family scans at `step` in [y0, ...) */
+static int first_line(int y0, int step)
+{
+    return (y0 > 1 ? y0 : 1) + step / 2;
+}
+
+/* Near-vertical edges: rows first + k*step of the clipped roi (the full
+ * search: first = first_line(y0, step)). */
+static size_t scan_rows(const cdsp_image *img, const cdsp_edge_params *p, int first, int step, int x0,
                         int x1, int y1, cdsp_edge *out, size_t cap)
 {
     int h = p->half_window, t;
     int from = x0 > h + 1 ? x0 : h + 1, to = x1 < img->width - h - 1 ? x1 : img->width - h - 1;
     size_t count = 0;
-    for (t = (y0 > 1 ? y0 : 1) + step / 2; t < y1 - 1 && t < img->height - 1; t += step) {
+    for (t = first; t < y1 - 1 && t < img->height - 1; t += step) {
         count += cdsp__edges_scan_segment(img, p, 1, t, from, to, out + count, cap - count);
         if (count == cap)
             break;
@@ -359,12 +382,12 @@ static size_t scan_rows(const cdsp_image *img, const cdsp_edge_params *p, int st
     return count;
 }
 
-/* Near-horizontal edges: the same over columns, CHUNK columns at a time. */
-static size_t scan_cols(const cdsp_image *img, const cdsp_edge_params *p, int step, int x0, int y0,
-                        int x1, int y1, cdsp_edge *out, size_t cap)
+/* Near-horizontal edges: the same over columns first + k*step, CHUNK
+ * columns at a time (the full search: first = first_line(x0, step)). */
+static size_t scan_cols_at(const cdsp_image *img, const cdsp_edge_params *p, int first, int step,
+                           int y0, int x1, int y1, cdsp_edge *out, size_t cap)
 {
     int h = p->half_window, t;
-    int first = (x0 > 1 ? x0 : 1) + step / 2;
     int last = (x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1); /* exclusive */
     int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
     size_t count = 0;
@@ -392,21 +415,12 @@ static size_t scan_cols(const cdsp_image *img, const cdsp_edge_params *p, int st
  * step that has passed the frame's extent reads one line only; if even that
  * overflows (cap smaller than one line's edges) the points found are kept.
  */
-cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
-                              size_t cap, size_t *n)
+static cdsp_status detect_full(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
+                               size_t cap, size_t *n)
 {
     int x0, y0, x1, y1, srow, scol, extent, rows_at = 0;
     size_t nr = 0, nc;
-    cdsp_status st, result = CDSP_OK;
-    if (!p || !out || !n)
-        return CDSP_E_ARG;
-    *n = 0;
-    st = cdsp_image_check(img);
-    if (st != CDSP_OK)
-        return st;
-    st = cdsp__edge_params_check(p);
-    if (st != CDSP_OK)
-        return st;
+    cdsp_status result = CDSP_OK;
     cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
     extent = img->width > img->height ? img->width : img->height;
     srow = scol = p->step;
@@ -414,14 +428,14 @@ cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, 
         /* a step may double while it stays within the frame (no overflow) */
         int can_r = srow <= extent / 2, can_c = scol <= extent / 2;
         if (rows_at != srow) /* rows already in out[0, nr) at this step are kept */
-            nr = scan_rows(img, p, srow, x0, y0, x1, y1, out, cap);
+            nr = scan_rows(img, p, first_line(y0, srow), srow, x0, x1, y1, out, cap);
         rows_at = srow;
         if (nr == cap && can_r) {
             srow *= 2;
             result = CDSP_E_CAPACITY;
             continue;
         }
-        nc = scan_cols(img, p, scol, x0, y0, x1, y1, out + nr, cap - nr);
+        nc = scan_cols_at(img, p, first_line(x0, scol), scol, y0, x1, y1, out + nr, cap - nr);
         if (nr + nc < cap)
             break;
         result = CDSP_E_CAPACITY;
@@ -434,4 +448,245 @@ cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, 
     }
     *n = nr + nc;
     return result;
+}
+
+/*
+ * The coarse pass (p->coarse = F >= 2; docs/method.md §2). The full
+ * search's scanlines are t_j = first + j*step; the coarse lines are those
+ * with j % F == 0, scanned exactly as the full search scans them, so their
+ * edges are full-search edges. Then only the bands around those edges are
+ * read at full resolution, with the full search's own scans on sub-ranges
+ * of its lines, so every edge reported is one the full search reports, in
+ * the full search's order. The bands: an edge owned by a family lies within
+ * 45 degrees of that family's scan normal (refine's ownership test), so a
+ * straight contour through an edge q on coarse line t_k stays within |t -
+ * t_k| px of q along the scan on line t. Each fine line between coarse
+ * lines k and k + 1 is therefore read around the edges of both, +- (that
+ * distance + BAND_MARGIN px); a coarse line itself is taken as it was
+ * scanned. For the columns, read in blocks of CHUNK columns whose order
+ * must be kept, a block reads the rows within F*step + BAND_MARGIN of the
+ * edges of every coarse column within F columns of it, all of its columns
+ * at once. The guarantee: every edge of the full search whose contour
+ * (straight, of that family) reaches a coarse line within F lines of it is
+ * reported - every edge of a contour spanning at least F*step px across
+ * its family's scanlines; tests/lib/test_edges_scan.c checks exactly that
+ * on its table of frames. What can be missed is a short contour lying
+ * wholly between two coarse lines; the frame path falls back to the full
+ * search when the band edges do not give it a pipe (lib/frame.c).
+ * The coarse edges are kept at the end of out while the bands are read
+ * into its start; if the two would meet, or the coarse pass overflows,
+ * the full search runs instead (its rule for a full buffer applies).
+ */
+#define BAND_MARGIN 2
+
+/* Backward element copy: dst > src, overlapping (no memmove in the lib). */
+static void move_up(cdsp_edge *dst, const cdsp_edge *src, size_t n)
+{
+    while (n--)
+        dst[n] = src[n];
+}
+
+/* Candidate range [lo, hi] of a band around coordinate c (+-d px) */
+static void band_of(cdsp_real c, int d, int *lo, int *hi)
+{
+    int ci = (int)R_FLOOR(c);
+    *lo = ci - d - BAND_MARGIN;
+    *hi = ci + 1 + d + BAND_MARGIN;
+}
+
+/* Fine rows in bands; coarse row edges in rc[0, nrc), sorted by row. */
+static size_t band_rows(const cdsp_image *img, const cdsp_edge_params *p, int F, int x0, int y0,
+                        int x1, int y1, const cdsp_edge *rc, size_t nrc, cdsp_edge *out, size_t cap,
+                        int *full)
+{
+    int h = p->half_window, step = p->step, t, j;
+    int from = x0 > h + 1 ? x0 : h + 1, to = x1 < img->width - h - 1 ? x1 : img->width - h - 1;
+    int first = first_line(y0, step), lim = y1 - 1 < img->height - 1 ? y1 - 1 : img->height - 1;
+    size_t n = 0, ia = 0, ib = 0, ic = 0; /* coarse row ka: [ia, ib), ka + 1: [ib, ic) */
+    int ka = -1;
+    for (j = 0, t = first; t < lim; j++, t += step) {
+        int k = j / F, ta = first + k * F * step, tb = ta + F * step;
+        size_t u, v;
+        int cur_lo = 0, cur_hi = -1;
+        if (k != ka) { /* advance the two coarse rows around t */
+            ia = k == ka + 1 ? ib : ia;
+            while (ia < nrc && rc[ia].y < (cdsp_real)ta)
+                ia++;
+            for (ib = ia; ib < nrc && rc[ib].y == (cdsp_real)ta; ib++)
+                ;
+            for (ic = ib; ic < nrc && rc[ic].y == (cdsp_real)tb; ic++)
+                ;
+            ka = k;
+        }
+        if (j % F == 0) { /* a coarse row: as it was scanned */
+            if (n + (ib - ia) > cap) {
+                *full = 1;
+                return n;
+            }
+            for (u = ia; u < ib; u++)
+                out[n++] = rc[u];
+            continue;
+        }
+        /* merge the bands of both coarse rows (each sorted along x) */
+        for (u = ia, v = ib; u < ib || v < ic;) {
+            int lo, hi;
+            if (v >= ic || (u < ib && rc[u].x - (cdsp_real)(t - ta) <= rc[v].x - (cdsp_real)(tb - t))) {
+                band_of(rc[u].x, t - ta, &lo, &hi);
+                u++;
+            } else {
+                band_of(rc[v].x, tb - t, &lo, &hi);
+                v++;
+            }
+            if (cur_hi >= cur_lo && lo <= cur_hi + 1) {
+                cur_hi = hi > cur_hi ? hi : cur_hi;
+                continue;
+            }
+            if (cur_hi >= cur_lo) {
+                int f = cur_lo - 1 < from ? from : cur_lo - 1, e = cur_hi + 2 > to ? to : cur_hi + 2;
+                n += cdsp__edges_scan_segment(img, p, 1, t, f, e, out + n, cap - n);
+                if (n == cap) {
+                    *full = 1;
+                    return n;
+                }
+            }
+            cur_lo = lo;
+            cur_hi = hi;
+        }
+        if (cur_hi >= cur_lo) {
+            int f = cur_lo - 1 < from ? from : cur_lo - 1, e = cur_hi + 2 > to ? to : cur_hi + 2;
+            n += cdsp__edges_scan_segment(img, p, 1, t, f, e, out + n, cap - n);
+            if (n == cap) {
+                *full = 1;
+                return n;
+            }
+        }
+    }
+    return n;
+}
+
+/* First index of cc[from, ncc) with x >= xv: the coarse columns' blocks
+ * come in x order, so the predicate is monotone. */
+static size_t first_at(const cdsp_edge *cc, size_t from, size_t ncc, cdsp_real xv)
+{
+    while (from < ncc && cc[from].x < xv)
+        from++;
+    return from;
+}
+
+/* Fine column blocks in bands. cc[0, ncc): the coarse columns' edges as
+ * scan_cols lists them (blocks of CHUNK coarse columns; row by row within
+ * a block), so each coarse block's edges of any x range come sorted by
+ * row. A fine block draws on coarse columns ka..kb (within F columns of
+ * its own), which lie in at most two coarse blocks: two sorted streams,
+ * merged by row. */
+static size_t band_cols(const cdsp_image *img, const cdsp_edge_params *p, int F, int x0, int y0,
+                        int x1, int y1, const cdsp_edge *cc, size_t ncc, cdsp_edge *out, size_t cap,
+                        int *full)
+{
+    int h = p->half_window, step = p->step, t, b, D = F * step;
+    int first = first_line(x0, step);
+    int last = (x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1);
+    int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
+    size_t n = 0, bstart = 0;
+    for (b = 0, t = first; t < last && from < to; b++, t += CHUNK * step) {
+        int ncols = (last - 1 - t) / step + 1, ka, kb, i, cur_lo = 0, cur_hi = -1;
+        size_t cur[2], end[2];
+        cdsp_real xa, xb;
+        if (ncols > CHUNK)
+            ncols = CHUNK;
+        ka = (b * CHUNK) / F;
+        kb = (b * CHUNK + ncols - 1) / F + 1;
+        xa = (cdsp_real)(first + ka * D);
+        xb = (cdsp_real)(first + kb * D);
+        /* the coarse blocks holding columns ka and kb */
+        for (i = 0; i < 2; i++) {
+            int B = (i == 0 ? ka : kb) / CHUNK;
+            size_t s0 = first_at(cc, i == 0 ? bstart : cur[0], ncc, (cdsp_real)(first + B * CHUNK * D));
+            if (i == 0)
+                bstart = s0;
+            cur[i] = s0;
+            end[i] = first_at(cc, s0, ncc, (cdsp_real)(first + (B + 1) * CHUNK * D));
+            if (i == 1 && B == ka / CHUNK)
+                cur[1] = end[1] = 0; /* one coarse block only */
+        }
+        /* merge by row the edges with x in [xa, xb]; bands +-D around each */
+        for (;;) {
+            int best = -1, lo = 0, hi = -1;
+            for (i = 0; i < 2; i++) {
+                while (cur[i] < end[i] && (cc[cur[i]].x < xa || cc[cur[i]].x > xb))
+                    cur[i]++;
+                if (cur[i] < end[i] && (best < 0 || cc[cur[i]].y < cc[cur[best]].y))
+                    best = i;
+            }
+            if (best >= 0) {
+                band_of(cc[cur[best]].y, D, &lo, &hi);
+                cur[best]++;
+                if (cur_hi >= cur_lo && lo <= cur_hi + 1) {
+                    cur_hi = hi > cur_hi ? hi : cur_hi;
+                    continue;
+                }
+            }
+            if (cur_hi >= cur_lo) {
+                /* candidate rows [cur_lo, cur_hi]; scan_cols_block takes
+                 * candidates in [f, e - 1) */
+                int f = cur_lo < from ? from : cur_lo, e = cur_hi + 2 > to ? to : cur_hi + 2;
+                if (f < e) {
+                    n += scan_cols_block(img, p, step, t, ncols, f, e, out + n, cap - n);
+                    if (n == cap) {
+                        *full = 1;
+                        return n;
+                    }
+                }
+            }
+            if (best < 0)
+                break;
+            cur_lo = lo;
+            cur_hi = hi;
+        }
+    }
+    return n;
+}
+
+static cdsp_status detect_coarse(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
+                                 size_t cap, size_t *n)
+{
+    int x0, y0, x1, y1, F = p->coarse, step = p->step, full = 0;
+    size_t nrc, ncc = 0, nr, nc;
+    cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
+    /* coarse rows: every F-th row of the full search's, into out[0, nrc) */
+    nrc = scan_rows(img, p, first_line(y0, step), F * step, x0, x1, y1, out, cap / 2);
+    /* coarse columns: every F-th of the full search's, after them */
+    if (nrc < cap / 2)
+        ncc = scan_cols_at(img, p, first_line(x0, step), F * step, y0, x1, y1, out + nrc,
+                           cap / 2 - nrc);
+    if (nrc + ncc >= cap / 2)
+        return detect_full(img, p, out, cap, n);
+    /* the coarse edges to the end of out; the bands into its start */
+    move_up(out + cap - (nrc + ncc), out, nrc + ncc);
+    {
+        const cdsp_edge *rc = out + cap - (nrc + ncc), *cc = rc + nrc;
+        size_t room = cap - (nrc + ncc);
+        nr = band_rows(img, p, F, x0, y0, x1, y1, rc, nrc, out, room, &full);
+        nc = full ? 0 : band_cols(img, p, F, x0, y0, x1, y1, cc, ncc, out + nr, room - nr, &full);
+    }
+    if (full || nr + nc >= cap - (nrc + ncc))
+        return detect_full(img, p, out, cap, n);
+    *n = nr + nc;
+    return CDSP_OK;
+}
+
+cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
+                              size_t cap, size_t *n)
+{
+    cdsp_status st;
+    if (!p || !out || !n)
+        return CDSP_E_ARG;
+    *n = 0;
+    st = cdsp_image_check(img);
+    if (st != CDSP_OK)
+        return st;
+    st = cdsp__edge_params_check(p);
+    if (st != CDSP_OK)
+        return st;
+    return p->coarse >= 2 ? detect_coarse(img, p, out, cap, n) : detect_full(img, p, out, cap, n);
 }

@@ -258,12 +258,25 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
         frame_noise(img, &sigma, &range);
         frame_edge_params(img, p, sigma, range, &edge, &min_step);
     }
-    st = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &n);
-    if (st == CDSP_E_CAPACITY)
-        flags |= CDSP_FLAG_TRUNCATED;
-    else if (st != CDSP_OK)
-        return st;
-    st = solve_edges(img, cam, radius, ws, n, p, min_step, prior, rng, out);
+    for (;;) {
+        st = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &n);
+        if (st == CDSP_E_CAPACITY)
+            flags |= CDSP_FLAG_TRUNCATED;
+        else if (st != CDSP_OK)
+            return st;
+        st = solve_edges(img, cam, radius, ws, n, p, min_step, prior, rng, out);
+        /* The coarse pass (docs/method.md §2) reads only the bands around
+         * what its coarse lines saw; when those edges give no pipe, or one
+         * as thinly supported as a failed track, the whole frame is read:
+         * a pipe the full search would find is never lost to the bands. */
+        if (edge.coarse >= 2 && (st != CDSP_OK || out->inliers[0] < (uint32_t)p->track_min_inliers ||
+                                 out->inliers[1] < (uint32_t)p->track_min_inliers)) {
+            edge.coarse = 0;
+            flags &= ~CDSP_FLAG_TRUNCATED;
+            continue;
+        }
+        break;
+    }
     if (st != CDSP_OK)
         return st;
     out->flags |= flags;

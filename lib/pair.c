@@ -643,6 +643,7 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cd
 void cdsp_params_default(cdsp_params *p)
 {
     cdsp_edge_params_default(&p->edge);
+    p->edge.coarse = 8; /* the frame path's full search: coarse pass (issue 17) */
     cdsp_pair_params_default(&p->pair);
     p->track_band_px = R(12);
     p->track_min_inliers = 30;

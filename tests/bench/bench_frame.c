@@ -17,9 +17,12 @@
  *     says what it says, on this machine), and of the bytes read;
  *   - the ratio of the achieved time to that limit (time / (bytes read /
  *     bandwidth)).
- * Modes for profiling: `bench_frame DIR full N` / `track N` runs only that
- * path N times per frame (for valgrind --tool=callgrind
- * --toggle-collect=cdsp_frame_solve).
+ * Modes for counting instructions: `bench_frame DIR full|track|load REPS
+ * [FRAMES]` runs only that path REPS times on each of the first FRAMES
+ * frames (track: after one full search per frame, for its prior; load:
+ * nothing, the baseline of reading the frames), for valgrind
+ * --tool=callgrind --toggle-collect=cdsp_frame_solve here and
+ * tests/aarch64/count.sh under qemu-aarch64.
  * Figures, not pass/fail; the machine is shared: compare within one run.
  */
 #define _DEFAULT_SOURCE /* MAP_ANONYMOUS */
@@ -198,6 +201,7 @@ int main(int argc, char **argv)
     const char *dir = argc > 1 ? argv[1] : ".";
     const char *mode = argc > 2 ? argv[2] : "time";
     int reps = argc > 3 ? atoi(argv[3]) : 9;
+    int nuse = argc > 4 ? atoi(argv[4]) : NFRAMES;
     cdsp_camera cam;
     cdsp_params prm;
     cdsp_rng rng;
@@ -205,25 +209,28 @@ int main(int argc, char **argv)
     unsigned char *frames = malloc((size_t)W * H * NFRAMES);
     double tf[NFRAMES * 64], tt[NFRAMES * 64];
     int i, k, nf = 0, nt = 0, ok[NFRAMES];
-    if (!frames || reps < 1 || reps > 64) {
-        fprintf(stderr, "usage: bench_frame DIR [time|full|track] [REPS 1..64]\n");
+    if (!frames || reps < 1 || reps > 64 || nuse < 1 || nuse > NFRAMES) {
+        fprintf(stderr, "usage: bench_frame DIR [time|full|track|load] [REPS 1..64] [FRAMES 1..%d]\n",
+                NFRAMES);
         return 2;
     }
     sup_paper_camera(&cam, 0, 0);
     cdsp_params_default(&prm);
     if (load_frames(&cam, dir, frames) != 0)
         return 1;
+    if (strcmp(mode, "load") == 0)
+        return 0;
     cdsp_rng_seed(&rng, 1, 1);
     /* priors: the full search on each frame (outside any timing; not in
      * mode full, so that callgrind's count there is full searches only) */
-    for (i = 0; i < NFRAMES; i++) {
+    for (i = 0; i < nuse; i++) {
         ok[i] = 0;
         if (strcmp(mode, "full") == 0)
             continue;
         cdsp_image img = {frames + (size_t)i * W * H, W, H, W, 8};
         ok[i] = cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &prior[i]) == CDSP_OK;
     }
-    for (i = 0; i < NFRAMES; i++) {
+    for (i = 0; i < nuse; i++) {
         cdsp_image img = {frames + (size_t)i * W * H, W, H, W, 8};
         for (k = 0; k < reps; k++) {
             cdsp_result r;
@@ -252,7 +259,7 @@ int main(int argc, char **argv)
         double mf = median(tf, nf), mt = median(tt, nt);
         double limf = (double)bf / bw * 1e3, limt = (double)bt / bw * 1e3;
         printf("frame path, %d x %d 8 bit, %d frames x %d runs, one core (issue 17)\n", W, H,
-               NFRAMES, reps);
+               nuse, reps);
         printf("| %-28s | %-10s | %-22s | %-12s | %-8s |\n", "path", "time", "frame bytes read",
                "memory limit", "ratio");
         printf("|%s|%s|%s|%s|%s|\n", "------------------------------", "------------",
