@@ -249,6 +249,30 @@ void cdsp_edge_params_default(cdsp_edge_params *p);
 cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p,
                               cdsp_edge *out, size_t cap, size_t *n);
 
+/*
+ * The full search in strips, for callers that spread one frame over several
+ * cores (the library itself starts no thread). Strip k (0 <= k < n <=
+ * CDSP_EDGE_MAX_STRIPS) reads its share of the rows and of the column
+ * blocks (with the coarse pass, the coarse lines around them too) and
+ * writes its row edges to out[0, *n_rows) and its column edges after them
+ * (*n_cols); strips are independent (any order, any thread; out is the
+ * caller's, one per strip). cdsp_edges_merge_strips then lists every
+ * strip's rows and then every strip's columns, in strip order: exactly
+ * cdsp_edges_detect's result for the same image and parameters, bit for
+ * bit, whenever the merge returns CDSP_OK. Either returns CDSP_E_CAPACITY
+ * when the edges may not fit (a strip in its cap; the merge: cap edges or
+ * more, or cap / 2 with p->coarse >= 2, whose coarse lines share the
+ * whole-frame buffer): then call cdsp_edges_detect, whose rule for a full
+ * buffer (coarsening a family) needs the whole frame. Other returns:
+ * CDSP_OK, CDSP_E_ARG, CDSP_E_FORMAT.
+ */
+#define CDSP_EDGE_MAX_STRIPS 64
+cdsp_status cdsp_edges_detect_strip(const cdsp_image *img, const cdsp_edge_params *p, int k, int n,
+                                    cdsp_edge *out, size_t cap, size_t *n_rows, size_t *n_cols);
+cdsp_status cdsp_edges_merge_strips(const cdsp_edge_params *p, const cdsp_edge *const *strip,
+                                    const size_t *n_rows, const size_t *n_cols, int n,
+                                    cdsp_edge *out, size_t cap, size_t *count);
+
 /* In place: distorted -> undistorted positions; gradients are carried
  * through the local Jacobian (normals map by J^T) keeping their length.
  * Points that do not converge are removed (the array is compacted and *n
@@ -612,6 +636,22 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam,
                              cdsp_real radius, const cdsp_params *p,
                              const cdsp_result *prior, cdsp_frame_ws *ws,
                              cdsp_rng *rng, cdsp_result *out);
+
+/*
+ * cdsp_frame_solve with the full search's edges detected by detect(ctx,
+ * ...) instead of cdsp_edges_detect (same arguments, contract and result:
+ * e.g. cdsp_edges_detect_strip on the caller's threads, then
+ * cdsp_edges_merge_strips, and cdsp_edges_detect itself when the merge
+ * returns CDSP_E_CAPACITY: the result is then that of cdsp_frame_solve, bit
+ * for bit). detect NULL: cdsp_edges_detect. Tracking bands are read as in
+ * cdsp_frame_solve.
+ */
+typedef cdsp_status (*cdsp_edges_fn)(void *ctx, const cdsp_image *img, const cdsp_edge_params *p,
+                                     cdsp_edge *out, size_t cap, size_t *n);
+cdsp_status cdsp_frame_solve_with(const cdsp_image *img, const cdsp_camera *cam,
+                                  cdsp_real radius, const cdsp_params *p,
+                                  const cdsp_result *prior, cdsp_frame_ws *ws, cdsp_rng *rng,
+                                  cdsp_edges_fn detect, void *ctx, cdsp_result *out);
 
 /* Distance from a 3D point to the axis of a result (radius units). */
 cdsp_real cdsp_result_point_distance(const cdsp_result *r, const cdsp_real X[3]);

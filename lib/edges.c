@@ -494,17 +494,18 @@ static void band_of(cdsp_real c, int d, int *lo, int *hi)
     *hi = ci + 1 + d + BAND_MARGIN;
 }
 
-/* Fine rows in bands; coarse row edges in rc[0, nrc), sorted by row. */
-static size_t band_rows(const cdsp_image *img, const cdsp_edge_params *p, int F, int x0, int y0,
-                        int x1, int y1, const cdsp_edge *rc, size_t nrc, cdsp_edge *out, size_t cap,
-                        int *full)
+/* Fine rows j in [j0, j1) in bands; coarse row edges in rc[0, nrc),
+ * sorted by row (those of the coarse rows j0/F .. (j1-1)/F + 1 at least). */
+static size_t band_rows(const cdsp_image *img, const cdsp_edge_params *p, int F, int j0, int j1, int x0,
+                        int y0, int x1, int y1, const cdsp_edge *rc, size_t nrc, cdsp_edge *out,
+                        size_t cap, int *full)
 {
     int h = p->half_window, step = p->step, t, j;
     int from = x0 > h + 1 ? x0 : h + 1, to = x1 < img->width - h - 1 ? x1 : img->width - h - 1;
     int first = first_line(y0, step), lim = y1 - 1 < img->height - 1 ? y1 - 1 : img->height - 1;
     size_t n = 0, ia = 0, ib = 0, ic = 0; /* coarse row ka: [ia, ib), ka + 1: [ib, ic) */
-    int ka = -1;
-    for (j = 0, t = first; t < lim; j++, t += step) {
+    int ka = -2;
+    for (j = j0, t = first + j0 * step; t < lim && j < j1; j++, t += step) {
         int k = j / F, ta = first + k * F * step, tb = ta + F * step;
         size_t u, v;
         int cur_lo = 0, cur_hi = -1;
@@ -579,16 +580,16 @@ static size_t first_at(const cdsp_edge *cc, size_t from, size_t ncc, cdsp_real x
  * row. A fine block draws on coarse columns ka..kb (within F columns of
  * its own), which lie in at most two coarse blocks: two sorted streams,
  * merged by row. */
-static size_t band_cols(const cdsp_image *img, const cdsp_edge_params *p, int F, int x0, int y0,
-                        int x1, int y1, const cdsp_edge *cc, size_t ncc, cdsp_edge *out, size_t cap,
-                        int *full)
+static size_t band_cols(const cdsp_image *img, const cdsp_edge_params *p, int F, int b0, int b1, int c0,
+                        int x0, int y0, int x1, int y1, const cdsp_edge *cc, size_t ncc,
+                        cdsp_edge *out, size_t cap, int *full)
 {
     int h = p->half_window, step = p->step, t, b, D = F * step;
     int first = first_line(x0, step);
     int last = (x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1);
     int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
     size_t n = 0, bstart = 0;
-    for (b = 0, t = first; t < last && from < to; b++, t += CHUNK * step) {
+    for (b = b0, t = first + b0 * CHUNK * step; t < last && from < to && b < b1; b++, t += CHUNK * step) {
         int ncols = (last - 1 - t) / step + 1, ka, kb, i, cur_lo = 0, cur_hi = -1;
         size_t cur[2], end[2];
         cdsp_real xa, xb;
@@ -598,15 +599,17 @@ static size_t band_cols(const cdsp_image *img, const cdsp_edge_params *p, int F,
         kb = (b * CHUNK + ncols - 1) / F + 1;
         xa = (cdsp_real)(first + ka * D);
         xb = (cdsp_real)(first + kb * D);
-        /* the coarse blocks holding columns ka and kb */
+        /* the coarse blocks holding columns ka and kb (cc's blocks start
+         * at coarse column c0 <= ka) */
         for (i = 0; i < 2; i++) {
-            int B = (i == 0 ? ka : kb) / CHUNK;
-            size_t s0 = first_at(cc, i == 0 ? bstart : cur[0], ncc, (cdsp_real)(first + B * CHUNK * D));
+            int B = ((i == 0 ? ka : kb) - c0) / CHUNK;
+            size_t s0 = first_at(cc, i == 0 ? bstart : cur[0], ncc,
+                                 (cdsp_real)(first + (c0 + B * CHUNK) * D));
             if (i == 0)
                 bstart = s0;
             cur[i] = s0;
-            end[i] = first_at(cc, s0, ncc, (cdsp_real)(first + (B + 1) * CHUNK * D));
-            if (i == 1 && B == ka / CHUNK)
+            end[i] = first_at(cc, s0, ncc, (cdsp_real)(first + (c0 + (B + 1) * CHUNK) * D));
+            if (i == 1 && B == (ka - c0) / CHUNK)
                 cur[1] = end[1] = 0; /* one coarse block only */
         }
         /* merge by row the edges with x in [xa, xb]; bands +-D around each */
@@ -647,31 +650,151 @@ static size_t band_cols(const cdsp_image *img, const cdsp_edge_params *p, int F,
     return n;
 }
 
-static cdsp_status detect_coarse(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
-                                 size_t cap, size_t *n)
+/* The number of the full search's rows (jn) and column blocks (bn). */
+static void family_extents(const cdsp_image *img, const cdsp_edge_params *p, int x0, int y0, int x1,
+                           int y1, int *jn, int *bn)
 {
-    int x0, y0, x1, y1, F = p->coarse, step = p->step, full = 0;
-    size_t nrc, ncc = 0, nr, nc;
+    int h = p->half_window, step = p->step;
+    int fr = first_line(y0, step), lim = y1 - 1 < img->height - 1 ? y1 - 1 : img->height - 1;
+    int fc = first_line(x0, step), last = x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1;
+    int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
+    *jn = lim > fr ? (lim - fr + step - 1) / step : 0;
+    *bn = last > fc && from < to ? ((last - fc + step - 1) / step + CHUNK - 1) / CHUNK : 0;
+}
+
+/*
+ * The full search (p->coarse < 2) or the coarse pass over the rows j in
+ * [j0, j1) and the column blocks b in [b0, b1) of the full search: rows'
+ * edges to out[0, *nr), the columns' after them (*nc). CDSP_E_CAPACITY
+ * when they do not fit in cap (nothing is coarsened here).
+ */
+static cdsp_status detect_range(const cdsp_image *img, const cdsp_edge_params *p, int j0, int j1, int b0,
+                                int b1, cdsp_edge *out, size_t cap, size_t *nr, size_t *nc)
+{
+    int x0, y0, x1, y1, F = p->coarse, step = p->step, full = 0, fr, fc;
+    size_t nrc = 0, ncc = 0;
     cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
-    /* coarse rows: every F-th row of the full search's, into out[0, nrc) */
-    nrc = scan_rows(img, p, first_line(y0, step), F * step, x0, x1, y1, out, cap / 2);
-    /* coarse columns: every F-th of the full search's, after them */
-    if (nrc < cap / 2)
-        ncc = scan_cols_at(img, p, first_line(x0, step), F * step, y0, x1, y1, out + nrc,
+    fr = first_line(y0, step);
+    fc = first_line(x0, step);
+    *nr = *nc = 0;
+    if (F < 2) {
+        /* rows fr + j*step, j < j1: scan_rows stops below y1' - 1 */
+        *nr = j1 > j0 ? scan_rows(img, p, fr + j0 * step, step, x0, x1,
+                                  y1 < fr + (j1 - 1) * step + 2 ? y1 : fr + (j1 - 1) * step + 2, out, cap)
+                      : 0;
+        if (*nr == cap)
+            return CDSP_E_CAPACITY;
+        /* column blocks: scan_cols_at stops before column x1' - 1 */
+        if (b1 > b0) {
+            int xe = fc + b1 * CHUNK * step + 1;
+            *nc = scan_cols_at(img, p, fc + b0 * CHUNK * step, step, y0, x1 < xe ? x1 : xe, y1, out + *nr,
+                               cap - *nr);
+        }
+        return *nr + *nc == cap ? CDSP_E_CAPACITY : CDSP_OK;
+    }
+    /* coarse rows (every F-th) around [j0, j1), coarse columns around the
+     * blocks, into out[0, nrc + ncc) */
+    if (j1 > j0) {
+        int ka = j0 / F, kb = (j1 - 1) / F + 1;
+        nrc = scan_rows(img, p, fr + ka * F * step, F * step, x0, x1,
+                        y1 < fr + kb * F * step + 2 ? y1 : fr + kb * F * step + 2, out, cap / 2);
+    }
+    if (b1 > b0 && nrc < cap / 2) {
+        /* coarse columns c0 .. ce inclusive: scan_cols_at's last is xe - 1 */
+        int c0 = (b0 * CHUNK) / F, ce = ((b1 * CHUNK - 1) / F + 1), xe = fc + ce * F * step + 2;
+        ncc = scan_cols_at(img, p, fc + c0 * F * step, F * step, y0, x1 < xe ? x1 : xe, y1, out + nrc,
                            cap / 2 - nrc);
+    }
     if (nrc + ncc >= cap / 2)
-        return detect_full(img, p, out, cap, n);
+        return CDSP_E_CAPACITY;
     /* the coarse edges to the end of out; the bands into its start */
     move_up(out + cap - (nrc + ncc), out, nrc + ncc);
     {
         const cdsp_edge *rc = out + cap - (nrc + ncc), *cc = rc + nrc;
         size_t room = cap - (nrc + ncc);
-        nr = band_rows(img, p, F, x0, y0, x1, y1, rc, nrc, out, room, &full);
-        nc = full ? 0 : band_cols(img, p, F, x0, y0, x1, y1, cc, ncc, out + nr, room - nr, &full);
+        *nr = band_rows(img, p, F, j0, j1, x0, y0, x1, y1, rc, nrc, out, room, &full);
+        *nc = full ? 0
+                   : band_cols(img, p, F, b0, b1, (b0 * CHUNK) / F, x0, y0, x1, y1, cc, ncc, out + *nr,
+                               room - *nr, &full);
+        if (full || *nr + *nc >= room)
+            return CDSP_E_CAPACITY;
     }
-    if (full || nr + nc >= cap - (nrc + ncc))
+    return CDSP_OK;
+}
+
+static cdsp_status detect_coarse(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
+                                 size_t cap, size_t *n)
+{
+    int x0, y0, x1, y1, jn, bn;
+    size_t nr, nc;
+    cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
+    family_extents(img, p, x0, y0, x1, y1, &jn, &bn);
+    if (detect_range(img, p, 0, jn, 0, bn, out, cap, &nr, &nc) != CDSP_OK)
         return detect_full(img, p, out, cap, n);
     *n = nr + nc;
+    return CDSP_OK;
+}
+
+/*
+ * Strips (docs/method.md §2): strip k of n is the full search's (or the
+ * coarse pass's) rows j in [jn k / n, jn (k+1) / n) and column blocks in
+ * [bn k / n, bn (k+1) / n); rows, then columns, in the full search's order
+ * within each. Every strip's rows before every strip's columns, in strip
+ * order, is therefore cdsp_edges_detect's list, bit for bit, whenever that
+ * fits (cdsp_edges_merge_strips).
+ */
+cdsp_status cdsp_edges_detect_strip(const cdsp_image *img, const cdsp_edge_params *p, int k, int n,
+                                    cdsp_edge *out, size_t cap, size_t *n_rows, size_t *n_cols)
+{
+    int x0, y0, x1, y1, jn, bn;
+    cdsp_status st;
+    if (!p || !out || !n_rows || !n_cols)
+        return CDSP_E_ARG;
+    *n_rows = *n_cols = 0;
+    if (n < 1 || n > CDSP_EDGE_MAX_STRIPS || k < 0 || k >= n)
+        return CDSP_E_ARG;
+    st = cdsp_image_check(img);
+    if (st != CDSP_OK)
+        return st;
+    st = cdsp__edge_params_check(p);
+    if (st != CDSP_OK)
+        return st;
+    cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
+    family_extents(img, p, x0, y0, x1, y1, &jn, &bn);
+    /* 64-bit products: jn * k stays exact for any int extents */
+    return detect_range(img, p, (int)((int64_t)jn * k / n), (int)((int64_t)jn * (k + 1) / n),
+                        (int)((int64_t)bn * k / n), (int)((int64_t)bn * (k + 1) / n), out, cap, n_rows,
+                        n_cols);
+}
+
+/* The merge fits when cdsp_edges_detect's own list surely fits: fewer
+ * than cap edges, or with the coarse pass fewer than cap / 2 (there the
+ * coarse lines' edges, each also in the result, share the buffer: with
+ * fewer than cap / 2 results both fit; above, the caller's fallback to
+ * cdsp_edges_detect gives the same list anyway). */
+cdsp_status cdsp_edges_merge_strips(const cdsp_edge_params *p, const cdsp_edge *const *strip,
+                                    const size_t *n_rows, const size_t *n_cols, int n, cdsp_edge *out,
+                                    size_t cap, size_t *count)
+{
+    int k, f;
+    size_t m = 0, i;
+    if (!p || !strip || !n_rows || !n_cols || !out || !count || n < 1 || n > CDSP_EDGE_MAX_STRIPS)
+        return CDSP_E_ARG;
+    *count = 0;
+    if (p->coarse >= 2)
+        cap /= 2;
+    for (f = 0; f < 2; f++)
+        for (k = 0; k < n; k++) {
+            size_t c = f == 0 ? n_rows[k] : n_cols[k];
+            const cdsp_edge *src = strip[k] + (f == 0 ? 0 : n_rows[k]);
+            if (!strip[k] && c)
+                return CDSP_E_ARG;
+            if (c >= cap - m) /* the whole frame's list would not fit either */
+                return CDSP_E_CAPACITY;
+            for (i = 0; i < c; i++)
+                out[m++] = src[i];
+        }
+    *count = m;
     return CDSP_OK;
 }
 

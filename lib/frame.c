@@ -205,6 +205,13 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
                              const cdsp_params *p, const cdsp_result *prior, cdsp_frame_ws *ws,
                              cdsp_rng *rng, cdsp_result *out)
 {
+    return cdsp_frame_solve_with(img, cam, radius, p, prior, ws, rng, NULL, NULL, out);
+}
+
+cdsp_status cdsp_frame_solve_with(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                                  const cdsp_params *p, const cdsp_result *prior, cdsp_frame_ws *ws,
+                                  cdsp_rng *rng, cdsp_edges_fn detect, void *ctx, cdsp_result *out)
+{
     cdsp_status st;
     size_t n = 0;
     uint32_t flags = CDSP_FLAG_FULL_SEARCH;
@@ -259,7 +266,8 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
         frame_edge_params(img, p, sigma, range, &edge, &min_step);
     }
     for (;;) {
-        st = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &n);
+        st = detect ? detect(ctx, img, &edge, ws->edge, CDSP_MAX_EDGES, &n)
+                    : cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &n);
         if (st == CDSP_E_CAPACITY)
             flags |= CDSP_FLAG_TRUNCATED;
         else if (st != CDSP_OK)

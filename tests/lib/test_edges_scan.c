@@ -361,6 +361,126 @@ static void test_coarse_guarantee(void **state)
     assert_true(guaranteed > 1000 && missed_allowed > 100);
 }
 
+/* Strips: every strip's rows, then every strip's columns, in strip order
+ * (cdsp_edges_merge_strips) are cdsp_edges_detect's list bit for bit, for
+ * 1..7 strips, with and without the coarse pass, on the table of frames;
+ * when the frame's edges do not fit, the merge says so. */
+static cdsp_edge strip_buf[7][CAP];
+
+static void test_strips_merge(void **state)
+{
+    size_t fi, pi;
+    int coarse, nstrips, merged = 0, capped = 0;
+    (void)state;
+    for (fi = 0; fi < sizeof frames / sizeof frames[0]; fi++) {
+        cdsp_image img;
+        void *buf = make_frame(&frames[fi], &img);
+        for (pi = 0; pi < sizeof params / sizeof params[0]; pi++)
+            for (coarse = 0; coarse <= 8; coarse += 8)
+                for (nstrips = 1; nstrips <= 7; nstrips += 2) {
+                    cdsp_edge_params ep;
+                    const cdsp_edge *sp[7];
+                    size_t nr[7], nc[7], ng, nw;
+                    cdsp_status sw, sm = CDSP_OK;
+                    int k;
+                    cdsp_edge_params_default(&ep);
+                    ep.step = params[pi].step;
+                    ep.half_window = params[pi].half_window;
+                    ep.min_contrast = (cdsp_real)params[pi].min_contrast;
+                    ep.roi = params[pi].roi;
+                    ep.coarse = coarse;
+                    sw = cdsp_edges_detect(&img, &ep, want, params[pi].cap, &nw);
+                    for (k = 0; k < nstrips && sm == CDSP_OK; k++) {
+                        sm = cdsp_edges_detect_strip(&img, &ep, k, nstrips, strip_buf[k], CAP, &nr[k], &nc[k]);
+                        sp[k] = strip_buf[k];
+                    }
+                    if (sm == CDSP_OK)
+                        sm = cdsp_edges_merge_strips(&ep, sp, nr, nc, nstrips, got, params[pi].cap, &ng);
+                    if (sm == CDSP_OK) {
+                        /* a merge that fits is the whole frame's list */
+                        if (sw != CDSP_OK || ng != nw || memcmp(got, want, nw * sizeof got[0]) != 0)
+                            fail_msg("%s, params %zu, coarse %d, %d strips: %zu edges, whole frame %d / %zu",
+                                     frames[fi].name, pi, coarse, nstrips, ng, (int)sw, nw);
+                        merged++;
+                    } else {
+                        /* the caller then runs cdsp_edges_detect: only capacity may stop a merge */
+                        assert_int_equal(sm, CDSP_E_CAPACITY);
+                        capped++;
+                    }
+                }
+        free(buf);
+    }
+    assert_true(merged > 200 && capped > 10);
+}
+
+/* cdsp_frame_solve_with and a detect that runs strips (in turn here; the
+ * daemon runs them on threads) and merges them, falling back to
+ * cdsp_edges_detect when the merge does not fit: the result is
+ * cdsp_frame_solve's, every byte of it, full search and tracked. */
+typedef struct {
+    int nstrips, calls, merges;
+} strip_ctx;
+
+static cdsp_status detect_in_strips(void *ctx, const cdsp_image *img, const cdsp_edge_params *p,
+                                    cdsp_edge *out, size_t cap, size_t *n)
+{
+    strip_ctx *c = ctx;
+    const cdsp_edge *sp[7];
+    size_t nr[7], nc[7];
+    int k;
+    c->calls++;
+    for (k = 0; k < c->nstrips; k++) {
+        if (cdsp_edges_detect_strip(img, p, k, c->nstrips, strip_buf[k], CAP, &nr[k], &nc[k]) != CDSP_OK)
+            return cdsp_edges_detect(img, p, out, cap, n);
+        sp[k] = strip_buf[k];
+    }
+    if (cdsp_edges_merge_strips(p, sp, nr, nc, c->nstrips, out, cap, n) != CDSP_OK)
+        return cdsp_edges_detect(img, p, out, cap, n);
+    c->merges++;
+    return CDSP_OK;
+}
+
+static void test_frame_solve_strips(void **state)
+{
+    static cdsp_frame_ws ws;
+    static const size_t which[] = {0, 1, 3, 4};
+    size_t w;
+    (void)state;
+    for (w = 0; w < sizeof which / sizeof which[0]; w++) {
+        const frame_spec *f = &frames[which[w]];
+        cdsp_camera cam;
+        cdsp_image img;
+        cdsp_params prm;
+        cdsp_result a, b, pa, pb;
+        cdsp_rng ra, rb;
+        cdsp_status sa, sb;
+        strip_ctx ctx = {3, 0, 0};
+        void *buf = make_frame(f, &img);
+        int track;
+        memset(&a, 0, sizeof a);
+        memset(&b, 0, sizeof b);
+        sup_camera(&cam, f->w, f->h, 800, f->k1, 0);
+        cdsp_params_default(&prm);
+        for (track = 0; track < 2; track++) {
+            pa = a; /* the previous round's results: the priors when tracking */
+            pb = b;
+            memset(&a, 0, sizeof a);
+            memset(&b, 0, sizeof b);
+            cdsp_rng_seed(&ra, 3, 3);
+            cdsp_rng_seed(&rb, 3, 3);
+            sa = cdsp_frame_solve(&img, &cam, 8, &prm, track ? &pa : NULL, &ws, &ra, &a);
+            sb = cdsp_frame_solve_with(&img, &cam, 8, &prm, track ? &pb : NULL, &ws, &rb, detect_in_strips,
+                                       &ctx, &b);
+            assert_int_equal(sa, sb);
+            assert_memory_equal(&a, &b, sizeof a);
+            if (!track)
+                assert_int_equal(sa, CDSP_OK); /* a pipe in view: the solve is exercised */
+        }
+        assert_true(ctx.merges >= 1);
+        free(buf);
+    }
+}
+
 /* The candidate test alone: the portable and the built (SIMD where the
  * target has it) forms agree with the definition on every length 0..300
  * (vector bodies and tails), offset and threshold, on runs whose central
@@ -437,6 +557,8 @@ int main(void)
         cmocka_unit_test(test_scan_equals_reference),
         cmocka_unit_test(test_peaks_forms),
         cmocka_unit_test(test_coarse_guarantee),
+        cmocka_unit_test(test_strips_merge),
+        cmocka_unit_test(test_frame_solve_strips),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
