@@ -65,6 +65,7 @@ typedef struct {
     double min_confidence; /* solver.min_confidence (issue 10) */
     int roi[4];
     uint64_t seed;
+    int threads;           /* solver.threads (issue 17): cores per frame */
 
     /* net */
     int ttl;

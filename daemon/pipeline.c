@@ -20,6 +20,7 @@
 #include "sender.h"
 #include "sim_path.h"
 #include "source.h"
+#include "strips.h"
 
 /* The capture thread's longest wait inside the source, ms: how quickly it
  * notices a stop. */
@@ -36,6 +37,7 @@ struct cdspd_pipeline {
     cdspd_mount mount;
     cdspd_recorder rec;
     cdsp_frame_ws *ws;
+    cdspd_strips *strips;      /* solver.threads > 1: the full search in strips */
     cdsp_params params;
     int must_open;
 
@@ -324,8 +326,9 @@ static void *proc_main(void *arg)
             img.stride = f->stride;
             img.bits = f->bits;
             t0 = cdspd_now_us();
-            st = cdsp_frame_solve(&img, &c->cam, (cdsp_real)c->radius, &p->params,
-                                  have_prev ? &prev : NULL, p->ws, &rng, &res);
+            st = cdsp_frame_solve_with(&img, &c->cam, (cdsp_real)c->radius, &p->params,
+                                       have_prev ? &prev : NULL, p->ws, &rng,
+                                       p->strips ? cdspd_strips_detect : NULL, p->strips, &res);
             t1 = cdspd_now_us();
             rec.status = st;
             rec.proc_us = (uint32_t)(t1 - t0);
@@ -395,6 +398,8 @@ int cdspd_pipeline_start(cdspd_pipeline **out, const cdspd_config *cfg, cdspd_st
         snprintf(err, errlen, "out of memory for the frame buffers (3 x %zu bytes)", bytes);
         goto fail;
     }
+    if (p->cfg.threads > 1 && cdspd_strips_start(&p->strips, p->cfg.threads, err, errlen))
+        goto fail;
     cdspd_pool_set_lossless(&p->pool, p->src->replay);
     if (cdspd_sender_open(&p->sender, &p->cfg, err, errlen))
         goto fail;
@@ -427,6 +432,7 @@ fail_rec:
     cdspd_pipeline_stop(p);
     return 1;
 fail:
+    cdspd_strips_stop(p->strips);
     cdspd_pool_destroy(&p->pool);
     free(p->ws);
     cdspd_source_free(p->src);
@@ -477,6 +483,7 @@ void cdspd_pipeline_stop(cdspd_pipeline *p)
     cdspd_mavout_stop(p->mav);
     cdspd_sender_close(&p->sender);
     cdspd_source_free(p->src);
+    cdspd_strips_stop(p->strips);
     cdspd_pool_destroy(&p->pool);
     free(p->ws);
     pthread_mutex_destroy(&p->mu);
