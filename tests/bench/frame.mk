@@ -23,3 +23,16 @@ $(BUILD)/bench/frames.raw: | $(BENCH_FRAME_BIN)
 check-coarse: $(BENCH_DETECT_BIN)
 	@BENCH_DETECT_COARSE=1 $(RUN) "bench/coarse-misses-nothing" $(BENCH_DETECT_BIN) 60 20 7
 CHECK_STEPS += check-coarse
+
+# The side-by-side with a plain OpenCV pipeline (tests/bench/cv_baseline.cpp;
+# OpenCV as cdsp_calib builds it, tools/calib.mk).
+CV_BASELINE_BIN := $(BUILD)/bench/cv_baseline
+$(CV_BASELINE_BIN): tests/bench/cv_baseline.cpp $(host_LIB)
+	@mkdir -p $(@D)
+	$(CALIB_CXX) -std=c++17 -Wall -Wextra -pedantic -Werror -Wshadow $(OPT) -g $(CALIB_CV_INC) -Iinclude \
+	  $< $(host_LIB) $(CALIB_CV_LIBS) -o $@
+
+.PHONY: bench-cv
+bench-cv: $(CV_BASELINE_BIN) $(BUILD)/bench/frames.raw
+	$(CV_BASELINE_BIN) $(BUILD)/bench
+BENCH_STEPS += bench-cv
