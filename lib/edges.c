@@ -735,6 +735,13 @@ static cdsp_status detect_coarse(const cdsp_image *img, const cdsp_edge_params *
     return CDSP_OK;
 }
 
+/* The image and parameter checks of the detect entry points. */
+static cdsp_status detect_args_check(const cdsp_image *img, const cdsp_edge_params *p)
+{
+    cdsp_status st = cdsp_image_check(img);
+    return st != CDSP_OK ? st : cdsp__edge_params_check(p);
+}
+
 /*
  * Strips (docs/method.md §2): strip k of n is the full search's (or the
  * coarse pass's) rows j in [jn k / n, jn (k+1) / n) and column blocks in
@@ -753,10 +760,7 @@ cdsp_status cdsp_edges_detect_strip(const cdsp_image *img, const cdsp_edge_param
     *n_rows = *n_cols = 0;
     if (n < 1 || n > CDSP_EDGE_MAX_STRIPS || k < 0 || k >= n)
         return CDSP_E_ARG;
-    st = cdsp_image_check(img);
-    if (st != CDSP_OK)
-        return st;
-    st = cdsp__edge_params_check(p);
+    st = detect_args_check(img, p);
     if (st != CDSP_OK)
         return st;
     cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
@@ -805,10 +809,7 @@ cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, 
     if (!p || !out || !n)
         return CDSP_E_ARG;
     *n = 0;
-    st = cdsp_image_check(img);
-    if (st != CDSP_OK)
-        return st;
-    st = cdsp__edge_params_check(p);
+    st = detect_args_check(img, p);
     if (st != CDSP_OK)
         return st;
     return p->coarse >= 2 ? detect_coarse(img, p, out, cap, n) : detect_full(img, p, out, cap, n);
