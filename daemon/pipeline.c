@@ -326,9 +326,19 @@ static void *proc_main(void *arg)
             img.stride = f->stride;
             img.bits = f->bits;
             t0 = cdspd_now_us();
-            st = cdsp_frame_solve_with(&img, &c->cam, (cdsp_real)c->radius, &p->params,
-                                       have_prev ? &prev : NULL, p->ws, &rng,
-                                       p->strips ? cdspd_strips_detect : NULL, p->strips, &res);
+            if (p->strips && !have_prev) { /* solver.threads: the full search in strips */
+                cdsp_frame_edges fe;
+                st = cdsp_frame_prepare(&img, &p->params, &fe);
+                if (st == CDSP_OK) {
+                    fe.status = cdspd_strips_detect(p->strips, &img, &fe.edge, p->ws->edge,
+                                                    CDSP_MAX_EDGES, &fe.n);
+                    st = cdsp_frame_solve_detected(&img, &c->cam, (cdsp_real)c->radius,
+                                                   &p->params, &fe, p->ws, &rng, &res);
+                }
+            } else {
+                st = cdsp_frame_solve(&img, &c->cam, (cdsp_real)c->radius, &p->params,
+                                      have_prev ? &prev : NULL, p->ws, &rng, &res);
+            }
             t1 = cdspd_now_us();
             rec.status = st;
             rec.proc_us = (uint32_t)(t1 - t0);

@@ -123,10 +123,9 @@ void cdspd_strips_stop(cdspd_strips *s)
     free(s);
 }
 
-cdsp_status cdspd_strips_detect(void *ctx, const cdsp_image *img, const cdsp_edge_params *p,
+cdsp_status cdspd_strips_detect(cdspd_strips *s, const cdsp_image *img, const cdsp_edge_params *p,
                                 cdsp_edge *out, size_t cap, size_t *n)
 {
-    cdspd_strips *s = ctx;
     const cdsp_edge *parts[CDSP_EDGE_MAX_STRIPS];
     int k;
     if (s->n == 1)

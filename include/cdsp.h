@@ -638,20 +638,32 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam,
                              cdsp_rng *rng, cdsp_result *out);
 
 /*
- * cdsp_frame_solve with the full search's edges detected by detect(ctx,
- * ...) instead of cdsp_edges_detect (same arguments, contract and result:
- * e.g. cdsp_edges_detect_strip on the caller's threads, then
- * cdsp_edges_merge_strips, and cdsp_edges_detect itself when the merge
- * returns CDSP_E_CAPACITY: the result is then that of cdsp_frame_solve, bit
- * for bit). detect NULL: cdsp_edges_detect. Tracking bands are read as in
- * cdsp_frame_solve.
+ * The full search in the caller's hands, e.g. in strips on its threads
+ * (cdsp_edges_detect_strip; the library itself starts none):
+ *   cdsp_frame_prepare(img, p, &fe): the frame's noise and the edge
+ *     parameters the full search uses on it (fe.edge: p->edge with this
+ *     frame's threshold); then the caller detects with fe.edge into
+ *     ws->edge (at most CDSP_MAX_EDGES), setting fe.status (CDSP_OK, or
+ *     CDSP_E_CAPACITY as cdsp_edges_detect returns it) and fe.n;
+ *   cdsp_frame_solve_detected(img, cam, radius, p, &fe, ws, rng, out):
+ *     the rest. With cdsp_edges_detect's edges (or strips merged into the
+ *     same list) the result is cdsp_frame_solve's with no prior, bit for
+ *     bit; the coarse pass's whole-frame fallback runs inside, on one core.
+ * Returns as cdsp_frame_solve (prepare: CDSP_OK, CDSP_E_ARG, CDSP_E_FORMAT).
  */
-typedef cdsp_status (*cdsp_edges_fn)(void *ctx, const cdsp_image *img, const cdsp_edge_params *p,
-                                     cdsp_edge *out, size_t cap, size_t *n);
-cdsp_status cdsp_frame_solve_with(const cdsp_image *img, const cdsp_camera *cam,
-                                  cdsp_real radius, const cdsp_params *p,
-                                  const cdsp_result *prior, cdsp_frame_ws *ws, cdsp_rng *rng,
-                                  cdsp_edges_fn detect, void *ctx, cdsp_result *out);
+typedef struct {
+    cdsp_edge_params edge; /* the full search's parameters on this frame */
+    cdsp_real min_step;    /* its edge step threshold, gray levels */
+    cdsp_real sigma;       /* the frame's noise, gray levels */
+    cdsp_status status;    /* set by the caller: the detection's status */
+    size_t n;              /* set by the caller: edges in ws->edge */
+} cdsp_frame_edges;
+
+cdsp_status cdsp_frame_prepare(const cdsp_image *img, const cdsp_params *p, cdsp_frame_edges *fe);
+cdsp_status cdsp_frame_solve_detected(const cdsp_image *img, const cdsp_camera *cam,
+                                      cdsp_real radius, const cdsp_params *p,
+                                      const cdsp_frame_edges *fe, cdsp_frame_ws *ws,
+                                      cdsp_rng *rng, cdsp_result *out);
 
 /* Distance from a 3D point to the axis of a result (radius units). */
 cdsp_real cdsp_result_point_distance(const cdsp_result *r, const cdsp_real X[3]);

@@ -735,6 +735,14 @@ static cdsp_status detect_coarse(const cdsp_image *img, const cdsp_edge_params *
     return CDSP_OK;
 }
 
+/* Where strip k of n starts among m lines (or blocks): the first m % n
+ * strips one longer. No product that could overflow (and no 64-bit
+ * division, which 32-bit targets would call a helper for). */
+static int strip_start(int m, int k, int n)
+{
+    return (m / n) * k + (k < m % n ? k : m % n);
+}
+
 /* The image and parameter checks of the detect entry points. */
 static cdsp_status detect_args_check(const cdsp_image *img, const cdsp_edge_params *p)
 {
@@ -744,8 +752,8 @@ static cdsp_status detect_args_check(const cdsp_image *img, const cdsp_edge_para
 
 /*
  * Strips (docs/method.md §2): strip k of n is the full search's (or the
- * coarse pass's) rows j in [jn k / n, jn (k+1) / n) and column blocks in
- * [bn k / n, bn (k+1) / n); rows, then columns, in the full search's order
+ * coarse pass's) rows j in [strip_start(jn, k, n), strip_start(jn, k+1, n))
+ * and column blocks likewise; rows, then columns, in the full search's order
  * within each. Every strip's rows before every strip's columns, in strip
  * order, is therefore cdsp_edges_detect's list, bit for bit, whenever that
  * fits (cdsp_edges_merge_strips).
@@ -765,10 +773,8 @@ cdsp_status cdsp_edges_detect_strip(const cdsp_image *img, const cdsp_edge_param
         return st;
     cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
     family_extents(img, p, x0, y0, x1, y1, &jn, &bn);
-    /* 64-bit products: jn * k stays exact for any int extents */
-    return detect_range(img, p, (int)((int64_t)jn * k / n), (int)((int64_t)jn * (k + 1) / n),
-                        (int)((int64_t)bn * k / n), (int)((int64_t)bn * (k + 1) / n), out, cap, n_rows,
-                        n_cols);
+    return detect_range(img, p, strip_start(jn, k, n), strip_start(jn, k + 1, n), strip_start(bn, k, n),
+                        strip_start(bn, k + 1, n), out, cap, n_rows, n_cols);
 }
 
 /* The merge fits when cdsp_edges_detect's own list surely fits: fewer

@@ -413,30 +413,24 @@ static void test_strips_merge(void **state)
     assert_true(merged > 200 && capped > 10);
 }
 
-/* cdsp_frame_solve_with and a detect that runs strips (in turn here; the
- * daemon runs them on threads) and merges them, falling back to
- * cdsp_edges_detect when the merge does not fit: the result is
- * cdsp_frame_solve's, every byte of it, full search and tracked. */
-typedef struct {
-    int nstrips, calls, merges;
-} strip_ctx;
-
-static cdsp_status detect_in_strips(void *ctx, const cdsp_image *img, const cdsp_edge_params *p,
-                                    cdsp_edge *out, size_t cap, size_t *n)
+/* The full search in the caller's hands (cdsp_frame_prepare, strips run
+ * in turn here - the daemon runs them on threads - merged, falling back to
+ * cdsp_edges_detect when the merge does not fit; cdsp_frame_solve_detected):
+ * cdsp_frame_solve's result, every byte of it. */
+static cdsp_status detect_in_strips(int nstrips, const cdsp_image *img, const cdsp_edge_params *p,
+                                    cdsp_edge *out, size_t cap, size_t *n, int *merged)
 {
-    strip_ctx *c = ctx;
     const cdsp_edge *sp[7];
     size_t nr[7], nc[7];
     int k;
-    c->calls++;
-    for (k = 0; k < c->nstrips; k++) {
-        if (cdsp_edges_detect_strip(img, p, k, c->nstrips, strip_buf[k], CAP, &nr[k], &nc[k]) != CDSP_OK)
+    for (k = 0; k < nstrips; k++) {
+        if (cdsp_edges_detect_strip(img, p, k, nstrips, strip_buf[k], CAP, &nr[k], &nc[k]) != CDSP_OK)
             return cdsp_edges_detect(img, p, out, cap, n);
         sp[k] = strip_buf[k];
     }
-    if (cdsp_edges_merge_strips(p, sp, nr, nc, c->nstrips, out, cap, n) != CDSP_OK)
+    if (cdsp_edges_merge_strips(p, sp, nr, nc, nstrips, out, cap, n) != CDSP_OK)
         return cdsp_edges_detect(img, p, out, cap, n);
-    c->merges++;
+    ++*merged;
     return CDSP_OK;
 }
 
@@ -445,40 +439,34 @@ static void test_frame_solve_strips(void **state)
     static cdsp_frame_ws ws;
     static const size_t which[] = {0, 1, 3, 4};
     size_t w;
+    int merged = 0;
     (void)state;
     for (w = 0; w < sizeof which / sizeof which[0]; w++) {
         const frame_spec *f = &frames[which[w]];
         cdsp_camera cam;
         cdsp_image img;
         cdsp_params prm;
-        cdsp_result a, b, pa, pb;
+        cdsp_result a, b;
         cdsp_rng ra, rb;
+        cdsp_frame_edges fe;
         cdsp_status sa, sb;
-        strip_ctx ctx = {3, 0, 0};
         void *buf = make_frame(f, &img);
-        int track;
-        memset(&a, 0, sizeof a);
-        memset(&b, 0, sizeof b);
         sup_camera(&cam, f->w, f->h, 800, f->k1, 0);
         cdsp_params_default(&prm);
-        for (track = 0; track < 2; track++) {
-            pa = a; /* the previous round's results: the priors when tracking */
-            pb = b;
-            memset(&a, 0, sizeof a);
-            memset(&b, 0, sizeof b);
-            cdsp_rng_seed(&ra, 3, 3);
-            cdsp_rng_seed(&rb, 3, 3);
-            sa = cdsp_frame_solve(&img, &cam, 8, &prm, track ? &pa : NULL, &ws, &ra, &a);
-            sb = cdsp_frame_solve_with(&img, &cam, 8, &prm, track ? &pb : NULL, &ws, &rb, detect_in_strips,
-                                       &ctx, &b);
-            assert_int_equal(sa, sb);
-            assert_memory_equal(&a, &b, sizeof a);
-            if (!track)
-                assert_int_equal(sa, CDSP_OK); /* a pipe in view: the solve is exercised */
-        }
-        assert_true(ctx.merges >= 1);
+        memset(&a, 0, sizeof a);
+        memset(&b, 0, sizeof b);
+        cdsp_rng_seed(&ra, 3, 3);
+        cdsp_rng_seed(&rb, 3, 3);
+        sa = cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &ra, &a);
+        assert_int_equal(cdsp_frame_prepare(&img, &prm, &fe), CDSP_OK);
+        fe.status = detect_in_strips(3, &img, &fe.edge, ws.edge, CDSP_MAX_EDGES, &fe.n, &merged);
+        sb = cdsp_frame_solve_detected(&img, &cam, 8, &prm, &fe, &ws, &rb, &b);
+        assert_int_equal(sa, CDSP_OK); /* a pipe in view: the solve is exercised */
+        assert_int_equal(sa, sb);
+        assert_memory_equal(&a, &b, sizeof a);
         free(buf);
     }
+    assert_true(merged >= 3);
 }
 
 /* The candidate test alone: the portable and the built (SIMD where the
