@@ -174,11 +174,15 @@ kill -HUP "$d4b_pid"
 kill -USR1 "$d4b_pid"
 sleep 0.2
 kill -0 "$d4b_pid" 2>/dev/null || fail "a SIGHUP or SIGUSR1 during start-up killed cdspd"
-# written twice: the held SIGHUP's reload reads the FIFO again
+# written twice: the held SIGHUP's reload reads the FIFO again; the second
+# writer only once the first read is over ("starting" is logged after the
+# file is closed), or both writes would reach the first read as one text
 # (timeout: a writer whose reader never comes must not outlive the test)
-timeout $((120 * scale)) sh -c 'cat "$1" >"$2" && cat "$1" >"$2"' sh "$work/good.yaml" "$work/slow.yaml" &
-writer=$!
-pids+=("$writer")
+timeout $((120 * scale)) cp "$work/good.yaml" "$work/slow.yaml" &
+pids+=("$!")
+wait_log "$work/d4b.log" "starting: source" 60 || fail "cdspd did not read its configuration"
+timeout $((120 * scale)) cp "$work/good.yaml" "$work/slow.yaml" &
+pids+=("$!")
 wait_log "$work/d4b.log" "reloaded: source" 60 || fail "the SIGHUP held during start-up was not taken"
 wait_log "$work/d4b.log" "SIGUSR1: " 60 || fail "the SIGUSR1 held during start-up was not taken"
 kill -TERM "$d4b_pid"
