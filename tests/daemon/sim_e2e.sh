@@ -6,8 +6,9 @@
 #      sequence numbers continuous at both, status datagrams (no pipe)
 #      while the pipe is out of view (sim.away);
 #   2. the same as JSON (--format json);
-#   3. --record every frame, then replay the recording with file: and get
-#      the recorded results again; the file source ends -> exit status 0;
+#   3. --record every frame, then replay the recording with file: (and
+#      solver.threads=2) and get the recorded results again; the file
+#      source ends -> exit status 0;
 #   4. a slow file source: "no-frame" status datagrams between frames;
 #   5. the listener (cdsp_tool listen) decodes and prints the stream.
 # Exit status 0 when all pass.
@@ -64,8 +65,10 @@ n_json=$(wc -l <"$jsonl")
 echo "recorded $n_pgm frames, $n_json results"
 [ "$n_pgm" -ge 20 ] && [ "$n_pgm" -eq "$n_json" ] || fail "recorded $n_pgm frames and $n_json results"
 start_rx rx5 --compare-jsonl "$jsonl" --duration $rx_max --idle 2 --max-dropped 0
+# the replay's full searches run in strips on 2 threads (solver.threads):
+# the recording's results came from one core
 start_cdspd d4 --calib "$CALIB" --radius 10 --source "file:$rec/*.pgm" --set file.rate=100 \
-    --dest 127.0.0.1:$RX_PORT --set stats_interval=0
+    --dest 127.0.0.1:$RX_PORT --set stats_interval=0 --set solver.threads=2
 wait_for "$d4_pid" $rx_max; rc=$?
 [ $rc -eq 0 ] || fail "cdspd replaying a recording: exit status $rc, expected 0 at its end"
 grep -q "no more frames" "$work/d4.log" || fail "the file source did not report its end"
