@@ -3,7 +3,9 @@
 # `make demo` runs the daemon on its simulated camera.
 #
 # Layout: lib/ + include/ -> libcdsp.a (dependency-free C99);
-# tools/, daemon/ -> host programs; tests/ -> everything that checks them.
+# host/ -> libcdsp_host.a (files, calibration, records, the wire protocol);
+# tools/, daemon/ -> the programs, which use host/ and never each other;
+# tests/ -> everything that checks them.
 # Components add their own rules in */*.mk fragments (included below) and
 # register their steps in CHECK_STEPS / BENCH_STEPS / ALL_TARGETS.
 
@@ -90,9 +92,14 @@ size-m4f: $(m4f_LIB)
 RUN := tests/run.sh $(BUILD)/check-results
 
 # ---------------------------------------------------------------------------
-# Component fragments (tools, daemon, MCU, VM harnesses...).
+# Component fragments (tools, daemon, MCU, VM harnesses...). The host
+# library first: every part after it links it. The daemon's own sub-fragment
+# (daemon/sanitize.mk) is included by daemon/daemon.mk; the others read
+# nothing another fragment defines, so their order does not matter.
 # ---------------------------------------------------------------------------
-include $(sort $(wildcard tools/*.mk daemon/*.mk tests/*/*.mk))
+include host/host.mk
+include daemon/daemon.mk
+include $(sort $(wildcard tools/*.mk tests/*/*.mk))
 
 # ---------------------------------------------------------------------------
 # Checks of the library itself.

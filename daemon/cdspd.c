@@ -342,6 +342,16 @@ int main(int argc, char **argv)
     int rc = EXIT_OK, ready = 0;
     cdspd_stats_window w;
 
+    /* SIGHUP and SIGUSR1 kill a process by default: one sent while the
+     * configuration is still loading (systemd's ExecReload, a script that
+     * does not wait for READY=1) is held pending instead, and the signal
+     * thread takes it once it runs (a reload, a report). SIGINT and SIGTERM
+     * keep their default until then: stopping a start-up is what they ask. */
+    sigemptyset(&set);
+    sigaddset(&set, SIGHUP);
+    sigaddset(&set, SIGUSR1);
+    pthread_sigmask(SIG_BLOCK, &set, NULL);
+
     if (!cfg || !next || !stats) {
         fprintf(stderr, "cdspd: out of memory\n");
         rc = EXIT_RUNTIME;

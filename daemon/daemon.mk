@@ -1,7 +1,8 @@
-# daemon/daemon.mk: cdspd, the capture daemon (docs/cdspd.md), its UDP
-# protocol (docs/protocol.md), the objects of `cdsp_tool listen`
-# (tools/listen.c + daemon/proto.c, linked by tools/tool.mk), the tests
-# (tests/daemon/), `make bench`'s bench-daemon and `make demo`. Names start
+# daemon/daemon.mk: cdspd, the capture daemon (docs/cdspd.md), the tests
+# (tests/daemon/), `make bench`'s bench-daemon and `make demo`; its
+# sanitizer builds and their checks in daemon/sanitize.mk, included at the
+# end. cdspd links build/libcdsp_host.a (host/host.mk: the protocol encoder
+# of docs/protocol.md is there) and includes nothing of tools/. Names start
 # with daemon_.
 #
 # Optional sources are built when their development package is there
@@ -10,7 +11,7 @@
 
 daemon_DIR := $(BUILD)/daemon
 daemon_BIN := $(BUILD)/cdspd
-# cdsp_tool (tools/tool.mk, included after this file): the listener
+# cdsp_tool (tools/tool.mk): the listener the end-to-end tests run
 daemon_TOOL := $(BUILD)/cdsp_tool
 CXX ?= g++
 
@@ -18,9 +19,9 @@ daemon_has = $(shell pkg-config --exists $(1) 2>/dev/null && echo yes)
 # System headers (GLib's are not -pedantic clean): -isystem.
 daemon_sys = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(1) 2>/dev/null))
 
-daemon_PKGS := yaml-0.1 spng json-c libjpeg libtiff-4
+daemon_PKGS := $(HOSTLIB_PKGS)
 daemon_DEFS :=
-daemon_SRC := config.c log.c proto.c sim_path.c source.c src_sim.c src_file.c pool.c stats.c \
+daemon_SRC := config.c log.c sim_path.c source.c src_sim.c src_file.c pool.c stats.c \
               sender.c record.c notify.c pipeline.c mavlink.c mount.c mavout.c pixfmt.c
 daemon_CXX_SRC :=
 daemon_LINK := $(CC)
@@ -46,16 +47,16 @@ daemon_PKGS += libsystemd
 daemon_DEFS += -DCDSPD_HAVE_SYSTEMD
 endif
 
-daemon_CFLAGS := $(HOST_CFLAGS) -Itools/common -Idaemon $(daemon_DEFS) $(call daemon_sys,$(daemon_PKGS))
+daemon_CFLAGS := $(HOST_CFLAGS) $(HOSTLIB_INC) -Idaemon $(daemon_DEFS) $(call daemon_sys,$(daemon_PKGS))
 daemon_CXXFLAGS := -std=c++17 -Wall -Wextra -pedantic -Werror -Wshadow -O2 -g -MMD -MP \
                    -Iinclude -Idaemon $(daemon_DEFS) $(call daemon_sys,$(daemon_PKGS))
-daemon_LIBS = $(shell pkg-config --libs $(daemon_PKGS) 2>/dev/null || echo -lyaml -lspng -ljson-c -ljpeg -ltiff) \
+daemon_LIBS = $(shell pkg-config --libs $(daemon_PKGS) 2>/dev/null || echo $(HOSTLIB_PKG_FALLBACK)) \
               -lpthread -lm
 
 daemon_OBJ := $(patsubst %.c,$(daemon_DIR)/%.o,$(daemon_SRC)) \
               $(patsubst %.cpp,$(daemon_DIR)/%.o,$(daemon_CXX_SRC))
 daemon_MAIN_OBJ := $(daemon_DIR)/cdspd.o
-daemon_HOST_LIB := $(BUILD)/libcdsp_host.a
+daemon_HOST_LIB := $(CDSP_HOST_LIB)
 
 # Objects depend on the optional sources found: a stamp that changes with them.
 daemon_STAMP := $(daemon_DIR)/features
@@ -76,16 +77,9 @@ $(daemon_DIR)/%.o: daemon/%.cpp $(daemon_STAMP)
 $(daemon_BIN): $(daemon_MAIN_OBJ) $(daemon_OBJ) $(daemon_HOST_LIB) $(host_LIB)
 	$(daemon_LINK) $(daemon_MAIN_OBJ) $(daemon_OBJ) $(daemon_HOST_LIB) $(host_LIB) $(daemon_LIBS) -o $@
 
-# The listener: tools/listen.c + the protocol decoder. cdsp_tool links
-# $(daemon_LISTEN_OBJS) (and json-c) to offer `cdsp_tool listen`.
-daemon_LISTEN_OBJS := $(daemon_DIR)/listen.o $(daemon_DIR)/proto.o
-$(daemon_DIR)/listen.o: tools/listen.c tools/listen.h daemon/proto.h
-	@mkdir -p $(@D)
-	$(CC) $(daemon_CFLAGS) -Itools -c $< -o $@
-
 ALL_TARGETS += $(daemon_BIN)
 
--include $(daemon_OBJ:.o=.d) $(daemon_MAIN_OBJ:.o=.d) $(daemon_DIR)/listen.d
+-include $(daemon_OBJ:.o=.d) $(daemon_MAIN_OBJ:.o=.d)
 
 # --- tests ---------------------------------------------------------------------
 daemon_TDIR := $(BUILD)/tests/daemon
@@ -194,3 +188,6 @@ DEMO_SECONDS ?= 0
 daemon-demo: $(daemon_BIN) $(daemon_TOOL)
 	@daemon/demo.sh $(daemon_BIN) $(daemon_TOOL) $(DEMO_SECONDS)
 .PRECIOUS: $(daemon_TDIR)/%.o
+
+# cdspd under the sanitizers (reads the variables above)
+include daemon/sanitize.mk

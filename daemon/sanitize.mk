@@ -16,12 +16,12 @@
 #   check-daemon-soak    tests/daemon/soak.sh for SOAK_CHECK_SECONDS (25);
 #   check-daemon-security  tests/daemon/security.sh;
 #   make soak            the soak for SOAK_SECONDS (600), not in make check.
-# Included after daemon/daemon.mk (sorted names) and before tools/tool.mk:
-# libcdsp_host's ASan twin is named by its path (tool.mk builds it).
+# Included at the end of daemon/daemon.mk (it reads daemon_SRC, daemon_DEFS,
+# daemon_PKGS); libcdsp_host's sanitizer twins come from host/host.mk.
 # Names start with dsan_.
 
 dsan_SRC := $(daemon_SRC) cdspd.c
-dsan_SYS := -Itools/common -Idaemon $(daemon_DEFS) $(call daemon_sys,$(daemon_PKGS))
+dsan_SYS := $(HOSTLIB_INC) -Idaemon $(daemon_DEFS) $(call daemon_sys,$(daemon_PKGS))
 dsan_CXX_WARN := -std=c++17 -Wall -Wextra -pedantic -Werror -Wshadow -MMD -MP -Iinclude
 dsan_LINK := $(if $(daemon_CXX_SRC),$(CLANG)++,$(CLANG))
 
@@ -47,7 +47,7 @@ $$(dsan_$(1)_BIN): $$(dsan_$(1)_OBJ) $(3) $(4)
 -include $$(dsan_$(1)_OBJ:.o=.d)
 endef
 
-$(eval $(call dsan_variant,asan,$(SAN_FLAGS),$(asan_LIB),$(BUILD)/tools-asan/libcdsp_host.a))
+$(eval $(call dsan_variant,asan,$(SAN_FLAGS),$(asan_LIB),$(HOSTLIB_ASAN_LIB)))
 
 # ThreadSanitizer: libcdsp and libcdsp_host instrumented as well, so the
 # frame buffers the capture thread fills and the processing thread reads
@@ -55,15 +55,7 @@ $(eval $(call dsan_variant,asan,$(SAN_FLAGS),$(asan_LIB),$(BUILD)/tools-asan/lib
 dsan_TSAN_FLAGS := -fsanitize=thread -fno-omit-frame-pointer
 TSAN_CFLAGS := $(BASE_CFLAGS) -O1 -g $(dsan_TSAN_FLAGS)
 $(eval $(call lib_variant,tsan,$(CLANG),TSAN_CFLAGS))
-dsan_TSAN_HOST_OBJ := $(patsubst tools/common/%.c,$(BUILD)/daemon-tsan/common/%.o,$(sort $(wildcard tools/common/*.c)))
-dsan_TSAN_HOST_LIB := $(BUILD)/daemon-tsan/libcdsp_host.a
-$(BUILD)/daemon-tsan/common/%.o: tools/common/%.c
-	@mkdir -p $(@D)
-	$(CLANG) $(TSAN_CFLAGS) -Itools/common $(call daemon_sys,yaml-0.1 spng json-c) -c $< -o $@
-$(dsan_TSAN_HOST_LIB): $(dsan_TSAN_HOST_OBJ)
-	rm -f $@ && $(AR) rcs $@ $^
--include $(dsan_TSAN_HOST_OBJ:.o=.d)
-$(eval $(call dsan_variant,tsan,$(dsan_TSAN_FLAGS),$(tsan_LIB),$(dsan_TSAN_HOST_LIB)))
+$(eval $(call dsan_variant,tsan,$(dsan_TSAN_FLAGS),$(tsan_LIB),$(HOSTLIB_TSAN_LIB)))
 
 # The environment of a sanitized run. Findings are written to
 # $$work/san.PID by every sanitized process (tests/daemon/lib.sh sets
@@ -120,10 +112,11 @@ $(daemon_TDIR)/clockshim.so: tests/daemon/clockshim.c
 
 SOAK_SECONDS ?= 600
 SOAK_CHECK_SECONDS ?= 25
-check-daemon-soak: $(daemon_BIN) $(daemon_RX)
-	@$(daemon_ENV) SOAK_SECONDS=$(SOAK_CHECK_SECONDS) $(RUN) "daemon/soak" tests/daemon/soak.sh
-soak: $(daemon_BIN) $(daemon_RX)
-	@$(daemon_ENV) SOAK_SECONDS=$(SOAK_SECONDS) tests/daemon/soak.sh
+check-daemon-soak: $(daemon_BIN) $(daemon_RX) $(daemon_MAVRX)
+	@$(daemon_ENV) MAVLINK_RX=$(daemon_MAVRX) SOAK_SECONDS=$(SOAK_CHECK_SECONDS) $(RUN) "daemon/soak" \
+	    tests/daemon/soak.sh
+soak: $(daemon_BIN) $(daemon_RX) $(daemon_MAVRX)
+	@$(daemon_ENV) MAVLINK_RX=$(daemon_MAVRX) SOAK_SECONDS=$(SOAK_SECONDS) tests/daemon/soak.sh
 
 check-daemon-security: $(daemon_BIN) $(daemon_RX)
 	@$(daemon_ENV) $(RUN) "daemon/security" tests/daemon/security.sh

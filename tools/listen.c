@@ -1,7 +1,7 @@
 /*
  * listen.c - `cdsp_tool listen`: see listen.h. Binds a UDP socket (joining
  * the group for a multicast address), decodes every datagram with
- * daemon/proto.c and prints it: a readable line, or with --json the
+ * host/proto.c and prints it: a readable line, or with --json the
  * record as a JSON line (binary datagrams converted). At the end it says
  * on stderr how many came, how many could not be decoded and how many
  * sequence numbers were missing.

@@ -1,7 +1,7 @@
 /*
  * listen.h - `cdsp_tool listen [ADDR:PORT]`: receive cdspd's datagrams
  * (binary or JSON, docs/protocol.md), decode and print them, one line
- * each. Built from tools/listen.c and daemon/proto.c (link json-c).
+ * each. Built from tools/listen.c and host/proto.c (link json-c).
  */
 #ifndef CDSP_TOOL_LISTEN_H
 #define CDSP_TOOL_LISTEN_H
@@ -15,7 +15,7 @@
 int cdsp_tool_listen(int argc, char **argv);
 
 /* One datagram -> the line listen prints (no newline): decoded
- * (daemon/proto.c), then formatted from the record: the readable line, or
+ * (host/proto.c), then formatted from the record: the readable line, or
  * with json the record encoded again. 0, or -1 with *why when the datagram
  * cannot be decoded (out is then ""). *seq receives the record's sequence
  * number. */

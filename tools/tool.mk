@@ -1,43 +1,22 @@
-# tools/tool.mk: build/libcdsp_host.a (frame files, calibration YAML, JSON
-# records: shared by cdsp_tool and cdspd), build/cdsp_tool, and their checks.
-# Included by the top-level Makefile; variables and targets start with tool_.
+# tools/tool.mk: build/cdsp_tool and its checks (the unit suites of the
+# host library it links, tests/tool/test_host_*, run here too). It links
+# build/libcdsp_host.a and its twins (host/host.mk) and includes nothing of
+# daemon/. Included by the top-level Makefile; variables and targets start
+# with tool_.
 
-tool_PKGS     := yaml-0.1 spng json-c libjpeg libtiff-4 cairo fontconfig
+# the host library's packages, and cairo and fontconfig for the overlay
+tool_PKGS     := $(HOSTLIB_PKGS) cairo fontconfig
 tool_PKG_CFLAGS := $(shell pkg-config --cflags $(tool_PKGS) 2>/dev/null)
 # libcsv (reading solve's CSV back in plot and compare) has no .pc file
 tool_PKG_LIBS := $(shell pkg-config --libs $(tool_PKGS) 2>/dev/null || \
-                   echo -lyaml -lspng -ljson-c -ljpeg -ltiff -lcairo -lfontconfig) -lcsv
+                   echo $(HOSTLIB_PKG_FALLBACK) -lcairo -lfontconfig) -lcsv
 
-tool_HOST_SRC := $(sort $(wildcard tools/common/*.c))
-tool_HOST_HDR := tools/common/cdsp_host.h
-tool_CFLAGS   := $(HOST_CFLAGS) -Itools/common $(tool_PKG_CFLAGS)
-
-# --- libcdsp_host.a (host build) and an ASan/UBSan twin for the tests -------
-tool_HOST_OBJ := $(patsubst tools/common/%.c,$(BUILD)/tools/common/%.o,$(tool_HOST_SRC))
-CDSP_HOST_LIB := $(BUILD)/libcdsp_host.a
-
-$(BUILD)/tools/common/%.o: tools/common/%.c
-	@mkdir -p $(@D)
-	$(CC) $(tool_CFLAGS) -c $< -o $@
-
-$(CDSP_HOST_LIB): $(tool_HOST_OBJ)
-	@mkdir -p $(@D)
-	rm -f $@ && $(AR) rcs $@ $^
-
-tool_ASAN_CFLAGS := $(ASAN_CFLAGS) -Itools/common $(tool_PKG_CFLAGS)
-tool_ASAN_OBJ := $(patsubst tools/common/%.c,$(BUILD)/tools-asan/common/%.o,$(tool_HOST_SRC))
-tool_ASAN_LIB := $(BUILD)/tools-asan/libcdsp_host.a
-
-$(BUILD)/tools-asan/common/%.o: tools/common/%.c
-	@mkdir -p $(@D)
-	$(CLANG) $(tool_ASAN_CFLAGS) -c $< -o $@
-
-$(tool_ASAN_LIB): $(tool_ASAN_OBJ)
-	@mkdir -p $(@D)
-	rm -f $@ && $(AR) rcs $@ $^
+tool_CFLAGS   := $(HOST_CFLAGS) $(HOSTLIB_INC) $(tool_PKG_CFLAGS)
+tool_ASAN_CFLAGS := $(ASAN_CFLAGS) $(HOSTLIB_INC) $(tool_PKG_CFLAGS)
+tool_ASAN_LIB := $(HOSTLIB_ASAN_LIB)
 
 # --- cdsp_tool ---------------------------------------------------------------
-tool_SRC := tools/cdsp_tool.c $(sort $(wildcard tools/tool_*.c))
+tool_SRC := tools/cdsp_tool.c tools/listen.c $(sort $(wildcard tools/tool_*.c))
 tool_OBJ := $(patsubst tools/%.c,$(BUILD)/tools/%.o,$(tool_SRC))
 tool_BIN := $(BUILD)/cdsp_tool
 
@@ -45,18 +24,18 @@ $(BUILD)/tools/%.o: tools/%.c
 	@mkdir -p $(@D)
 	$(CC) $(tool_CFLAGS) -c $< -o $@
 
-# `cdsp_tool listen` is tools/listen.c with the daemon's protocol decoder,
-# built by daemon/daemon.mk (included before this file) as daemon_LISTEN_OBJS.
-$(tool_BIN): $(tool_OBJ) $(daemon_LISTEN_OBJS) $(CDSP_HOST_LIB) $(host_LIB)
-	$(CC) $(tool_CFLAGS) $(tool_OBJ) $(daemon_LISTEN_OBJS) $(CDSP_HOST_LIB) $(host_LIB) \
+# `cdsp_tool listen` (tools/listen.c) decodes with the host library's
+# protocol decoder (host/proto.c).
+$(tool_BIN): $(tool_OBJ) $(CDSP_HOST_LIB) $(host_LIB)
+	$(CC) $(tool_CFLAGS) $(tool_OBJ) $(CDSP_HOST_LIB) $(host_LIB) \
 	    $(tool_PKG_LIBS) -lpthread -lm -o $@
 
-ALL_TARGETS += $(CDSP_HOST_LIB) $(tool_BIN)
+ALL_TARGETS += $(tool_BIN)
 
--include $(tool_HOST_OBJ:.o=.d) $(tool_ASAN_OBJ:.o=.d) $(tool_OBJ:.o=.d)
+-include $(tool_OBJ:.o=.d)
 
 # --- tests ---------------------------------------------------------------------
-# Unit suites of tools/common (cmocka), built twice: plain and ASan/UBSan.
+# Unit suites of the host library (cmocka), built twice: plain and ASan/UBSan.
 tool_UNIT_SRC := $(sort $(wildcard tests/tool/test_host_*.c))
 tool_UNIT     := $(patsubst tests/tool/%.c,$(BUILD)/tests/tool/%,$(tool_UNIT_SRC))
 tool_UNIT_ASAN := $(patsubst tests/tool/%.c,$(BUILD)/tests/tool-asan/%,$(tool_UNIT_SRC))
@@ -81,34 +60,24 @@ tool_ASAN_BIN := $(BUILD)/tools-asan/cdsp_tool
 tool_ASAN_TOOL_OBJ := $(patsubst tools/%.c,$(BUILD)/tools-asan/%.o,$(tool_SRC))
 $(BUILD)/tools-asan/%.o: tools/%.c
 	@mkdir -p $(@D)
-	$(CLANG) $(tool_ASAN_CFLAGS) $(CFLAGS_EXTRA) -c $< -o $@
-# the listener (tools/listen.c + daemon/proto.c) in each sanitizer build too
-tool_ASAN_LISTEN_OBJ := $(BUILD)/tools-asan/listen.o $(BUILD)/tools-asan/proto.o
-$(BUILD)/tools-asan/proto.o: daemon/proto.c
-	@mkdir -p $(@D)
-	$(CLANG) $(tool_ASAN_CFLAGS) -Idaemon -c $< -o $@
-$(BUILD)/tools-asan/listen.o: CFLAGS_EXTRA := -Idaemon
-$(tool_ASAN_BIN): $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LISTEN_OBJ) $(tool_ASAN_LIB) $(asan_LIB)
-	$(CLANG) $(tool_ASAN_CFLAGS) $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LISTEN_OBJ) $(tool_ASAN_LIB) \
+	$(CLANG) $(tool_ASAN_CFLAGS) -c $< -o $@
+$(tool_ASAN_BIN): $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LIB) $(asan_LIB)
+	$(CLANG) $(tool_ASAN_CFLAGS) $(tool_ASAN_TOOL_OBJ) $(tool_ASAN_LIB) \
 	  $(asan_LIB) $(tool_PKG_LIBS) -lpthread -lm -o $@
 
-tool_TSAN_CFLAGS := $(BASE_CFLAGS) -O1 -g -fsanitize=thread -Itools/common $(tool_PKG_CFLAGS)
+# (the host library and libcdsp uninstrumented, as before the move: the
+# threads under test are cdsp_tool's own)
+tool_TSAN_CFLAGS := $(BASE_CFLAGS) -O1 -g -fsanitize=thread $(HOSTLIB_INC) $(tool_PKG_CFLAGS)
 tool_TSAN_BIN := $(BUILD)/tools-tsan/cdsp_tool
 tool_TSAN_OBJ := $(patsubst tools/%.c,$(BUILD)/tools-tsan/%.o,$(tool_SRC))
 $(BUILD)/tools-tsan/%.o: tools/%.c
 	@mkdir -p $(@D)
-	$(CLANG) $(tool_TSAN_CFLAGS) $(CFLAGS_EXTRA) -c $< -o $@
-tool_TSAN_LISTEN_OBJ := $(BUILD)/tools-tsan/listen.o $(BUILD)/tools-tsan/proto.o
-$(BUILD)/tools-tsan/proto.o: daemon/proto.c
-	@mkdir -p $(@D)
-	$(CLANG) $(tool_TSAN_CFLAGS) -Idaemon -c $< -o $@
-$(BUILD)/tools-tsan/listen.o: CFLAGS_EXTRA := -Idaemon
-$(tool_TSAN_BIN): $(tool_TSAN_OBJ) $(tool_TSAN_LISTEN_OBJ) $(CDSP_HOST_LIB) $(host_LIB)
-	$(CLANG) $(tool_TSAN_CFLAGS) $(tool_TSAN_OBJ) $(tool_TSAN_LISTEN_OBJ) $(CDSP_HOST_LIB) \
+	$(CLANG) $(tool_TSAN_CFLAGS) -c $< -o $@
+$(tool_TSAN_BIN): $(tool_TSAN_OBJ) $(CDSP_HOST_LIB) $(host_LIB)
+	$(CLANG) $(tool_TSAN_CFLAGS) $(tool_TSAN_OBJ) $(CDSP_HOST_LIB) \
 	  $(host_LIB) $(tool_PKG_LIBS) -lpthread -lm -o $@
 
--include $(tool_ASAN_TOOL_OBJ:.o=.d) $(tool_TSAN_OBJ:.o=.d) $(tool_ASAN_LISTEN_OBJ:.o=.d) \
-         $(tool_TSAN_LISTEN_OBJ:.o=.d)
+-include $(tool_ASAN_TOOL_OBJ:.o=.d) $(tool_TSAN_OBJ:.o=.d)
 
 # Sanitizer findings exit with statuses the suite never expects (66, 86, 87).
 tool_SAN_ENV := ASAN_OPTIONS=detect_leaks=1:exitcode=86 \

@@ -1,7 +1,7 @@
 /*
  * cdspd_rx - the test receiver of cdspd's end-to-end tests: receives the
  * datagrams on loopback (or any address given), decodes them with
- * daemon/proto.c and checks them:
+ * host/proto.c and checks them:
  *   - sequence numbers continuous (no datagram lost or repeated);
  *   - every pose against the ground truth of its frame: the sim source's
  *     (sim_path.h, from the same configuration the daemon read) or the fake

@@ -10,6 +10,8 @@
 #   3. a SIGHUP storm: 100 reloads, valid and broken files alternating,
 #      while streaming: every broken one refused, every valid one applied,
 #      poses in every window of ten reloads, seq continuous throughout;
+#   3b. SIGHUP and SIGUSR1 sent while the configuration is still being read
+#      (from a FIFO): held, then taken (a reload, a report), never fatal;
 #   4. the recording directory removed, then (another run) made read-only:
 #      recording stops with one error line, datagrams go on, exit 0;
 #   5. the wall clock stepped back an hour and forward two (an LD_PRELOAD
@@ -155,6 +157,33 @@ kill -TERM "$d4_pid"
 wait_for "$d4_pid" 10 || fail "cdspd exit status $? after the storm"
 wait_for "$rx4_pid" 20 || fail "the receiver saw a gap, a bad datagram or a wrong pose in the storm"
 cat "$work/rx4.out"
+
+echo "--- 3b. SIGHUP and SIGUSR1 while the configuration is still being read"
+# The configuration comes from a FIFO: cdspd waits in its open (wchan
+# wait_for_partner) until the test writes it, so both signals arrive at
+# that exact point on any machine. Held until the signal thread runs, they
+# are then taken: one reload (of the same file: applied) and one report.
+mkfifo "$work/slow.yaml"
+start_cdspd d4b --config "$work/slow.yaml"
+for _ in $(seq $((300 * scale))); do
+    [ "$(cat /proc/"$d4b_pid"/wchan 2>/dev/null)" = wait_for_partner ] && break; sleep 0.1
+done
+[ "$(cat /proc/"$d4b_pid"/wchan 2>/dev/null)" = wait_for_partner ] ||
+    fail "cdspd did not reach the configuration's open"
+kill -HUP "$d4b_pid"
+kill -USR1 "$d4b_pid"
+sleep 0.2
+kill -0 "$d4b_pid" 2>/dev/null || fail "a SIGHUP or SIGUSR1 during start-up killed cdspd"
+# written twice: the held SIGHUP's reload reads the FIFO again
+# (timeout: a writer whose reader never comes must not outlive the test)
+timeout $((120 * scale)) sh -c 'cat "$1" >"$2" && cat "$1" >"$2"' sh "$work/good.yaml" "$work/slow.yaml" &
+writer=$!
+pids+=("$writer")
+wait_log "$work/d4b.log" "reloaded: source" 60 || fail "the SIGHUP held during start-up was not taken"
+wait_log "$work/d4b.log" "SIGUSR1: " 60 || fail "the SIGUSR1 held during start-up was not taken"
+kill -TERM "$d4b_pid"
+wait_for "$d4b_pid" 20 || fail "cdspd exit status $? after the start-up signals"
+echo "signals held during start-up: one reload and one report taken, exit 0"
 
 echo "--- 4. the recording directory removed, then made read-only"
 start_rx rx5 --validate --duration 60 --idle 3 --min-poses 40 --truth sim --calib "$cam" \

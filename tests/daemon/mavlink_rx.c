@@ -25,6 +25,16 @@
  *   - with --pty: after --vanish-after seconds of poses the pseudo-terminal
  *     is closed and removed (the device vanishes) for --vanish-for seconds,
  *     then a new one is put at the same path; poses must come again.
+ *   - with --soak (tests/daemon/soak.sh: hours of frames at full rate,
+ *     reloads restarting the output): every frame still decodes with its
+ *     crc and ids, each message is checked on its own as it arrives
+ *     (HEARTBEAT's fields; LANDING_TARGET: BODY_FRD, type 3, valid, finite,
+ *     |q| = 1, distance = |(x, y, z)|, sizes positive; DEBUG_VECT a unit
+ *     vector equal to q's forward axis, right after its LANDING_TARGET),
+ *     without JSON records to match; sequence gaps (a valid reload
+ *     restarts the output, whose sequence starts at 0 again; loopback
+ *     drops a datagram when this process falls behind) and the heartbeat's
+ *     timing (a reload sends one at once) are counted and printed, not failed.
  *
  * Tolerances: the JSON numbers are exact (shortest round-trip text), so
  * the test's double computation and the daemon's differ by rounding only
@@ -42,6 +52,7 @@
 #include <getopt.h>
 #include <math.h>
 #include <poll.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <pty.h>
 #include <stdio.h>
@@ -80,6 +91,14 @@ static cdspd_mavlink_debug_vect *dvs;
 static long n_dv;
 
 static int failures;
+
+/* SIGTERM: stop receiving and check what came (the soak ends it so) */
+static volatile sig_atomic_t term;
+static void on_term(int sig)
+{
+    (void)sig;
+    term = 1;
+}
 
 static void check(int cond, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void check(int cond, const char *fmt, ...)
@@ -247,7 +266,7 @@ typedef struct {
     double mount[6];
     double duration, idle, vanish_after, vanish_for, max_rate;
     long min_targets, min_after_reopen;
-    int sysid, compid, no_position;
+    int sysid, compid, no_position, soak;
 } options;
 
 static void usage(FILE *f)
@@ -255,7 +274,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: mavlink_rx --port-file F [--pty LINK] [--mount r,p,y,x,y,z]\n"
                "       [--sysid N] [--compid N] [--duration S] [--idle S] [--min-targets N]\n"
                "       [--no-position (cdspd's mavlink_position false)] [--max-rate HZ]\n"
-               "       [--vanish-after S --vanish-for S --min-after-reopen N]\n"
+               "       [--vanish-after S --vanish-for S --min-after-reopen N] [--soak]\n"
                "Port file: 'MAVPORT JSONPORT' (MAVPORT 0 with --pty).\n");
 }
 
@@ -266,7 +285,7 @@ static int parse(options *o, int argc, char **argv)
         {"sysid", 1, 0, 's'}, {"compid", 1, 0, 'c'}, {"duration", 1, 0, 'd'},
         {"idle", 1, 0, 'i'}, {"min-targets", 1, 0, 'n'}, {"no-position", 0, 0, 'o'}, {"max-rate", 1, 0, 'R'},
         {"vanish-after", 1, 0, 'v'}, {"vanish-for", 1, 0, 'w'}, {"min-after-reopen", 1, 0, 'r'},
-        {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
+        {"soak", 0, 0, 'S'}, {"help", 0, 0, 'h'}, {0, 0, 0, 0}};
     int ch;
     memset(o, 0, sizeof *o);
     o->duration = 600; /* a bound only: it stops --idle s after the last datagram */
@@ -294,6 +313,7 @@ static int parse(options *o, int argc, char **argv)
         case 'v': o->vanish_after = atof(optarg); break;
         case 'w': o->vanish_for = atof(optarg); break;
         case 'r': o->min_after_reopen = atol(optarg); break;
+        case 'S': o->soak = 1; break;
         case 'h': usage(stdout); exit(0);
         default: return -1;
         }
@@ -354,6 +374,63 @@ typedef struct {
     uint64_t last_lt_time;
 } stream;
 
+/* --soak: a LANDING_TARGET on its own. Tolerances: the fields are floats
+ * computed in double and rounded once (2^-24 relative each): |q|^2 - 1 and
+ * distance / |(x, y, z)| - 1 within 1e-6 (a few ulps of float, 2^-24 =
+ * 6e-8, summed over four squares); angles within [-pi, pi]. */
+static long soak_lt, soak_dv, soak_lt_bad, soak_dv_bad;
+static float soak_q[4];
+static uint64_t soak_t;
+
+static void soak_landing_target(const cdspd_mavlink_landing_target *lt)
+{
+    double qn = 0, r;
+    int i, ok = 1;
+    soak_lt++;
+    for (i = 0; i < 4; i++) {
+        ok = ok && isfinite(lt->q[i]);
+        qn += (double)lt->q[i] * lt->q[i];
+    }
+    r = sqrt((double)lt->x * lt->x + (double)lt->y * lt->y + (double)lt->z * lt->z);
+    ok = ok && isfinite(lt->x) && isfinite(lt->y) && isfinite(lt->z) && isfinite(lt->distance) &&
+         isfinite(lt->angle_x) && isfinite(lt->angle_y) && isfinite(lt->size_x) && isfinite(lt->size_y);
+    check(ok, "LANDING_TARGET t=%llu: a field not finite", (unsigned long long)lt->time_usec);
+    check(lt->frame == CDSPD_MAV_FRAME_BODY_FRD && lt->type == 3 && lt->position_valid == 1 &&
+              lt->target_num == 0,
+          "LANDING_TARGET t=%llu: frame %u type %u position_valid %u target_num %u",
+          (unsigned long long)lt->time_usec, lt->frame, lt->type, lt->position_valid,
+          lt->target_num);
+    check(fabs(qn - 1) <= 1e-6, "LANDING_TARGET t=%llu: |q|^2 = %.9g", (unsigned long long)lt->time_usec,
+          qn);
+    check(r > 0 && fabs(lt->distance / r - 1) <= 1e-6, "LANDING_TARGET t=%llu: distance %.9g, |(x, y, z)| %.9g",
+          (unsigned long long)lt->time_usec, lt->distance, r);
+    check(fabs(lt->angle_x) <= M_PI && fabs(lt->angle_y) <= M_PI && lt->size_x > 0 &&
+              lt->size_y > 0,
+          "LANDING_TARGET t=%llu: angles %.6g %.6g, sizes %.6g %.6g", (unsigned long long)lt->time_usec,
+          lt->angle_x, lt->angle_y, lt->size_x, lt->size_y);
+    if (!ok || fabs(qn - 1) > 1e-6)
+        soak_lt_bad++;
+    memcpy(soak_q, lt->q, sizeof soak_q);
+    soak_t = lt->time_usec;
+}
+
+/* DEBUG_VECT PIPE_DIR: the forward axis (1, 0, 0) rotated by q (the body
+ * frame's rotation matrix's first column), within 1e-6 per component. */
+static void soak_debug_vect(const cdspd_mavlink_debug_vect *d)
+{
+    double w = soak_q[0], x = soak_q[1], y = soak_q[2], z = soak_q[3];
+    double f[3] = {1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)};
+    double e = fabs(d->x - f[0]) + fabs(d->y - f[1]) + fabs(d->z - f[2]);
+    soak_dv++;
+    check(soak_t == d->time_usec && e <= 3e-6,
+          "DEBUG_VECT t=%llu (%.7g %.7g %.7g): not q's forward axis (%.7g %.7g %.7g) of "
+          "LANDING_TARGET t=%llu",
+          (unsigned long long)d->time_usec, d->x, d->y, d->z, f[0], f[1], f[2],
+          (unsigned long long)soak_t);
+    if (soak_t != d->time_usec || e > 3e-6)
+        soak_dv_bad++;
+}
+
 static void on_frame(stream *s, const options *o, const cdspd_mavlink_frame *f, double t)
 {
     if (!s->got_any) {
@@ -391,6 +468,18 @@ static void on_frame(stream *s, const options *o, const cdspd_mavlink_frame *f, 
         s->skip_gap = 0;
         s->hb_last = t;
         s->hb++;
+    } else if (f->msgid == CDSPD_MAVLINK_ID_LANDING_TARGET && o->soak) {
+        cdspd_mavlink_landing_target lt;
+        cdspd_mavlink_unpack_landing_target(f, &lt);
+        soak_landing_target(&lt);
+        n_lt++;
+        s->last_lt_time = lt.time_usec;
+    } else if (f->msgid == CDSPD_MAVLINK_ID_DEBUG_VECT && o->soak) {
+        cdspd_mavlink_debug_vect d;
+        cdspd_mavlink_unpack_debug_vect(f, &d);
+        s->dv++;
+        check(!memcmp(d.name, "PIPE_DIR\0\0", 10), "DEBUG_VECT named '%.10s'", d.name);
+        soak_debug_vect(&d);
     } else if (f->msgid == CDSPD_MAVLINK_ID_LANDING_TARGET) {
         if (n_lt < MAX_REC) {
             lts[n_lt].t_rx = t;
@@ -526,12 +615,13 @@ int main(int argc, char **argv)
     fprintf(pf, "%d %d\n", mav_port, json_port);
     fclose(pf);
 
+    signal(SIGTERM, on_term);
     t0 = now_s();
     for (;;) {
         struct pollfd p[2];
         double t = now_s();
         int np = 1;
-        if (t - t0 > o.duration)
+        if (t - t0 > o.duration || term)
             break;
         if (t_last > 0 && t - t_last > o.idle)
             break;
@@ -593,6 +683,29 @@ int main(int argc, char **argv)
     }
     if (o.pty_link && pty_master >= 0)
         pty_vanish(o.pty_link);
+
+    if (o.soak) {
+        printf("mavlink_rx --soak: %ld frames (%ld heartbeats, %ld LANDING_TARGET, %ld DEBUG_VECT), "
+               "%ld junk bytes, %ld bad crc, %ld unknown, %ld sequence gaps (reloads, loopback "
+               "losses: counted), %ld LANDING_TARGET and %ld DEBUG_VECT failed their checks\n",
+               s.frames, s.hb, soak_lt, soak_dv, s.junk_bytes, s.bad_crc, s.unknown, s.seq_gaps,
+               soak_lt_bad, soak_dv_bad);
+        check(s.got_any && s.first_was_hb, "the first MAVLink message was not a HEARTBEAT");
+        check(s.junk_bytes == 0 && s.bad_crc == 0 && s.unknown == 0,
+              "%ld junk bytes, %ld bad crc, %ld unknown ids", s.junk_bytes, s.bad_crc, s.unknown);
+        check(s.bad_ids == 0, "%ld frames not from system %d component %d", s.bad_ids, o.sysid,
+              o.compid);
+        check(n_lt >= o.min_targets, "%ld LANDING_TARGET, at least %ld expected", n_lt,
+              o.min_targets);
+        if (failures)
+            fprintf(stderr, "mavlink_rx: %d check(s) failed\n", failures);
+        else
+            printf("mavlink_rx: PASS\n");
+        free(jrec);
+        free(lts);
+        free(dvs);
+        return failures ? 1 : 0;
+    }
 
     /* every LANDING_TARGET against its frame's JSON record */
     for (k = 0; k < n_lt; k++) {

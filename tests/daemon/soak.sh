@@ -11,6 +11,9 @@
 #   next valid reload records again),
 #   and, as root in a mount namespace of its own, the recording disk
 #   filled (a tmpfs of 8 MiB) / emptied.
+# cdspd also sends MAVLink (udpout://) to tests/daemon/mavlink_rx --soak,
+# which stays for the whole run and checks every MAVLink frame on its own
+# (crc, ids, every field of each message; see there).
 # Receiver A stays for the whole run and checks every datagram
 # (cdspd_rx --validate: well formed, seq, the frames' t_host_us and the
 # daemon's counters never backwards; every pose against the simulated
@@ -62,11 +65,15 @@ start_rx rxa --validate --allow-seq-gaps --truth sim --calib "$work/cam.yaml" --
 port_a=$RX_PORT
 start_rx rxb --validate --allow-seq-gaps --duration $((SOAK_SECONDS + 120))
 port_b=$RX_PORT
+[ -x "${MAVLINK_RX:-}" ] || fail "\$MAVLINK_RX must name the built program"
+CDSPD_RX=$MAVLINK_RX start_rx rxm --soak --duration $((SOAK_SECONDS + 120)) --idle 20 --min-targets 100
+read -r port_m _ <<<"$RX_PORT"
 cat >"$work/good.yaml" <<YAML
 source: sim
 calib: $work/cam.yaml
 radius: 10
 dest: [127.0.0.1:$port_a, 127.0.0.1:$port_b]
+mavlink: [udpout://127.0.0.1:$port_m]
 sim: {frames: 8, rate: 0, threads: 1}
 record: $rec
 record_every: 500
@@ -143,19 +150,22 @@ grep "SIGUSR1: .* pose [0-9]" "$work/d.log" | sed "s/.*total: /totals: /"
 kill -TERM "$d_pid"
 wait_for "$d_pid" 20; rc=$?
 sleep 0.5   # the last datagrams in
-kill -TERM "$rxa_pid" "$rxb_pid"
+kill -TERM "$rxa_pid" "$rxb_pid" "$rxm_pid"
 wait_for "$rxa_pid" 20; rca=$?
 wait_for "$rxb_pid" 20; rcb=$?
+wait_for "$rxm_pid" 20; rcm=$?
 [ -n "$small_disk" ] && umount "$work/disk"
 cat "$work/rxa.out"
+cat "$work/rxm.out"
 echo "faults: $n_hup SIGHUPs ($n_ok valid, $n_bad broken), receiver B away $n_rx times," \
      "recording directory removed $n_rm times, disk filled $n_fill times$([ -n "$small_disk" ] || echo " (no small disk: not root)")"
 echo "send errors: $(grep -c 'cannot send' "$work/d.log") lines logged"
 [ $rc -eq 0 ] || fail "cdspd exit status $rc after SIGTERM"
 [ $rca -eq 0 ] || fail "receiver A found an invalid datagram, a counter backwards or a wrong pose"
 [ $rcb -eq 0 ] || fail "receiver B found an invalid datagram"
+[ $rcm -eq 0 ] || { cat "$work/rxm.err" >&2; fail "the MAVLink receiver found an invalid frame"; }
 grep -q "seq out of order 0" "$work/rxa.out" || fail "seq out of order at receiver A"
 [ "$fd1" -eq "$fd0" ] || fail "open descriptors: $fd0 at start, $fd1 at the end"
 [ $((rss1 - rss0)) -le $RSS_ALLOW_KB ] ||
     fail "resident memory grew by $((rss1 - rss0)) KiB (allowed $RSS_ALLOW_KB)"
-echo "PASS: soak $SOAK_SECONDS s: resident $rss0 -> $rss1 KiB ($((rss1 - rss0)) KiB, allowed $RSS_ALLOW_KB), descriptors $fd0 -> $fd1, every datagram valid"
+echo "PASS: soak $SOAK_SECONDS s: resident $rss0 -> $rss1 KiB ($((rss1 - rss0)) KiB, allowed $RSS_ALLOW_KB), descriptors $fd0 -> $fd1, every datagram and MAVLink frame valid"

@@ -1,5 +1,5 @@
 /*
- * test_proto.c - cdspd's datagram format (daemon/proto.c) against
+ * test_proto.c - cdspd's datagram format (host/proto.c) against
  * docs/protocol.md: byte positions and little-endian order of the binary
  * record, round trips of random records through binary and JSON, the
  * rejection of foreign or damaged datagrams, and the status tokens.

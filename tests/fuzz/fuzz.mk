@@ -1,7 +1,7 @@
 # tests/fuzz/fuzz.mk: libFuzzer targets (clang -fsanitize=fuzzer with
 # ASan/UBSan) for every parser and entry point that takes outside data:
-#   image-pgm, image-png  frame readers (tools/common/image.c)
-#   calib                 camera_info YAML reader (tools/common/calib.c)
+#   image-pgm, image-png  frame readers (host/image.c)
+#   calib                 camera_info YAML reader (host/calib.c)
 #   config                cdspd's config file and --set (daemon/config.c)
 #   listen                a UDP datagram as `cdsp_tool listen` prints it
 #   export                the JSON records `cdsp_tool export` reads
@@ -23,32 +23,35 @@ fuzz_DIR := $(BUILD)/fuzz
 fuzz_OBJ_DIR := $(fuzz_DIR)/obj
 fuzz_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer -g
 fuzz_CFLAGS := $(BASE_CFLAGS) -O1 $(fuzz_SAN) -fsanitize=fuzzer-no-link
-# (included before tools/tool.mk: its variables are not set yet)
-fuzz_PKGS := yaml-0.1 spng json-c libjpeg libtiff-4 cairo fontconfig
-fuzz_INC := -Itools/common -Itools -Idaemon -Itests/fuzz \
-            $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(fuzz_PKGS) 2>/dev/null))
-fuzz_LIBS := $(shell pkg-config --libs $(fuzz_PKGS) 2>/dev/null || echo -lyaml -lspng -ljson-c -ljpeg -ltiff -lcairo -lfontconfig) \
+# the host library's packages (host/host.mk), and cairo and fontconfig for
+# the overlay's drawing
+fuzz_PKGS := $(HOSTLIB_PKGS) cairo fontconfig
+fuzz_SYS := $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(fuzz_PKGS) 2>/dev/null))
+# a part's objects see the host library and their own part only; the
+# harnesses see all three
+fuzz_INC := $(HOSTLIB_INC) -Itools -Idaemon -Itests/fuzz $(fuzz_SYS)
+fuzz_TOOL_INC := $(HOSTLIB_INC) -Itools $(fuzz_SYS)
+fuzz_DAEMON_INC := $(HOSTLIB_INC) -Idaemon $(fuzz_SYS)
+fuzz_LIBS := $(shell pkg-config --libs $(fuzz_PKGS) 2>/dev/null || echo $(HOSTLIB_PKG_FALLBACK) -lcairo -lfontconfig) \
              -lpthread -lm
 
 # libcdsp instrumented for coverage (build/fuzz/libcdsp.a)
 fuzz_LIB_CFLAGS := $(fuzz_CFLAGS)
 $(eval $(call lib_variant,fuzz,$(CLANG),fuzz_LIB_CFLAGS))
 
-fuzz_HOST_OBJ := $(patsubst tools/common/%.c,$(fuzz_OBJ_DIR)/common/%.o,$(sort $(wildcard tools/common/*.c)))
+# libcdsp_host instrumented the same way (host/host.mk builds it)
+fuzz_HOST_LIB := $(HOSTLIB_FUZZ_LIB)
 # config.o refers to the file source (cdspd_config_finish finds a
 # recording's calibration) and to the MAVLink output's URL parser and mount
 # presets: those objects come along
-fuzz_DAEMON_OBJ := $(patsubst %,$(fuzz_OBJ_DIR)/daemon/%.o,proto config log src_file source pool \
+fuzz_DAEMON_OBJ := $(patsubst %,$(fuzz_OBJ_DIR)/daemon/%.o,config log src_file source pool \
                      sim_path src_sim mavlink mount mavout stats)
-$(fuzz_OBJ_DIR)/common/%.o: tools/common/%.c
-	@mkdir -p $(@D)
-	$(CLANG) $(fuzz_CFLAGS) $(fuzz_INC) -c $< -o $@
 $(fuzz_OBJ_DIR)/daemon/%.o: daemon/%.c
 	@mkdir -p $(@D)
-	$(CLANG) $(fuzz_CFLAGS) $(fuzz_INC) -c $< -o $@
+	$(CLANG) $(fuzz_CFLAGS) $(fuzz_DAEMON_INC) -c $< -o $@
 $(fuzz_OBJ_DIR)/tools/%.o: tools/%.c
 	@mkdir -p $(@D)
-	$(CLANG) $(fuzz_CFLAGS) $(fuzz_INC) -c $< -o $@
+	$(CLANG) $(fuzz_CFLAGS) $(fuzz_TOOL_INC) -c $< -o $@
 $(fuzz_OBJ_DIR)/image-pgm.o: tests/fuzz/fuzz_image.c
 	@mkdir -p $(@D)
 	$(CLANG) $(fuzz_CFLAGS) $(fuzz_INC) -DFUZZ_FORMAT=1 -c $< -o $@
@@ -61,17 +64,17 @@ $(fuzz_OBJ_DIR)/%.o: tests/fuzz/fuzz_%.c tests/fuzz/fuzz_input.h
 
 # target: the objects it links beside its harness
 fuzz_TARGETS := image-pgm image-png calib config listen export overlay frame points mavlink
-fuzz_DEPS_image-pgm := $(fuzz_HOST_OBJ)
-fuzz_DEPS_image-png := $(fuzz_HOST_OBJ)
-fuzz_DEPS_calib := $(fuzz_HOST_OBJ)
-fuzz_DEPS_config := $(fuzz_DAEMON_OBJ) $(fuzz_HOST_OBJ)
-fuzz_DEPS_listen := $(fuzz_OBJ_DIR)/tools/listen.o $(fuzz_OBJ_DIR)/daemon/proto.o $(fuzz_HOST_OBJ)
+fuzz_DEPS_image-pgm := $(fuzz_HOST_LIB)
+fuzz_DEPS_image-png := $(fuzz_HOST_LIB)
+fuzz_DEPS_calib := $(fuzz_HOST_LIB)
+fuzz_DEPS_config := $(fuzz_DAEMON_OBJ) $(fuzz_HOST_LIB)
+fuzz_DEPS_listen := $(fuzz_OBJ_DIR)/tools/listen.o $(fuzz_HOST_LIB)
 fuzz_DEPS_export := $(fuzz_OBJ_DIR)/tools/tool_export.o $(fuzz_OBJ_DIR)/tools/tool_common.o \
-                    $(fuzz_HOST_OBJ)
-fuzz_DEPS_overlay := $(fuzz_OBJ_DIR)/tools/tool_overlay.o $(fuzz_OBJ_DIR)/tools/tool_caption.o $(fuzz_HOST_OBJ)
+                    $(fuzz_HOST_LIB)
+fuzz_DEPS_overlay := $(fuzz_OBJ_DIR)/tools/tool_overlay.o $(fuzz_OBJ_DIR)/tools/tool_caption.o $(fuzz_HOST_LIB)
 fuzz_DEPS_frame :=
 fuzz_DEPS_points :=
-fuzz_DEPS_mavlink := $(fuzz_DAEMON_OBJ) $(fuzz_HOST_OBJ)
+fuzz_DEPS_mavlink := $(fuzz_DAEMON_OBJ) $(fuzz_HOST_LIB)
 
 # Executions per target in make check, the corpus replay included, chosen
 # for ~40 s in all under ASan/UBSan on this 2-core machine (exec/s measured

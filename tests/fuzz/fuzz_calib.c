@@ -1,6 +1,6 @@
 /*
- * fuzz_calib.c - the ROS camera_info YAML reader (tools/common/calib.c,
- * through the bounded loader of tools/common/yaml_load.c). A calibration
+ * fuzz_calib.c - the ROS camera_info YAML reader (host/calib.c,
+ * through the bounded loader of host/yaml_load.c). A calibration
  * it accepts must pass the library's cdsp_camera_check, and is written back
  * and read again: the same camera.
  */

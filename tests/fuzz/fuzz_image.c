@@ -1,5 +1,5 @@
 /*
- * fuzz_image.c - the frame readers (tools/common/image.c): PGM by hand,
+ * fuzz_image.c - the frame readers (host/image.c): PGM by hand,
  * PNG through libspng, and the dispatcher that picks one by magic. A frame
  * that decodes must be one the library accepts (cdsp_image_check), and is
  * then scanned for edges, so what a reader lets through reaches libcdsp.

@@ -1,6 +1,6 @@
 /*
  * fuzz_listen.c - what `cdsp_tool listen` does with one datagram
- * (tools/listen.c over daemon/proto.c): decode, then format as the
+ * (tools/listen.c over host/proto.c): decode, then format as the
  * readable line and as JSON. A line is one line; a JSON line is exactly
  * one JSON object (nothing after it: the injection of issue 16) that
  * decodes again, and encodes to the same JSON from then on.

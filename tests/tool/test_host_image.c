@@ -1,5 +1,5 @@
 /*
- * test_host_image.c - frame files of tools/common: PGM P5 by hand (8/16 bit,
+ * test_host_image.c - frame files of the host library (host/): PGM P5 by hand (8/16 bit,
  * comments, maxval scaling), PNG through libspng (gray, RGB, RGBA, palette,
  * 1..16 bit), and every kind of bad file (truncated, corrupt, zero-size,
  * wrong depth, huge header, random mutations) rejected with a message that

@@ -1,6 +1,6 @@
 /*
  * test_host_jpeg_tiff.c - JPEG (libjpeg-turbo) and TIFF (libtiff) frames of
- * tools/common: files written here with the same libraries in the layouts
+ * host/: files written here with the same libraries in the layouts
  * cameras and image tools produce (gray and colour, 8 and 16 bit, strips
  * and tiles, compressed), read back through cdsp_host_image_decode, and
  * hostile files (truncated, corrupt, huge claimed sizes, float samples,

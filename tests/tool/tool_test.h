@@ -1,5 +1,5 @@
 /*
- * tool_test.h - helpers shared by the tests of tools/common and cdsp_tool:
+ * tool_test.h - helpers shared by the tests of the host library (host/) and cdsp_tool:
  * a scratch directory per suite, writing byte buffers to files, and
  * substring checks on error messages.
  */
