@@ -202,6 +202,9 @@ int tool_solve_main(int argc, char **argv);   /* also "overlay" */
 int tool_sim_main(int argc, char **argv);
 int tool_export_main(int argc, char **argv);
 int tool_bench_main(int argc, char **argv);
+/* tool_rack.c: bench --rack, the paper's real experiment rendered (frames
+ * per group; CSV into out_dir). */
+int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet);
 int tool_plot_main(int argc, char **argv);
 int tool_compare_main(int argc, char **argv);
 
