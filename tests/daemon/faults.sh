@@ -174,11 +174,15 @@ kill -HUP "$d4b_pid"
 kill -USR1 "$d4b_pid"
 sleep 0.2
 kill -0 "$d4b_pid" 2>/dev/null || fail "a SIGHUP or SIGUSR1 during start-up killed cdspd"
-# written twice: the held SIGHUP's reload reads the FIFO again
+# written twice: the held SIGHUP's reload reads the FIFO again; the second
+# writer only once the first read is over ("starting" is logged after the
+# file is closed), or both writes would reach the first read as one text
 # (timeout: a writer whose reader never comes must not outlive the test)
-timeout $((120 * scale)) sh -c 'cat "$1" >"$2" && cat "$1" >"$2"' sh "$work/good.yaml" "$work/slow.yaml" &
-writer=$!
-pids+=("$writer")
+timeout $((120 * scale)) cp "$work/good.yaml" "$work/slow.yaml" &
+pids+=("$!")
+wait_log "$work/d4b.log" "starting: source" 60 || fail "cdspd did not read its configuration"
+timeout $((120 * scale)) cp "$work/good.yaml" "$work/slow.yaml" &
+pids+=("$!")
 wait_log "$work/d4b.log" "reloaded: source" 60 || fail "the SIGHUP held during start-up was not taken"
 wait_log "$work/d4b.log" "SIGUSR1: " 60 || fail "the SIGUSR1 held during start-up was not taken"
 kill -TERM "$d4b_pid"
@@ -221,9 +225,32 @@ fi
 if [ -n "$skip_ro" ]; then
     echo "SKIP: the recording directory made read-only ($skip_ro)"
 else
+# a sanitizer build run as nobody: its log (log_path) in a directory of
+# nobody's and its suppression files copied where nobody can read them
+# (the originals may sit under a private home); reports come back to
+# $work/san.* after the run, where cleanup's check finds them
+san_env=()
+if [ -n "${CDSPD_SAN:-}" ] && [ ${#as[@]} -gt 0 ]; then
+    mkdir -p "$work/san-nobody" && chown nobody "$work/san-nobody"
+    for v in ASAN_OPTIONS UBSAN_OPTIONS TSAN_OPTIONS LSAN_OPTIONS; do
+        [ -n "${!v:-}" ] || continue
+        val=""
+        IFS=: read -r -a opts <<<"${!v}"
+        for o in "${opts[@]}"; do
+            case $o in
+            log_path=*) o="log_path=$work/san-nobody/san" ;;
+            suppressions=*)
+                cp "${o#suppressions=}" "$work/$v.supp" && chmod a+r "$work/$v.supp"
+                o="suppressions=$work/$v.supp" ;;
+            esac
+            val=${val:+$val:}$o
+        done
+        san_env+=("$v=$val")
+    done
+fi
 start_rx rx6 --validate --duration 60 --idle 3 --min-poses 40
-"${as[@]}" "$CDSPD" "${simd[@]}" --set sim.rate=50 --dest 127.0.0.1:$RX_PORT --record "$ro" \
-    --set record_every=1 >"$work/d6.out" 2>"$work/d6.log" &
+env "${san_env[@]}" "${as[@]}" "$CDSPD" "${simd[@]}" --set sim.rate=50 --dest 127.0.0.1:$RX_PORT \
+    --record "$ro" --set record_every=1 >"$work/d6.out" 2>"$work/d6.log" &
 d6_pid=$!; pids+=("$d6_pid")
 wait_log "$work/d6.log" "sim: open" 60 || fail "cdspd (as ${as[2]:-itself}) did not start"
 sleep 1
@@ -232,7 +259,9 @@ wait_log "$work/d6.log" "recording stopped" 10 || fail "no message when the dire
 grep "recording stopped" "$work/d6.log"
 sleep 1
 kill -TERM "$d6_pid"
-wait_for "$d6_pid" 10 || fail "cdspd exit status $? (read-only directory)"
+wait_for "$d6_pid" 10; rc6=$?
+for f in "$work"/san-nobody/san.*; do [ -e "$f" ] && mv "$f" "$work/"; done
+[ $rc6 -eq 0 ] || fail "cdspd exit status $rc6 (read-only directory)"
 wait_for "$rx6_pid" 10 || fail "datagrams stopped with the directory read-only"
 cat "$work/rx6.out"
 fi
