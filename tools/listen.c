@@ -74,6 +74,15 @@ static void usage(FILE *f)
             "    counters. At the end a summary line counts the datagrams, the\n"
             "    undecodable ones and the gaps in the sequence numbers.\n"
             "\n"
+            "    With cdspd's solver.multi_pipe on, the line goes on with every pipe:\n"
+            "\n"
+            "      | N pipes:  #1 id I d D conf C  #2 id I d D conf C (S from #1) ...\n"
+            "\n"
+            "    rank, track id (kept while the pipe is in view), distance,\n"
+            "    confidence, and each pipe's axis distance from the first (the\n"
+            "    paper's spacing measure); --json prints them as \"pipes\" and\n"
+            "    \"pairs\" (docs/protocol.md).\n"
+            "\n"
             "OPTIONS\n"
             "    ADDR:PORT\n"
             "        Where to listen. Default 0.0.0.0:%d (cdspd's default --dest port).\n"
@@ -233,12 +242,13 @@ static void format_human(const cdspd_record *r, char *out, size_t cap)
              r->confidence, r->inliers[0], r->inliers[1], r->proc_us * 1e-3, r->latency_us * 1e-3,
              (r->flags & CDSPD_FLAG_TRACKED) ? "  tracked" : "", (unsigned long)r->frames_dropped);
     if (r->flags & CDSPD_FLAG_MULTI) {
-        /* every pipe: rank, track id, distance, confidence; then the
-         * spacing of each to the first (the paper's axis distance) */
+        /* every pipe, on the same line (a record is one line): rank,
+         * track id, distance, confidence, and the spacing of each to the
+         * first (the paper's axis distance) */
         size_t len = strlen(out);
         uint32_t k;
         cdsp_result first, other;
-        len += (size_t)snprintf(out + len, len < cap ? cap - len : 0, "\n         %u pipe%s:", r->n_pipes,
+        len += (size_t)snprintf(out + len, len < cap ? cap - len : 0, "  | %u pipe%s:", r->n_pipes,
                                 r->n_pipes == 1 ? "" : "s");
         if (r->n_pipes)
             cdspd_pipe_to_result(&r->pipe[0], &first);
