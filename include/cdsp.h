@@ -689,6 +689,11 @@ typedef struct {
     cdsp_real lines[2][3];   /* the pipe's contours last seen (undistorted px) */
     cdsp_real mid[2];        /* its visible segment's middle, undistorted px */
     cdsp_real direction[3];  /* its axis direction last seen (sign kept) */
+    cdsp_real velocity[2];   /* each contour's shift along its normal from the
+                                frame before to the last, px per frame: the
+                                track is looked for where it will be, so a
+                                rack panning by about a gap per frame does
+                                not hand a pipe's track to the gap beside it */
 } cdsp_track;
 
 typedef struct {
@@ -696,7 +701,8 @@ typedef struct {
     uint32_t next_id;        /* the id the next new pipe gets (starts at 1) */
     cdsp_real gate_px;       /* a pipe continues a track when both its
                                 contours lie within gate_px of the track's
-                                (at the pipe's middle, undistorted px).
+                                predicted ones (at the pipe's middle,
+                                undistorted px; constant velocity).
                                 Default 24: the image may move that much
                                 between two frames */
     int max_missed;          /* frames a track survives unseen. Default 2 */

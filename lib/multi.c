@@ -20,11 +20,15 @@
  * come in. With a tracker the pairs near a live track are tried first
  * (their score weighted as in the single path's tracking, 1 + 2 exp(-e^2/2)).
  *
- * Tracking: each pipe is matched to the live track whose contours are
- * nearest to its own (the largest of the two contours' distances, at the
- * pipe's middle, undistorted px), within the tracker's gate, greedily by
- * distance; it keeps the track's id and its direction's sign. A track not
- * seen for more than max_missed frames is dropped.
+ * Tracking: each pipe is matched to the live track whose predicted
+ * contours are nearest to its own (the largest of the two contours'
+ * distances, at the pipe's middle, undistorted px), within the tracker's
+ * gate, greedily by distance; it keeps the track's id and its direction's
+ * sign. The prediction moves each contour by its last shift per frame
+ * (constant velocity, times the frames since it was seen): without it a
+ * rack panning by about a gap's width per frame puts the gap where a pipe
+ * was, and the gap would inherit the pipe's track. A track not seen for
+ * more than max_missed frames is dropped.
  */
 #include "internal.h"
 
@@ -143,11 +147,27 @@ static void result_mid(const cdsp_camera *cam, const cdsp_result *r, cdsp_real q
     q[1] = cam->fy * X[1] / X[2] + cam->cy;
 }
 
-/* The pair's contours' offset from track t, px, at the pair's p_in. */
+/* Where track t's contours are expected this frame: each moved along its
+ * normal by its velocity times the frames since it was seen (a line
+ * a u + b v + c = 0 with a^2 + b^2 = 1 moved by s along (a, b) has c - s). */
+static void track_predict(const cdsp_track *t, cdsp_real out[2][3])
+{
+    cdsp_real k = (cdsp_real)(t->missed + 1u);
+    int c;
+    for (c = 0; c < 2; c++) {
+        out[c][0] = t->lines[c][0];
+        out[c][1] = t->lines[c][1];
+        out[c][2] = t->lines[c][2] - k * t->velocity[c];
+    }
+}
+
+/* The pair's contours' offset from track t's prediction, px, at p_in. */
 static cdsp_real pair_track_offset(const cdsp_pair_set *set, const cdsp_pair_eval *e,
                                    const cdsp_track *t)
 {
-    return track_offset(set->lines[e->i].l, set->lines[e->j].l, e->p_in, t->lines[0], t->lines[1]);
+    cdsp_real pr[2][3];
+    track_predict(t, pr);
+    return track_offset(set->lines[e->i].l, set->lines[e->j].l, e->p_in, pr[0], pr[1]);
 }
 
 /* Order of trial: by score, weighted near a live track (see the top). */
@@ -244,11 +264,11 @@ static void track_update(cdsp_tracker *trk, const cdsp_camera *cam, cdsp_result 
             if (taken_r[i])
                 continue;
             for (t = 0; t < CDSP_MAX_TRACKS; t++) {
-                cdsp_real e;
+                cdsp_real e, pr[2][3];
                 if (!trk->track[t].id || taken_t[t])
                     continue;
-                e = track_offset(out[i].lines[0], out[i].lines[1], mid[i], trk->track[t].lines[0],
-                                 trk->track[t].lines[1]);
+                track_predict(&trk->track[t], pr);
+                e = track_offset(out[i].lines[0], out[i].lines[1], mid[i], pr[0], pr[1]);
                 if (e <= best) {
                     best = e;
                     bt = t;
@@ -285,6 +305,12 @@ static void track_update(cdsp_tracker *trk, const cdsp_camera *cam, cdsp_result 
             trk->next_id = 1u; /* wrapped after 2^32 pipes: 0 means none */
         taken_t[slot] = 1;
         out[i].track_id = trk->track[slot].id;
+        trk->track[slot].missed = 0;
+        trk->track[slot].velocity[0] = trk->track[slot].velocity[1] = R(0);
+        for (k = 0; k < 3; k++) { /* no motion known yet: the velocity below stays 0 */
+            trk->track[slot].lines[0][k] = out[i].lines[0][k];
+            trk->track[slot].lines[1][k] = out[i].lines[1][k];
+        }
     }
     /* what every matched or new track saw this frame */
     for (i = 0; i < n; i++) {
@@ -296,6 +322,19 @@ static void track_update(cdsp_tracker *trk, const cdsp_camera *cam, cdsp_result 
                 tr = &trk->track[t];
         if (!tr)
             continue;
+        /* each new contour's shift from the old one of its polarity (the
+         * one whose normal points the same way; the order of a result's
+         * two lines may change), per frame since it was seen */
+        for (k = 0; k < 2; k++) {
+            const cdsp_real *nl = out[i].lines[k];
+            int m = nl[0] * tr->lines[0][0] + nl[1] * tr->lines[0][1] >=
+                            nl[0] * tr->lines[1][0] + nl[1] * tr->lines[1][1]
+                        ? 0
+                        : 1;
+            cdsp_real dot = nl[0] * tr->lines[m][0] + nl[1] * tr->lines[m][1];
+            tr->velocity[k] = dot > R(0) ? (tr->lines[m][2] - nl[2]) / (cdsp_real)(tr->missed + 1u)
+                                         : R(0);
+        }
         tr->missed = 0;
         for (k = 0; k < 3; k++) {
             tr->lines[0][k] = out[i].lines[0][k];
