@@ -52,12 +52,13 @@ size_t cdsp_points_all_ws_size(void)
     return sizeof(cdsp_points_all_ws);
 }
 
-/* A matching: mate[line] = index of its pair in the order array, or -1. */
+/* A matching: mate[line] = index of its pair in the pair list, or -1. */
 typedef struct {
     const cdsp_pair_set *set;
     const uint8_t *order;    /* pair indices in the order they are tried */
     int mate[CDSP_MAX_LINES];
     uint8_t seen[CDSP_MAX_LINES];
+    int width, height;       /* the frame, undistorted px (the camera's size) */
 } matching;
 
 static void link_pair(matching *m, int k)
@@ -101,6 +102,85 @@ static int augment(matching *m, int root)
             if (x < 0 || m->seen[x] || top == CDSP_MAX_LINES)
                 continue;
             m->seen[x] = 1;
+            line[top] = x;
+            next[top] = 0;
+            top++;
+            opened = 1;
+        }
+        if (!opened)
+            top--;
+    }
+    return 0;
+}
+
+/* +1 when pair e's band lies on its lines' normal side (a band brighter
+ * than its surroundings: the normals, toward the bright side, point into
+ * it), -1 for a darker band. */
+static int pair_sign(const cdsp_pair_set *set, const cdsp_pair_eval *e)
+{
+    const cdsp_line *A = &set->lines[e->i], *B = &set->lines[e->j];
+    return A->l[0] * B->centroid[0] + A->l[1] * B->centroid[1] + A->l[2] > R(0) ? 1 : -1;
+}
+
+/* Line v left over with bands of sign s: explained when its band would
+ * reach out of the frame within `reach` px (the pipe whose other contour is
+ * beyond the edge), from its centroid across it, on the band's side. */
+static int frame_explains(const matching *m, int v, int s, cdsp_real reach)
+{
+    const cdsp_line *L = &m->set->lines[v];
+    cdsp_real x = L->centroid[0] + (cdsp_real)s * reach * L->l[0];
+    cdsp_real y = L->centroid[1] + (cdsp_real)s * reach * L->l[1];
+    return !(x >= R(0) && y >= R(0) && x <= (cdsp_real)(m->width - 1) && y <= (cdsp_real)(m->height - 1));
+}
+
+/* Among matchings of the same size, the one whose left-over lines the
+ * frame's edge explains (see the top): from a left-over line root that the
+ * frame does not explain, an alternating path root - w1 = x1 - w2 = ... =
+ * x_m of new pairs of one sign s (the pairs (w_k, x_k) in the matching),
+ * ending at a line x_m that the frame explains for bands of sign s, is
+ * flipped when the new pairs score at least as much as the old ones: root
+ * is matched, x_m left over, the size unchanged. (The greedy start took
+ * the best pair first, so a gap scoring a little above the pipe beside it
+ * locked both pipes out.) Depth first, iterative, as augment. */
+static int rebalance(matching *m, int root, int s_now, cdsp_real reach)
+{
+    const cdsp_pair_set *set = m->set;
+    int line[CDSP_MAX_LINES], next[CDSP_MAX_LINES], via[CDSP_MAX_LINES], was[CDSP_MAX_LINES];
+    int top = 1, sign = 0;
+    if (frame_explains(m, root, s_now, reach))
+        return 0;
+    line[0] = root;
+    next[0] = 0;
+    m->seen[root] = 1;
+    while (top > 0) {
+        int v = line[top - 1], opened = 0;
+        while (next[top - 1] < set->npairs && !opened) {
+            int k = m->order[next[top - 1]++], w = other_end(&set->pair[k], v), x, l;
+            if (w < 0 || m->seen[w] || m->mate[v] == k || m->mate[w] < 0)
+                continue;
+            if (top == 1)
+                sign = pair_sign(set, &set->pair[k]);
+            else if (pair_sign(set, &set->pair[k]) != sign)
+                continue;
+            x = other_end(&set->pair[m->mate[w]], w);
+            if (x < 0 || m->seen[x])
+                continue;
+            via[top - 1] = k;
+            was[top - 1] = m->mate[w];
+            if (frame_explains(m, x, sign, reach)) {
+                cdsp_real gain = R(0);
+                for (l = 0; l < top; l++)
+                    gain += set->pair[via[l]].score - set->pair[was[l]].score;
+                if (gain < R(0))
+                    continue;
+                for (l = 0; l < top; l++)
+                    link_pair(m, via[l]);
+                m->mate[x] = -1;
+                return 1;
+            }
+            if (top == CDSP_MAX_LINES)
+                continue;
+            m->seen[w] = m->seen[x] = 1;
             line[top] = x;
             next[top] = 0;
             top++;
@@ -206,14 +286,17 @@ static void trial_order(const cdsp_pair_set *set, const cdsp_tracker *trk, cdsp_
 
 /* The matching (see the top): chosen[] receives pair indices, best score
  * first; returns their number (<= CDSP_MAX_LINES / 2). */
-static int select_pipes(const cdsp_pair_set *set, const cdsp_tracker *trk, cdsp_real gate,
-                        int *chosen)
+static int select_pipes(const cdsp_pair_set *set, const cdsp_camera *cam, const cdsp_tracker *trk,
+                        cdsp_real gate, int *chosen)
 {
     matching m;
     uint8_t order[CDSP_MAX_PAIRS];
-    int v, k, o, n = 0, grew = 1;
+    int v, k, o, n = 0, grew = 1, signs = 0;
+    cdsp_real reach = R(0);
     m.set = set;
     m.order = order;
+    m.width = cam->width;
+    m.height = cam->height;
     trial_order(set, trk, gate, order);
     for (v = 0; v < set->nlines; v++)
         m.mate[v] = -1;
@@ -232,6 +315,26 @@ static int select_pipes(const cdsp_pair_set *set, const cdsp_tracker *trk, cdsp_
                 m.seen[k] = 0;
             grew = augment(&m, v);
         }
+    }
+    /* the matching's band sign (most pairs') and the widest band: how far
+     * beyond a left-over line the frame's edge may hide its partner */
+    for (k = 0; k < set->npairs; k++) {
+        const cdsp_pair_eval *e = &set->pair[k];
+        const cdsp_line *A = &set->lines[e->i];
+        cdsp_real wd;
+        if (m.mate[e->i] != k || m.mate[e->j] != k)
+            continue;
+        signs += pair_sign(set, e);
+        wd = R(2) * R_FABS(A->l[0] * e->p_in[0] + A->l[1] * e->p_in[1] + A->l[2]);
+        reach = wd > reach ? wd : reach;
+    }
+    reach *= R(1.5);
+    for (v = 0; v < set->nlines && signs != 0; v++) {
+        if (m.mate[v] >= 0)
+            continue;
+        for (k = 0; k < set->nlines; k++)
+            m.seen[k] = 0;
+        (void)rebalance(&m, v, signs > 0 ? 1 : -1, reach);
     }
     /* the pairs of the matching, in score order (the pair list's own) */
     for (k = 0; k < set->npairs; k++) {
@@ -354,7 +457,7 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cds
 {
     int chosen[CDSP_MAX_LINES / 2 + 1], nc, k;
     size_t m = 0, i;
-    nc = select_pipes(set, trk, trk ? trk->gate_px : R(1), chosen);
+    nc = select_pipes(set, cam, trk, trk ? trk->gate_px : R(1), chosen);
     if (cap > CDSP_MAX_PIPES)
         cap = CDSP_MAX_PIPES;
     for (k = 0; k < nc && m < cap; k++) {
