@@ -7,23 +7,23 @@
 #include <stddef.h>
 #include <setjmp.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <math.h>
 #include <string.h>
 #include <cmocka.h>
 #include "support.h"
 
 /* Error bound of the closed form: the pose comes from n1 x n2 and
- * sin(alpha/2), so relative errors are ~ eps / alpha (cancellation between
- * two nearly parallel unit normals), with a constant for the handful of
- * roundings on the way. Double: this is far below the issue's 1e-9. */
+ * |n1 - n2| = 2 sin(alpha/2), so relative errors are ~ eps / alpha
+ * (cancellation between two nearly parallel unit normals, each rounded to
+ * ~eps), with a constant for the handful of roundings on the way: 5.
+ * Measured over the 504 poses of this file (CDSP_TEST_VERBOSE=1): worst
+ * 1.58 eps/alpha (P_C), 1.33 (distance), 1.51 (direction) in double, 1.02,
+ * 0.64, 1.02 in float. (It was 200 eps/alpha, and never below 1e-9 in
+ * double: the issue's figure, 1e6 times what the closed form does.) */
 static double rel_tol(double alpha)
 {
-    double t = 200.0 * T_EPS / alpha;
-#ifndef CDSP_SINGLE
-    if (t < 1e-9)
-        t = 1e-9; /* the contract's figure: never assert tighter than promised */
-#endif
-    return t;
+    return 5.0 * T_EPS / alpha;
 }
 
 static void solve_known(const cdsp_camera *cam, const double P[3], const double v[3], double r)
@@ -53,6 +53,10 @@ static void solve_known(const cdsp_camera *cam, const double P[3], const double 
         for (i = 0; i < 3; i++)
             err += (got[i] - foot[i]) * (got[i] - foot[i]);
         err = sqrt(err);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("axis: P_C %.3g dist %.3g dir %.3g eps/alpha\n", err / d / (T_EPS / (double)res.alpha),
+                          fabs((double)res.distance - d) / d / (T_EPS / (double)res.alpha),
+                          sup_axis_angle(dir, vv) / (T_EPS / (double)res.alpha));
         if (err > tol * d)
             fail_msg("P_C off by %.3g (d = %.6g, rel %.3g > tol %.3g)", err, d, err / d, tol);
         if (fabs((double)res.distance - d) > tol * d)
@@ -177,7 +181,9 @@ static void test_point_distance(void **state)
     memset(&r, 0, sizeof r);
     r.point[2] = 100;
     r.direction[2] = 1;
-    assert_true(fabs((double)cdsp_result_point_distance(&r, X) - 5.0) < 1e-6);
+    /* small integers: the cross product is exact and sqrt(25) correctly
+     * rounded, so 5 to the last bit (measured 0; bound a sqrt's 4 eps) */
+    assert_true(fabs((double)cdsp_result_point_distance(&r, X) - 5.0) <= 4 * T_EPS * 5);
 }
 
 int main(void)

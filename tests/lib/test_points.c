@@ -49,13 +49,22 @@ static void test_line_fit(void **state)
         e[i].gy = (cdsp_real)-8;
     }
     assert_int_equal(cdsp_line_fit(e, NULL, 100, &ln), CDSP_OK);
-    assert_true(fabs((double)ln.l[0] - 0.6) < 1e3 * T_EPS);
-    assert_true(fabs((double)ln.l[1] + 0.8) < 1e3 * T_EPS);
-    assert_true(fabs((double)ln.l[2] - 100) < 1e6 * T_EPS);
-    assert_true((double)ln.rms < 1e4 * T_EPS);
+    /* exact points, so what is left is rounding: the unit normal of a 2 x 2
+     * eigenproblem a few eps (measured 1 eps double, 0.7 float: bound 3);
+     * the offset c = -(a, b) . centroid, eps of the ~1e3 px coordinates
+     * (measured 1.0e3 / 2.6e2 eps: bound 4e3); the residual of exact points
+     * likewise eps x ~1e3 px (measured 7.9e2 / 3.1e2 eps: bound 2.5e3); the
+     * extent 1650 px to eps (measured 0 / 1.0e3 eps: bound 4e3); the mean
+     * gradient of identical integer gradients, sqrt(100) = 10, exactly
+     * (measured 0: bound a sqrt's 4 eps x 10). They were 1e3, 1e6, 1e4,
+     * 1e5 and 1e3 eps. */
+    assert_true(fabs((double)ln.l[0] - 0.6) < 3 * T_EPS);
+    assert_true(fabs((double)ln.l[1] + 0.8) < 3 * T_EPS);
+    assert_true(fabs((double)ln.l[2] - 100) < 4e3 * T_EPS);
+    assert_true((double)ln.rms < 2.5e3 * T_EPS);
     assert_int_equal(ln.count, 100);
-    assert_true(fabs((double)(ln.t_max - ln.t_min) - 990 * 5.0 / 3) < 1e5 * T_EPS);
-    assert_true(fabs((double)ln.strength - 10) < 1e3 * T_EPS);
+    assert_true(fabs((double)(ln.t_max - ln.t_min) - 990 * 5.0 / 3) < 4e3 * T_EPS);
+    assert_true(fabs((double)ln.strength - 10) <= 40 * T_EPS);
     assert_int_equal(cdsp_line_fit(e, idx, 3, &ln), CDSP_OK);
     assert_int_equal(ln.count, 3);
     /* flipped gradients flip the orientation */
@@ -64,7 +73,7 @@ static void test_line_fit(void **state)
         e[i].gy = -e[i].gy;
     }
     assert_int_equal(cdsp_line_fit(e, NULL, 100, &ln), CDSP_OK);
-    assert_true(fabs((double)ln.l[0] + 0.6) < 1e3 * T_EPS);
+    assert_true(fabs((double)ln.l[0] + 0.6) < 3 * T_EPS);
     /* degenerate sets */
     assert_int_equal(cdsp_line_fit(e, NULL, 1, &ln), CDSP_E_FEW_POINTS);
     e[1] = e[0];
@@ -101,7 +110,14 @@ static void test_exact_points(void **state)
         for (i = 0; i < 3; i++)
             err[i] = got[i] - f[i];
         {
-            double tol = 3e3 * T_EPS / (double)r.alpha;
+            /* the points (~1e3 px) carry a rounding of eps relative; the
+             * fit's normal and the plane normals K^T l keep that, a few eps,
+             * and the closed form divides it by alpha (n1 x n2, |n1 - n2|
+             * ~ alpha): c eps / alpha with c ~ 10 from the moments' sums.
+             * Measured over the 100 poses: worst 13.3 (P_C) and 11.5
+             * (angle) eps/alpha in double, 13.9 and 12.6 in float; bound
+             * 40 eps / alpha (it was 3e3: 3.2 % in float at alpha 0.011). */
+            double tol = 40 * T_EPS / (double)r.alpha;
             if (vnorm(err) > tol * vnorm(f))
                 fail_msg("trial %d: P_C off by %.3g (rel %.3g > %.3g)", t, vnorm(err),
                          vnorm(err) / vnorm(f), tol);
@@ -112,11 +128,10 @@ static void test_exact_points(void **state)
 }
 
 /* Noise 0.1 px on 1000 points per contour over the visible part of the
- * paper's pipes: the position error, normalized by the reported sigma, is
- * chi-square distributed: its mean over 60 trials x 3 axes must be near 1
- * (the mean of 180 chi2(1) variables has sd 0.105; 0.6..1.5 is > 3.8 sd
- * either way). Then the paper's figure, 0.013 mm at one point per pixel of
- * contour: the RMSE falls as 1/sqrt(points), so ours is scaled by
+ * paper's pipes: the paper's figure, 0.013 mm at one point per pixel of
+ * contour (whether the reported uncertainty matches the errors is
+ * test_covariance.c's Mahalanobis test: the per-axis chi-square band this
+ * test had assumed x, y, z independent, which they are not): the RMSE falls as 1/sqrt(points), so ours is scaled by
  * sqrt(1000 / visible px) before the comparison (CDSP_MAX_POINTS = 2048
  * holds 1024 per contour, fewer than the ~2000-2900 px the contours span). */
 static void test_noise_calibrated(void **state)
@@ -124,8 +139,8 @@ static void test_noise_calibrated(void **state)
     cdsp_camera cam;
     cdsp_params prm;
     cdsp_rng rng, noise;
-    double chi = 0, rmse_sum = 0, rmse_sq = 0, mean, se;
-    int t, k = 0, pipe;
+    double rmse_sum = 0, rmse_sq = 0, mean, se;
+    int t, pipe;
     (void)state;
     sup_paper_camera(&cam, 0, 0);
     cdsp_params_default(&prm);
@@ -133,10 +148,9 @@ static void test_noise_calibrated(void **state)
     cdsp_rng_seed(&noise, 4, 4);
     for (pipe = 0; pipe < 4; pipe++)
         for (t = 0; t < 15; t++) {
-            double P[3], v[3], f[3], got[3], dir[3], seg[2][3], s0, s1, vis[2];
+            double P[3], v[3], got[3], dir[3], seg[2][3], s0, s1, vis[2];
             cdsp_result r;
             size_t n;
-            int i;
             sup_paper_pipe(pipe, P, v);
             /* the 500 mm pipe, centred on its world point; the frame clips it */
             s0 = -250;
@@ -145,13 +159,7 @@ static void test_noise_calibrated(void **state)
                                    CDSP_MAX_POINTS, vis);
             assert_int_equal(n, 2000);
             assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
-            true_foot(P, v, f);
             sup_result_pose(&r, got, dir, seg);
-            for (i = 0; i < 3; i++) {
-                double z = (got[i] - f[i]) / (double)r.sigma_point[i];
-                chi += z * z;
-                k++;
-            }
             {
                 double e = sup_axis_rmse(seg[0], seg[1], P, v, 100) *
                            sqrt(1000.0 / ((vis[0] + vis[1]) / 2));
@@ -159,15 +167,12 @@ static void test_noise_calibrated(void **state)
                 rmse_sq += e * e;
             }
         }
-    chi /= k;
-    if (chi < 0.6 || chi > 1.5)
-        fail_msg("errors / reported sigma: mean chi2 %.3f (want ~1)", chi);
     /* mean (scaled) RMSE of 60 trials against the paper's 0.013 mm, allowing
      * two standard errors of the mean (the float build draws other noise) */
     mean = rmse_sum / 60;
     se = sqrt((rmse_sq / 60 - mean * mean) / 59);
     if (getenv("CDSP_TEST_VERBOSE"))
-        print_message("mean chi2 %.3f, mean RMSE %.4f +- %.4f mm\n", chi, mean, se);
+        print_message("mean RMSE %.4f +- %.4f mm\n", mean, se);
     if (mean - 2 * se > 0.013)
         fail_msg("mean RMSE %.4f +- %.4f mm > the paper's 0.013 mm", mean, se);
 }
@@ -216,12 +221,76 @@ static void test_clutter(void **state)
         assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
         true_foot(P, v, f);
         sup_result_pose(&r, got, dir, NULL);
-        for (i = 0; i < 3; i++)
-            if (fabs(got[i] - f[i]) > 6 * (double)r.sigma_point[i] + 1e-6)
-                fail_msg("trial %d axis %zu: error %.4f > 6 sigma (%.4f)", t, i, fabs(got[i] - f[i]),
+        for (i = 0; i < 3; i++) {
+            /* Gaussian errors of the reported sigma (test_covariance.c):
+             * |z| > 5 has probability 5.7e-7 per check, 90 checks; measured
+             * worst 1.9 sigma (double), 2.8 (float); it allowed 6 */
+            if (fabs(got[i] - f[i]) > 5 * (double)r.sigma_point[i])
+                fail_msg("trial %d axis %zu: error %.4f > 5 sigma (%.4f)", t, i, fabs(got[i] - f[i]),
                          (double)r.sigma_point[i]);
+        }
         assert_true(r.inliers[0] >= 480 && r.inliers[1] >= 480);
     }
+}
+
+/* A halo beside each contour (a shadow or a chamfer's edge: 1.5-2.5 px
+ * outside the silhouette, same gradient, ~30 % as many points): RANSAC's
+ * threshold (inlier_px = 1) and the refinement's re-selection of inliers
+ * about the fitted line keep it out, so the pose stays within the noise's
+ * uncertainty. Included, it would move each contour by ~0.4 x 2 px = 0.8 px
+ * outward, hundreds of sigma (sigma_offset ~ 0.004 px). Bound: every
+ * coordinate of P_C within 5 sigma (a normal's |z| over 60 draws exceeds 5
+ * with probability 3e-5; measured worst 2.97 sigma double, 3.06 float). */
+static void test_halo(void **state)
+{
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng rng, gen;
+    double worst = 0;
+    int t;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 15, 5);
+    cdsp_rng_seed(&gen, 16, 6);
+    for (t = 0; t < 20; t++) {
+        double P[3], v[3], f[3], got[3], dir[3], l[2][3], pin[2];
+        cdsp_result r;
+        size_t n, m, i;
+        sup_paper_pipe(t % 4, P, v);
+        n = sup_contour_points(&cam, P, v, 8, -250, 250, 700, 0.1, 100, &gen, pts, CDSP_MAX_POINTS, NULL);
+        assert_true(sup_contour_lines(&cam, P, v, 8, l, pin));
+        /* the halo: every 5th point copied 1.5-2.5 px away from the pipe
+         * (l's normal points into it), every other copy twice (1 px apart
+         * along v) */
+        for (i = 0, m = n; i < n && m < CDSP_MAX_POINTS; i += 5) {
+            int k = fabs(l[0][0] * (double)pts[i].x + l[0][1] * (double)pts[i].y + l[0][2]) <
+                            fabs(l[1][0] * (double)pts[i].x + l[1][1] * (double)pts[i].y + l[1][2])
+                        ? 0 : 1;
+            double off = 1.5 + (double)cdsp_rng_uniform(&gen);
+            pts[m] = pts[i];
+            pts[m].x = (cdsp_real)((double)pts[i].x - off * l[k][0]);
+            pts[m].y = (cdsp_real)((double)pts[i].y - off * l[k][1]);
+            m++;
+            if (i % 2 == 0 && m < CDSP_MAX_POINTS) {
+                pts[m] = pts[m - 1];
+                pts[m].y = (cdsp_real)((double)pts[m].y + 1.0);
+                m++;
+            }
+        }
+        assert_int_equal(cdsp_points_solve(&cam, 8, pts, m, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+        true_foot(P, v, f);
+        sup_result_pose(&r, got, dir, NULL);
+        for (i = 0; i < 3; i++) {
+            double z = fabs(got[i] - f[i]) / (double)r.sigma_point[i];
+            worst = z > worst ? z : worst;
+            if (z > 5)
+                fail_msg("trial %d axis %zu: error %.4f = %.1f sigma (halo let in?)", t, i,
+                         fabs(got[i] - f[i]), z);
+        }
+    }
+    if (getenv("CDSP_TEST_VERBOSE"))
+        print_message("halo: worst %.2f sigma\n", worst);
 }
 
 /* The same seed gives the same answer; the prior sets the direction's sign. */
@@ -259,7 +328,10 @@ static void test_reproducible_and_prior(void **state)
             n1p += (double)(rb.normals[0][i] * rb.point[i]);
             n2p += (double)(rb.normals[1][i] * rb.point[i]);
         }
-        assert_true(fabs(n1p - 8) < 1e-3 && fabs(n2p + 8) < 1e-3);
+        /* unit normals and P_C to eps each, a dot of three products: ~eps
+         * |P| (measured 0.29 eps |P| double, 0.12 float; it allowed 1e-3) */
+        double tol = T_EPS * (double)rb.distance;
+        assert_true(fabs(n1p - 8) < tol && fabs(n2p + 8) < tol);
     }
 }
 
@@ -298,6 +370,9 @@ static void test_not_a_pipe(void **state)
         {"staircase: same gradients", 1000, 1100, 60, 60, 0, 200, CDSP_E_NO_PIPE},
         {"X: lines cross in the middle", 1000, 1000, 60, -60, 0.5, 200, CDSP_E_NO_PIPE},
         {"two contours 1 px apart", 1000, 1001, 60, -60, 0, 200, CDSP_E_NO_PIPE},
+        /* the band must be as wide as the edge window, 2 half_window + 1 = 9 px */
+        {"band 8.5 px: narrower than the edge window", 1000, 1008.5, 60, -60, 0, 200, CDSP_E_NO_PIPE},
+        {"band 9.5 px: as wide as the edge window", 1000, 1009.5, 60, -60, 0, 200, CDSP_OK},
         {"too few points", 1000, 1100, 60, -60, 0, 1, CDSP_E_FEW_POINTS},
     };
     size_t i;
@@ -377,8 +452,9 @@ static void test_radius_bound(void **state)
     assert_true(isfinite((double)r.sigma_distance));
     /* the same points and RANSAC draws: the closed form is linear in r, so
      * the distance scales exactly but for rounding (measured 0 to 2e-16
-     * relative in double; float keeps ~1e-7 per operation) */
-    assert_true(fabs((double)r.distance / s - d8) < T_EPS * 1e3 * d8);
+     * relative in double, 0.1 eps in float; bound 8 eps: a few roundings
+     * of the scale; it was 1e3 eps) */
+    assert_true(fabs((double)r.distance / s - d8) < T_EPS * 8 * d8);
     assert_int_equal(cdsp_points_solve(&cam, (cdsp_real)(2 * CDSP_MAX_RADIUS), pts, n, &prm, NULL,
                                        &ws, &rng, &r), CDSP_E_ARG);
 #ifndef CDSP_SINGLE
@@ -410,6 +486,7 @@ int main(void)
         cmocka_unit_test(test_exact_points),
         cmocka_unit_test(test_noise_calibrated),
         cmocka_unit_test(test_clutter),
+        cmocka_unit_test(test_halo),
         cmocka_unit_test(test_reproducible_and_prior),
         cmocka_unit_test(test_not_a_pipe),
         cmocka_unit_test(test_radius_bound),

@@ -82,8 +82,13 @@ static void contour_positions(double k1, double blur)
                 worst = fabs(est - xe);
             rows++;
         }
-    /* 16-bit rounding: 13 px * 0.5/65535 / contrast 0.55 ~ 2e-4 px */
-    if (worst > 0.01)
+    /* 16-bit rounding: 13 px * 0.5/65535 / contrast 0.55 ~ 2e-4 px, plus the
+     * undistortion the renderer maps pixels with (CDSP_UNDISTORT_TOL_PX:
+     * 1e-9 px double, 1e-3 px float). Measured (CDSP_TEST_VERBOSE=1): worst
+     * 9.5e-5 px (double), 9.3e-4 px (float, with k1); it allowed 0.01. */
+    if (getenv("CDSP_TEST_VERBOSE"))
+        print_message("contours k1 %g blur %g: worst %.3g px\n", k1, blur, worst);
+    if (worst > 2e-4 + CDSP_UNDISTORT_TOL_PX)
         fail_msg("k1 %g blur %g: contour off by %.4f px", k1, blur, worst);
     assert_true(rows > 150);
     free(px);
@@ -149,6 +154,10 @@ static void test_shaded_coverage(void **state)
                 rows++;
             }
             sum /= rows;
+            if (getenv("CDSP_TEST_VERBOSE"))
+                print_message("supersampled ambient %.2f contour %d: %.3g px\n", ambient, k,
+                              sum / (double)(s.pipe_level - s.background_level));
+            /* measured 4.2e-3 px at most (ambient 0.5), double and float */
             if (fabs(sum / (double)(s.pipe_level - s.background_level)) > 0.01)
                 fail_msg("ambient %.2f contour %d: edge moved %.4f px from the supersampled one",
                          ambient, k, sum / (double)(s.pipe_level - s.background_level));
@@ -202,8 +211,10 @@ static void test_caps_and_clutter(void **state)
     assert_true(abs(px[(int)lround((double)pix[1]) * 320 + (int)lround((double)pix[0])] -
                     (int)lround((double)s.pipe_level * 255)) <= 1);
     /* the bar crosses the frame at v = 300 * -60/600 + cy; at u = 100 it is
-     * at X = (100 - cx) * 600/300 = -119, inside its +-200 span */
-    assert_int_equal(px[(int)lround(-0.1 * 300 + (double)cam.cy) * 320 + 100], 242);
+     * at X = (100 - cx) * 600/300 = -119, inside its +-200 span, and its
+     * half-width 8 at 600 mm is 4 px: that pixel is all bar, its level */
+    assert_int_equal(px[(int)lround(-0.1 * 300 + (double)cam.cy) * 320 + 100],
+                     (int)lround((double)s.clutter[0].level * 255));
     assert_int_equal(cdsp_camera_project(&cam, beyond, pix), CDSP_OK);
     assert_int_equal(px[(int)lround((double)pix[1]) * 320 + (int)lround((double)pix[0])],
                      (int)lround((double)s.background_level * 255));
@@ -242,8 +253,13 @@ static void test_noise_and_depth(void **state)
             n++;
             assert_int_equal(a[y * 200 + x], (int)lround((double)s.background_level * 255));
         }
+    if (getenv("CDSP_TEST_VERBOSE"))
+        print_message("noise: mean %.3g (se %.3g), sd/0.01 - 1 = %.4f\n", sum / n, 0.01 / sqrt(n),
+                      sqrt(sum2 / n) / 0.01 - 1);
     assert_true(fabs(sum / n) < 5 * 0.01 / sqrt(n));
-    assert_true(fabs(sqrt(sum2 / n) / 0.01 - 1) < 0.05);
+    /* 4 sd of the sd estimate (1/sqrt(2n) = 0.8 %); measured +0.25 %
+     * (double), -2.1 % (float: other draws) */
+    assert_true(fabs(sqrt(sum2 / n) / 0.01 - 1) < 4 / sqrt(2.0 * n));
     free(a);
     free(b);
 }
@@ -428,11 +444,14 @@ static void test_cylinder_contours(void **state)
         assert_true(sup_contour_lines(&cam, P, v, 8, l, pin));
         assert_int_equal(cdsp_cylinder_contours(&cam, Pr, vr, 8, 1, l1, l2, pr), CDSP_OK);
         for (k = 0; k < 3; k++) {
-            assert_true(fabs((double)l1[k] - l[0][k]) < 1e4 * T_EPS * (k == 2 ? 3000 : 1));
-            assert_true(fabs((double)l2[k] - l[1][k]) < 1e4 * T_EPS * (k == 2 ? 3000 : 1));
+            /* the same formulas in the build's precision: a few roundings of
+             * eps (c: of its ~3000 px); measured 0 in double (identical
+             * arithmetic) and 0.97 eps in float; it allowed 1e4 eps */
+            assert_true(fabs((double)l1[k] - l[0][k]) < 4 * T_EPS * (k == 2 ? 3000 : 1));
+            assert_true(fabs((double)l2[k] - l[1][k]) < 4 * T_EPS * (k == 2 ? 3000 : 1));
         }
         assert_int_equal(cdsp_cylinder_contours(&cam, Pr, vr, 8, 0, l1, l2, pr), CDSP_OK);
-        assert_true(fabs((double)l1[0] + l[0][0]) < 1e4 * T_EPS);
+        assert_true(fabs((double)l1[0] + l[0][0]) < 4 * T_EPS);
     }
     {
         cdsp_real Pr[3] = {0, 0, 5}, vr[3] = {0, 1, 0}, l1[3], l2[3], pr[2];
