@@ -342,3 +342,23 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
     fe.status = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &fe.n);
     return full_search(img, cam, radius, p, prior, &fe, ws, rng, out);
 }
+
+/* The full search's first steps for lib/multi.c (internal.h): the same
+ * noise, threshold, scan and undistortion as cdsp_frame_solve's. */
+cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_frame_ws *ws, size_t *n, cdsp_real *sigma, cdsp_real *min_step,
+                              uint32_t *flags)
+{
+    cdsp_edge_params edge;
+    cdsp_status st;
+    int range = 0;
+    *flags = CDSP_FLAG_FULL_SEARCH;
+    frame_noise(img, sigma, &range);
+    frame_edge_params(img, p, *sigma, range, &edge, min_step);
+    st = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, n);
+    if (st == CDSP_E_CAPACITY)
+        *flags |= CDSP_FLAG_TRUNCATED;
+    else if (st != CDSP_OK)
+        return st;
+    return cdsp_camera_undistort_edges(cam, ws->edge, n);
+}

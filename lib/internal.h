@@ -140,6 +140,26 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
                              size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
                              cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
                              const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out);
+/* pair.c, split for the multi-pipe path (lib/multi.c): every candidate
+ * line and scored pair (CDSP_E_NO_PIPE when none), one pair's full result
+ * (confidence, n_candidates, track_id and the direction's sign are the
+ * caller's), and a pair's evidence E (include/cdsp.h, "The pair score"). */
+cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                 size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                                 const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set);
+cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                              size_t n, const uint8_t *label, cdsp_pair_set *set,
+                              const cdsp_pair_eval *c, const cdsp_params *p, const cdsp_image *img,
+                              cdsp_profile_ws *pws, cdsp_result *out);
+cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known);
+/* Every coordinate and gradient of the n points is finite. */
+int cdsp__points_finite(const cdsp_edge *e, size_t n);
+/* frame.c: a full search's edge points (undistorted) in ws->edge, *n of
+ * them, with the frame's noise and step threshold; *flags gets
+ * CDSP_FLAG_FULL_SEARCH and CDSP_FLAG_TRUNCATED when it applies. */
+cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_frame_ws *ws, size_t *n, cdsp_real *sigma, cdsp_real *min_step,
+                              uint32_t *flags);
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,
