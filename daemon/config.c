@@ -137,6 +137,14 @@ static const key_def keys[] = {
     /* ---- solver: detection (issue 10) -------------------------------------- */
     {"solver.min_confidence", K_REAL, O(min_confidence), 0, 1, NULL, "0",
      "poses with a lower confidence (0..1) are sent as no-pipe"},
+    /* ---- solver: one frame over several cores (issue 17) ------------------- */
+    {"solver.threads", K_INT, O(threads), 1, CDSP_EDGE_MAX_STRIPS, NULL, "1",
+     "cores one frame's full search is spread over (strips; the pose is the one core's, bit for bit; "
+     "solver.multi_pipe solves on one core)"},
+    /* ---- solver: every pipe (issue 13) ------------------------------------- */
+    {"solver.multi_pipe", K_BOOL, O(multi_pipe), 0, 1, NULL, "false",
+     "every pipe in view in each record (binary: the pipe list; JSON: pipes and pairs), each "
+     "with a track id"},
     /* ---- net -------------------------------------------------------------- */
     {"net.ttl", K_INT, O(ttl), 0, 255, NULL, "1", "multicast TTL (hops)"},
     {"net.multicast_loop", K_BOOL, O(multicast_loop), 0, 1, NULL, "true",

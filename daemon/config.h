@@ -62,8 +62,10 @@ typedef struct {
     int step, half_window, polarity, track_min_inliers;
     double min_contrast, track_band_px, min_distance, max_distance;
     double min_confidence; /* solver.min_confidence (issue 10) */
+    int multi_pipe;        /* solver.multi_pipe (issue 13): every pipe in each record */
     int roi[4];
     uint64_t seed;
+    int threads;           /* solver.threads (issue 17): cores per frame */
 
     /* net */
     int ttl;

@@ -22,7 +22,7 @@ daemon_sys = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags $(1) 2>/dev/n
 daemon_PKGS := $(HOSTLIB_PKGS)
 daemon_DEFS :=
 daemon_SRC := config.c log.c sim_path.c source.c src_sim.c src_file.c pool.c stats.c \
-              sender.c record.c notify.c pipeline.c mavlink.c mount.c mavout.c pixfmt.c
+              sender.c record.c notify.c pipeline.c mavlink.c mount.c mavout.c pixfmt.c strips.c
 daemon_CXX_SRC :=
 daemon_LINK := $(CC)
 
@@ -85,7 +85,7 @@ ALL_TARGETS += $(daemon_BIN)
 daemon_TDIR := $(BUILD)/tests/daemon
 daemon_UNIT := $(daemon_TDIR)/test_proto $(daemon_TDIR)/test_config $(daemon_TDIR)/test_pool \
                $(daemon_TDIR)/test_mavlink $(daemon_TDIR)/test_mount \
-               $(daemon_TDIR)/test_stats $(daemon_TDIR)/test_pixfmt
+               $(daemon_TDIR)/test_stats $(daemon_TDIR)/test_pixfmt $(daemon_TDIR)/test_strips
 daemon_RX := $(daemon_TDIR)/cdspd_rx
 daemon_MAVRX := $(daemon_TDIR)/mavlink_rx
 daemon_FEED := $(daemon_TDIR)/v4l2_feed

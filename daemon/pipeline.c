@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "cdsp.h"
+#include "cdsp_host.h" /* CDSP_HOST_JSON_PIPES_MAX */
 #include "log.h"
 #include "mavout.h"
 #include "mount.h"
@@ -20,6 +21,7 @@
 #include "sender.h"
 #include "sim_path.h"
 #include "source.h"
+#include "strips.h"
 
 /* The capture thread's longest wait inside the source, ms: how quickly it
  * notices a stop. */
@@ -35,7 +37,10 @@ struct cdspd_pipeline {
     cdspd_mavout *mav;         /* NULL without mavlink links */
     cdspd_mount mount;
     cdspd_recorder rec;
-    cdsp_frame_ws *ws;
+    cdsp_frame_all_ws *ws;     /* .frame is the single path's */
+    cdsp_tracker trk;          /* solver.multi_pipe: every pipe's track */
+    cdspd_strips *strips;      /* solver.threads > 1: the full search in strips
+                                  (the single path's; multi_pipe runs on one core) */
     cdsp_params params;
     int must_open;
 
@@ -239,7 +244,9 @@ static void *proc_main(void *arg)
     uint64_t processed = 0, status_us = (uint64_t)(c->status_interval * 1e6);
     /* wake at least every 100 ms (the watchdog follows the heartbeat) */
     uint64_t wait_us = status_us < 100000u ? status_us : 100000u, last = cdspd_now_us();
-    static const size_t cap = 4096;
+    /* a JSON record with every pipe and pair needs more (binary: at most
+     * CDSPD_PROTO_MAX_SIZE, below 4096) */
+    const size_t cap = 4096 + (c->multi_pipe ? CDSP_HOST_JSON_PIPES_MAX(CDSP_MAX_PIPES) : 0);
     const char *src_arg;
     int sim_truth = c->sim.truth && c->format == CDSPD_FORMAT_JSON &&
                     cdspd_source_kind_parse(c->source, &src_arg) == CDSPD_SRC_SIM;
@@ -324,8 +331,30 @@ static void *proc_main(void *arg)
             img.stride = f->stride;
             img.bits = f->bits;
             t0 = cdspd_now_us();
-            st = cdsp_frame_solve(&img, &c->cam, (cdsp_real)c->radius, &p->params,
-                                  have_prev ? &prev : NULL, p->ws, &rng, &res);
+            if (c->multi_pipe) {
+                /* every pipe; the record's pose is the first-ranked one */
+                cdsp_result all[CDSP_MAX_PIPES];
+                size_t np = 0;
+                st = cdsp_frame_solve_all(&img, &c->cam, (cdsp_real)c->radius, &p->params, &p->trk,
+                                          p->ws, &rng, all, CDSP_MAX_PIPES, &np);
+                rec.flags |= CDSPD_FLAG_MULTI;
+                if (st == CDSP_OK) {
+                    res = all[0];
+                    cdspd_record_set_pipes(&rec, all, np);
+                }
+            } else if (p->strips && !have_prev) { /* solver.threads: the full search in strips */
+                cdsp_frame_edges fe;
+                st = cdsp_frame_prepare(&img, &p->params, &fe);
+                if (st == CDSP_OK) {
+                    fe.status = cdspd_strips_detect(p->strips, &img, &fe.edge, p->ws->frame.edge,
+                                                    CDSP_MAX_EDGES, &fe.n);
+                    st = cdsp_frame_solve_detected(&img, &c->cam, (cdsp_real)c->radius,
+                                                   &p->params, &fe, &p->ws->frame, &rng, &res);
+                }
+            } else {
+                st = cdsp_frame_solve(&img, &c->cam, (cdsp_real)c->radius, &p->params,
+                                      have_prev ? &prev : NULL, &p->ws->frame, &rng, &res);
+            }
             t1 = cdspd_now_us();
             rec.status = st;
             rec.proc_us = (uint32_t)(t1 - t0);
@@ -391,10 +420,14 @@ int cdspd_pipeline_start(cdspd_pipeline **out, const cdspd_config *cfg, cdspd_st
     p->src->stop = &p->stop;
     bytes = (size_t)p->cfg.cam.width * (size_t)p->cfg.cam.height * 2;
     p->ws = malloc(sizeof *p->ws);
+    cdsp_tracker_init(&p->trk);
+    p->trk.gate_px = (cdsp_real)(2 * p->cfg.track_band_px); /* as cdsp_tool solve --all --track */
     if (!p->ws || cdspd_pool_init(&p->pool, bytes)) {
         snprintf(err, errlen, "out of memory for the frame buffers (3 x %zu bytes)", bytes);
         goto fail;
     }
+    if (p->cfg.threads > 1 && cdspd_strips_start(&p->strips, p->cfg.threads, err, errlen))
+        goto fail;
     cdspd_pool_set_lossless(&p->pool, p->src->replay);
     if (cdspd_sender_open(&p->sender, &p->cfg, err, errlen))
         goto fail;
@@ -427,6 +460,7 @@ fail_rec:
     cdspd_pipeline_stop(p);
     return 1;
 fail:
+    cdspd_strips_stop(p->strips);
     cdspd_pool_destroy(&p->pool);
     free(p->ws);
     cdspd_source_free(p->src);
@@ -477,6 +511,7 @@ void cdspd_pipeline_stop(cdspd_pipeline *p)
     cdspd_mavout_stop(p->mav);
     cdspd_sender_close(&p->sender);
     cdspd_source_free(p->src);
+    cdspd_strips_stop(p->strips);
     cdspd_pool_destroy(&p->pool);
     free(p->ws);
     pthread_mutex_destroy(&p->mu);

@@ -235,6 +235,18 @@ typedef struct {
 
 /* The table, in output order; *n rows. */
 const cdsp_host_field *cdsp_host_pose_fields(size_t *n);
+/* The fields of each entry of a record's "pipes" (cdsp_tool solve --all,
+ * cdspd multi_pipe), in output order: point, direction, distance,
+ * segment, sigma, confidence, lines, inliers, track_id (written only when
+ * tracking). */
+const cdsp_host_field *cdsp_host_pipe_fields(size_t *n);
+/* One entry of "pairs" for pipes a (i) and b (j): the angle between their
+ * axes (degrees, 0..90), and the mean distance from 100 points of a's
+ * visible axis segment to b's axis with its RMS spread along the segment
+ * (the paper's Eq. 17-21; cdsp_result_axis_spacing). 0, or -1 when a
+ * result holds no finite segment. */
+int cdsp_host_pipe_pair(const cdsp_result *a, const cdsp_result *b, double *angle_deg,
+                        double *axis_distance, double *axis_distance_rms);
 /* CSV columns a field flattens to, the name of column col (0-based) and
  * its value for r (text as in JSON: shortest round-trip numbers, true and
  * false); both return the length written (snprintf's). */
@@ -257,6 +269,22 @@ size_t cdsp_host_field_csv(const cdsp_host_field *f, const cdsp_result *r, int c
  */
 void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_token,
                          const cdsp_result *r, cdsp_real radius);
+
+/*
+ * Every pipe of a frame (issue 13), written into an open object after the
+ * pose: "pipes": [{the fields of cdsp_host_pipe_fields()}, ...] (best
+ * first; "track_id" only when tracking != 0) and "pairs": [{"i", "j",
+ * "angle_deg", "axis_distance", "axis_distance_rms"}, ...] for every i < j
+ * (cdsp_host_pipe_pair; a pair without a finite segment is left out).
+ * n may be 0 (two empty lists).
+ */
+void cdsp_host_json_pipes(cdsp_host_json *j, const cdsp_result *pipes, size_t n, int tracking);
+
+/* Bytes one entry of "pipes" and of "pairs" take at most. */
+#define CDSP_HOST_JSON_PIPE_MAX 1536
+#define CDSP_HOST_JSON_PAIR_MAX 192
+/* ... and the two lists for n pipes. */
+#define CDSP_HOST_JSON_PIPES_MAX(n) (64 + (n) * CDSP_HOST_JSON_PIPE_MAX + (n) * (n) / 2 * CDSP_HOST_JSON_PAIR_MAX)
 
 /* Ground truth of an axis through point with direction dir (any length):
  * the foot of the perpendicular from the optical centre (P_C), the unit

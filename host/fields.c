@@ -10,6 +10,7 @@
  * _2_c; the segment's two points add _1_x .. _2_z; a nested JSON key
  * "sigma.point" becomes sigma_point (then _x ...).
  */
+#include <math.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <string.h>
@@ -18,22 +19,45 @@
 
 #define R(m) offsetof(cdsp_result, m)
 
+/* Rows shared by the record's pose and each entry of "pipes" (solve --all,
+ * cdspd's multi-pipe datagrams): defined once here. */
+#define F_POINT                                                                                    \
+    {"point", CDSP_HOST_FIELD_VEC3, R(point), 0,                                                   \
+     "P_C, the foot of the perpendicular from the optical centre onto the axis"}
+#define F_DIRECTION                                                                                \
+    {"direction", CDSP_HOST_FIELD_VEC3, R(direction), 0,                                           \
+     "unit axis direction, largest component positive (with a prior: following it)"}
+#define F_DISTANCE {"distance", CDSP_HOST_FIELD_REAL, R(distance), 0, "|P_C|"}
+#define F_LINES                                                                                    \
+    {"lines", CDSP_HOST_FIELD_LINES, R(lines), 0,                                                  \
+     "the two contours a u + b v + c = 0, undistorted px, a^2 + b^2 = 1"}
+#define F_INLIERS {"inliers", CDSP_HOST_FIELD_COUNT2, R(inliers), 0, "contour points on each line"}
+#define F_SEGMENT                                                                                  \
+    {"segment", CDSP_HOST_FIELD_POINTS, R(segment), 0, "the visible part of the axis, two points"}
+#define F_SIGMA_POINT                                                                              \
+    {"sigma.point", CDSP_HOST_FIELD_VEC3, R(sigma_point), 0, "standard deviation of point"}
+#define F_SIGMA_DIRECTION                                                                          \
+    {"sigma.direction", CDSP_HOST_FIELD_VEC3, R(sigma_direction), 0,                               \
+     "standard deviation of direction"}
+#define F_SIGMA_DISTANCE                                                                           \
+    {"sigma.distance", CDSP_HOST_FIELD_REAL, R(sigma_distance), 0,                                 \
+     "standard deviation of distance"}
+#define F_CONFIDENCE                                                                               \
+    {"confidence", CDSP_HOST_FIELD_REAL, R(confidence), 0,                                         \
+     "0..1, how sure libcdsp is that this is the pipe (include/cdsp.h, \"The pair score\")"}
+
 static const cdsp_host_field pose_fields[] = {
-    {"point", CDSP_HOST_FIELD_VEC3, R(point), 0,
-     "P_C, the foot of the perpendicular from the optical centre onto the axis"},
-    {"direction", CDSP_HOST_FIELD_VEC3, R(direction), 0,
-     "unit axis direction, largest component positive (with a prior: following it)"},
-    {"distance", CDSP_HOST_FIELD_REAL, R(distance), 0, "|P_C|"},
+    F_POINT,
+    F_DIRECTION,
+    F_DISTANCE,
     {"alpha", CDSP_HOST_FIELD_REAL, R(alpha), 0, "angle between the two tangent planes, rad"},
-    {"lines", CDSP_HOST_FIELD_LINES, R(lines), 0,
-     "the two contours a u + b v + c = 0, undistorted px, a^2 + b^2 = 1"},
-    {"inliers", CDSP_HOST_FIELD_COUNT2, R(inliers), 0, "contour points on each line"},
+    F_LINES,
+    F_INLIERS,
     {"rms", CDSP_HOST_FIELD_PAIR, R(rms), 0, "their RMS distance to the line, px"},
-    {"segment", CDSP_HOST_FIELD_POINTS, R(segment), 0, "the visible part of the axis, two points"},
-    {"sigma.point", CDSP_HOST_FIELD_VEC3, R(sigma_point), 0, "standard deviation of point"},
-    {"sigma.direction", CDSP_HOST_FIELD_VEC3, R(sigma_direction), 0,
-     "standard deviation of direction"},
-    {"sigma.distance", CDSP_HOST_FIELD_REAL, R(sigma_distance), 0, "standard deviation of distance"},
+    F_SEGMENT,
+    F_SIGMA_POINT,
+    F_SIGMA_DIRECTION,
+    F_SIGMA_DISTANCE,
     {"edges", CDSP_HOST_FIELD_COUNT, R(n_edges), 0, "edge points considered"},
     {"tracked", CDSP_HOST_FIELD_FLAG, R(flags), CDSP_FLAG_TRACKED,
      "found in the bands around the previous frame's contours"},
@@ -41,9 +65,57 @@ static const cdsp_host_field pose_fields[] = {
      "found by searching the whole frame or ROI (no prior, or tracking lost the pipe)"},
     {"truncated", CDSP_HOST_FIELD_FLAG, R(flags), CDSP_FLAG_TRUNCATED,
      "more edge points than libcdsp keeps (CDSP_MAX_EDGES)"},
-    {"confidence", CDSP_HOST_FIELD_REAL, R(confidence), 0,
-     "0..1, how sure libcdsp is that this is the pipe (include/cdsp.h, \"The pair score\")"},
+    F_CONFIDENCE,
 };
+
+/* Each entry of "pipes", in this order; track_id only when tracking. */
+static const cdsp_host_field pipe_fields[] = {
+    F_POINT,
+    F_DIRECTION,
+    F_DISTANCE,
+    F_SEGMENT,
+    F_SIGMA_POINT,
+    F_SIGMA_DIRECTION,
+    F_SIGMA_DISTANCE,
+    {"confidence", CDSP_HOST_FIELD_REAL, R(confidence), 0,
+     "0..1, how sure libcdsp is that this band is a pipe (its evidence)"},
+    F_LINES,
+    F_INLIERS,
+    {"track_id", CDSP_HOST_FIELD_COUNT, R(track_id), 0,
+     "(when tracking) the pipe's id, the same while it stays in view"},
+};
+
+const cdsp_host_field *cdsp_host_pipe_fields(size_t *n)
+{
+    *n = sizeof pipe_fields / sizeof pipe_fields[0];
+    return pipe_fields;
+}
+
+/* Samples along pipe i's visible segment for the spacing (Eq. 17-21):
+ * the mean converges as 1/N^2 for the smooth distance profile, so 100 is
+ * exact to printing precision. */
+#define PAIR_SAMPLES 100
+
+int cdsp_host_pipe_pair(const cdsp_result *a, const cdsp_result *b, double *angle_deg,
+                        double *axis_distance, double *axis_distance_rms)
+{
+    double dot = 0, cr[3], c;
+    cdsp_real mean, spread;
+    int k;
+    for (k = 0; k < 3; k++)
+        dot += (double)a->direction[k] * (double)b->direction[k];
+    cr[0] = (double)a->direction[1] * (double)b->direction[2] - (double)a->direction[2] * (double)b->direction[1];
+    cr[1] = (double)a->direction[2] * (double)b->direction[0] - (double)a->direction[0] * (double)b->direction[2];
+    cr[2] = (double)a->direction[0] * (double)b->direction[1] - (double)a->direction[1] * (double)b->direction[0];
+    c = sqrt(cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]);
+    /* sign-insensitive: axes, not vectors; atan2 keeps small angles exact */
+    *angle_deg = atan2(c, fabs(dot)) * 180.0 / 3.14159265358979323846;
+    if (cdsp_result_axis_spacing(a, b, PAIR_SAMPLES, &mean, &spread) != CDSP_OK)
+        return -1;
+    *axis_distance = (double)mean;
+    *axis_distance_rms = (double)spread;
+    return 0;
+}
 
 const cdsp_host_field *cdsp_host_pose_fields(size_t *n)
 {

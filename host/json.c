@@ -219,32 +219,21 @@ const char *cdsp_host_json_finish(cdsp_host_json *j)
     return j->buf;
 }
 
-void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_token,
-                         const cdsp_result *r, cdsp_real radius)
+/* The rows f[0..n) of r as keys of the open object (a "group.key" row
+ * inside the object "group"); skip: a row name left out. */
+static void json_fields(cdsp_host_json *j, const cdsp_result *r, const cdsp_host_field *f, size_t n,
+                        const char *skip)
 {
-    const cdsp_host_field *f;
-    size_t n, i;
+    size_t i;
     const char *group = NULL; /* the nested object open now, e.g. "sigma" */
     size_t group_len = 0;
-
-    cdsp_host_json_key(j, "status");
-    if (st != CDSP_OK || !r) {
-        cdsp_host_json_string(j, "error");
-        cdsp_host_json_key(j, "error");
-        cdsp_host_json_string(j, error_token ? error_token : cdsp_status_token(st));
-    } else {
-        cdsp_host_json_string(j, "ok");
-    }
-    cdsp_host_json_key(j, "radius");
-    cdsp_host_json_number(j, (double)radius);
-    if (st != CDSP_OK || !r)
-        return;
-    f = cdsp_host_pose_fields(&n);
     for (i = 0; i < n; i++) {
         const char *dot = strchr(f[i].name, '.'), *key = dot ? dot + 1 : f[i].name;
         const char *base = (const char *)r + f[i].offset;
         const cdsp_real *v = (const cdsp_real *)(const void *)base;
         const uint32_t *u = (const uint32_t *)(const void *)base;
+        if (skip && strcmp(f[i].name, skip) == 0)
+            continue;
         if (group && (!dot || (size_t)(dot - f[i].name) != group_len ||
                       strncmp(f[i].name, group, group_len))) {
             cdsp_host_json_end_object(j);
@@ -282,4 +271,62 @@ void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_to
     }
     if (group)
         cdsp_host_json_end_object(j);
+}
+
+void cdsp_host_json_pose(cdsp_host_json *j, cdsp_status st, const char *error_token,
+                         const cdsp_result *r, cdsp_real radius)
+{
+    const cdsp_host_field *f;
+    size_t n;
+
+    cdsp_host_json_key(j, "status");
+    if (st != CDSP_OK || !r) {
+        cdsp_host_json_string(j, "error");
+        cdsp_host_json_key(j, "error");
+        cdsp_host_json_string(j, error_token ? error_token : cdsp_status_token(st));
+    } else {
+        cdsp_host_json_string(j, "ok");
+    }
+    cdsp_host_json_key(j, "radius");
+    cdsp_host_json_number(j, (double)radius);
+    if (st != CDSP_OK || !r)
+        return;
+    f = cdsp_host_pose_fields(&n);
+    json_fields(j, r, f, n, NULL);
+}
+
+void cdsp_host_json_pipes(cdsp_host_json *j, const cdsp_result *pipes, size_t n, int tracking)
+{
+    const cdsp_host_field *f;
+    size_t nf, a, b;
+    f = cdsp_host_pipe_fields(&nf);
+    cdsp_host_json_key(j, "pipes");
+    cdsp_host_json_begin_array(j);
+    for (a = 0; a < n; a++) {
+        cdsp_host_json_begin_object(j);
+        json_fields(j, &pipes[a], f, nf, tracking ? NULL : "track_id");
+        cdsp_host_json_end_object(j);
+    }
+    cdsp_host_json_end_array(j);
+    cdsp_host_json_key(j, "pairs");
+    cdsp_host_json_begin_array(j);
+    for (a = 0; a < n; a++)
+        for (b = a + 1; b < n; b++) {
+            double ang, dist, rms;
+            if (cdsp_host_pipe_pair(&pipes[a], &pipes[b], &ang, &dist, &rms) != 0)
+                continue;
+            cdsp_host_json_begin_object(j);
+            cdsp_host_json_key(j, "i");
+            cdsp_host_json_int(j, (long long)a);
+            cdsp_host_json_key(j, "j");
+            cdsp_host_json_int(j, (long long)b);
+            cdsp_host_json_key(j, "angle_deg");
+            cdsp_host_json_number(j, ang);
+            cdsp_host_json_key(j, "axis_distance");
+            cdsp_host_json_number(j, dist);
+            cdsp_host_json_key(j, "axis_distance_rms");
+            cdsp_host_json_number(j, rms);
+            cdsp_host_json_end_object(j);
+        }
+    cdsp_host_json_end_array(j);
 }

@@ -25,10 +25,21 @@ enum {
     OFF_INLIERS = 288, OFF_PROC = 296, OFF_LAT = 300, OFF_IN = 304, OFF_DROP = 308, OFF_BAD = 312,
     OFF_RECON = 316, OFF_END_V1 = 320,
     /* version 2 */
-    OFF_POINT_BODY = 320, OFF_DIR_BODY = 344, OFF_CONF = 368, OFF_END = 376
+    OFF_POINT_BODY = 320, OFF_DIR_BODY = 344, OFF_CONF = 368, OFF_END_V2 = 376,
+    /* version 3: the pipe list's header, then the entries */
+    OFF_NPIPES = 376, OFF_PIPE_SIZE = 378, OFF_END = 380
+};
+
+/* Offsets inside one pipe entry. */
+enum {
+    PIPE_POINT = 0, PIPE_DIR = 24, PIPE_DIST = 48, PIPE_SEGMENT = 56, PIPE_SIG_P = 104,
+    PIPE_SIG_D = 128, PIPE_SIG_DIST = 152, PIPE_CONF = 160, PIPE_LINES = 168, PIPE_INLIERS = 216,
+    PIPE_TRACK = 224, PIPE_RESERVED = 228, PIPE_END = 232
 };
 
 typedef char proto_size_check[OFF_END == CDSPD_PROTO_SIZE ? 1 : -1];
+typedef char proto_size_v2_check[OFF_END_V2 == CDSPD_PROTO_SIZE_V2 ? 1 : -1];
+typedef char proto_pipe_check[PIPE_END == CDSPD_PROTO_PIPE_SIZE ? 1 : -1];
 typedef char proto_size_v1_check[OFF_END_V1 == CDSPD_PROTO_SIZE_V1 ? 1 : -1];
 
 const char *cdspd_status_token(int status)
@@ -189,14 +200,67 @@ static void get_f64s(const uint8_t *p, double *v, int n)
         v[i] = get_f64(p + 8 * i);
 }
 
+void cdspd_record_set_pipes(cdspd_record *r, const cdsp_result *res, size_t n)
+{
+    size_t k;
+    int i;
+    r->flags |= CDSPD_FLAG_MULTI;
+    r->n_pipes = (uint32_t)(n < CDSP_MAX_PIPES ? n : CDSP_MAX_PIPES);
+    for (k = 0; k < r->n_pipes; k++) {
+        cdspd_pipe *p = &r->pipe[k];
+        const cdsp_result *s = &res[k];
+        memset(p, 0, sizeof *p);
+        for (i = 0; i < 3; i++) {
+            p->point[i] = (double)s->point[i];
+            p->direction[i] = (double)s->direction[i];
+            p->segment[0][i] = (double)s->segment[0][i];
+            p->segment[1][i] = (double)s->segment[1][i];
+            p->sigma_point[i] = (double)s->sigma_point[i];
+            p->sigma_direction[i] = (double)s->sigma_direction[i];
+            p->lines[0][i] = (double)s->lines[0][i];
+            p->lines[1][i] = (double)s->lines[1][i];
+        }
+        p->distance = (double)s->distance;
+        p->sigma_distance = (double)s->sigma_distance;
+        p->confidence = (double)s->confidence;
+        p->inliers[0] = s->inliers[0];
+        p->inliers[1] = s->inliers[1];
+        p->track_id = s->track_id;
+    }
+}
+
+void cdspd_pipe_to_result(const cdspd_pipe *p, cdsp_result *res)
+{
+    int i;
+    memset(res, 0, sizeof *res);
+    for (i = 0; i < 3; i++) {
+        res->point[i] = (cdsp_real)p->point[i];
+        res->direction[i] = (cdsp_real)p->direction[i];
+        res->segment[0][i] = (cdsp_real)p->segment[0][i];
+        res->segment[1][i] = (cdsp_real)p->segment[1][i];
+        res->sigma_point[i] = (cdsp_real)p->sigma_point[i];
+        res->sigma_direction[i] = (cdsp_real)p->sigma_direction[i];
+        res->lines[0][i] = (cdsp_real)p->lines[0][i];
+        res->lines[1][i] = (cdsp_real)p->lines[1][i];
+    }
+    res->distance = (cdsp_real)p->distance;
+    res->sigma_distance = (cdsp_real)p->sigma_distance;
+    res->confidence = (cdsp_real)p->confidence;
+    res->inliers[0] = p->inliers[0];
+    res->inliers[1] = p->inliers[1];
+    res->track_id = p->track_id;
+}
+
 size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
 {
-    if (cap < CDSPD_PROTO_SIZE)
+    uint32_t np = r->n_pipes < CDSP_MAX_PIPES ? r->n_pipes : CDSP_MAX_PIPES, k;
+    size_t total = CDSPD_PROTO_SIZE + (size_t)np * CDSPD_PROTO_PIPE_SIZE;
+    if (cap < total)
         return 0;
     memcpy(b + OFF_MAGIC, CDSPD_PROTO_MAGIC, 4);
     b[OFF_VERSION] = CDSPD_PROTO_VERSION;
     b[OFF_KIND] = r->kind;
-    put_u16(b + OFF_LENGTH, CDSPD_PROTO_SIZE);
+    put_u16(b + OFF_LENGTH, (uint16_t)total);
     put_u32(b + OFF_SEQ, r->seq);
     put_u32(b + OFF_STATUS, (uint32_t)r->status);
     put_u32(b + OFF_FLAGS, r->flags);
@@ -226,7 +290,26 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
     put_f64s(b + OFF_POINT_BODY, r->point_body, 3);
     put_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
     put_f64(b + OFF_CONF, r->confidence);
-    return CDSPD_PROTO_SIZE;
+    put_u16(b + OFF_NPIPES, (uint16_t)np);
+    put_u16(b + OFF_PIPE_SIZE, CDSPD_PROTO_PIPE_SIZE);
+    for (k = 0; k < np; k++) {
+        uint8_t *e = b + CDSPD_PROTO_SIZE + (size_t)k * CDSPD_PROTO_PIPE_SIZE;
+        const cdspd_pipe *p = &r->pipe[k];
+        put_f64s(e + PIPE_POINT, p->point, 3);
+        put_f64s(e + PIPE_DIR, p->direction, 3);
+        put_f64(e + PIPE_DIST, p->distance);
+        put_f64s(e + PIPE_SEGMENT, &p->segment[0][0], 6);
+        put_f64s(e + PIPE_SIG_P, p->sigma_point, 3);
+        put_f64s(e + PIPE_SIG_D, p->sigma_direction, 3);
+        put_f64(e + PIPE_SIG_DIST, p->sigma_distance);
+        put_f64(e + PIPE_CONF, p->confidence);
+        put_f64s(e + PIPE_LINES, &p->lines[0][0], 6);
+        put_u32(e + PIPE_INLIERS, p->inliers[0]);
+        put_u32(e + PIPE_INLIERS + 4, p->inliers[1]);
+        put_u32(e + PIPE_TRACK, p->track_id);
+        put_u32(e + PIPE_RESERVED, 0);
+    }
+    return total;
 }
 
 static int finite_n(const double *v, int n)
@@ -248,12 +331,15 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         *why = "not a cdspd datagram (no CDSP magic)";
         return -1;
     }
-    if (b[OFF_VERSION] != CDSPD_PROTO_VERSION && b[OFF_VERSION] != 1) {
+    if (b[OFF_VERSION] != CDSPD_PROTO_VERSION && b[OFF_VERSION] != 2 && b[OFF_VERSION] != 1) {
         *why = "unsupported protocol version";
         return -1;
     }
     length = get_u16(b + OFF_LENGTH);
-    if (length < (b[OFF_VERSION] == 1 ? CDSPD_PROTO_SIZE_V1 : CDSPD_PROTO_SIZE) || len < length) {
+    if (length < (b[OFF_VERSION] == 1   ? CDSPD_PROTO_SIZE_V1
+                  : b[OFF_VERSION] == 2 ? CDSPD_PROTO_SIZE_V2
+                                        : CDSPD_PROTO_SIZE) ||
+        len < length) {
         *why = "truncated datagram";
         return -1;
     }
@@ -294,6 +380,38 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         get_f64s(b + OFF_POINT_BODY, r->point_body, 3);
         get_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
         r->confidence = get_f64(b + OFF_CONF);
+    }
+    if (r->version >= 3) {
+        uint16_t np = get_u16(b + OFF_NPIPES), esz = get_u16(b + OFF_PIPE_SIZE), k;
+        if (np > CDSP_MAX_PIPES || esz < CDSPD_PROTO_PIPE_SIZE ||
+            (size_t)length < CDSPD_PROTO_SIZE + (size_t)np * esz) {
+            *why = np > CDSP_MAX_PIPES ? "more pipes than a record holds" : "truncated pipe list";
+            return -1;
+        }
+        r->n_pipes = np;
+        for (k = 0; k < np; k++) {
+            const uint8_t *e = b + CDSPD_PROTO_SIZE + (size_t)k * esz;
+            cdspd_pipe *p = &r->pipe[k];
+            get_f64s(e + PIPE_POINT, p->point, 3);
+            get_f64s(e + PIPE_DIR, p->direction, 3);
+            p->distance = get_f64(e + PIPE_DIST);
+            get_f64s(e + PIPE_SEGMENT, &p->segment[0][0], 6);
+            get_f64s(e + PIPE_SIG_P, p->sigma_point, 3);
+            get_f64s(e + PIPE_SIG_D, p->sigma_direction, 3);
+            p->sigma_distance = get_f64(e + PIPE_SIG_DIST);
+            p->confidence = get_f64(e + PIPE_CONF);
+            get_f64s(e + PIPE_LINES, &p->lines[0][0], 6);
+            p->inliers[0] = get_u32(e + PIPE_INLIERS);
+            p->inliers[1] = get_u32(e + PIPE_INLIERS + 4);
+            p->track_id = get_u32(e + PIPE_TRACK);
+            if (!finite_n(p->point, 3) || !finite_n(p->direction, 3) || !finite_n(&p->distance, 1) ||
+                !finite_n(&p->segment[0][0], 6) || !finite_n(p->sigma_point, 3) ||
+                !finite_n(p->sigma_direction, 3) || !finite_n(&p->sigma_distance, 1) ||
+                !finite_n(&p->confidence, 1) || !finite_n(&p->lines[0][0], 6)) {
+                *why = "a number in the pipe list is not finite";
+                return -1;
+            }
+        }
     }
     /* a status without a token would go out of listen --json as "unknown",
      * which the JSON decoder refuses (tests/fuzz listen): both refuse it */
@@ -388,6 +506,15 @@ size_t cdspd_proto_encode_json(const cdspd_record *r, char *buf, size_t cap)
         cdsp_host_json_end_object(&j);
     } else {
         cdsp_host_json_null(&j);
+    }
+    if (r->flags & CDSPD_FLAG_MULTI) {
+        /* every pipe, as cdsp_tool solve --all writes them (track ids:
+         * cdspd tracks every pipe) */
+        cdsp_result res_all[CDSP_MAX_PIPES];
+        uint32_t k, np = ok ? (r->n_pipes < CDSP_MAX_PIPES ? r->n_pipes : CDSP_MAX_PIPES) : 0;
+        for (k = 0; k < np; k++)
+            cdspd_pipe_to_result(&r->pipe[k], &res_all[k]);
+        cdsp_host_json_pipes(&j, res_all, np, 1);
     }
     if (r->has_truth) {
         cdsp_host_json_key(&j, "truth");
@@ -503,6 +630,26 @@ static int jcounts(json_object *o, cdspd_record *r)
     return json_object_object_get_ex(o, "edges", &x) && ju32_of(x, &r->n_edges);
 }
 
+/* One entry of "pipes" (cdsp_host_pipe_fields' names). */
+static int jpipe(json_object *o, cdspd_pipe *p)
+{
+    json_object *x;
+    int ok = json_object_is_type(o, json_type_object) && jkvec(o, "point", p->point, 3) &&
+             jkvec(o, "direction", p->direction, 3) && jnum(o, "distance", &p->distance) &&
+             jmat(o, "segment", p->segment) && jmat(o, "lines", p->lines) &&
+             jnum(o, "confidence", &p->confidence);
+    if (!ok || !json_object_object_get_ex(o, "sigma", &x) ||
+        !jkvec(x, "point", p->sigma_point, 3) || !jkvec(x, "direction", p->sigma_direction, 3) ||
+        !jnum(x, "distance", &p->sigma_distance))
+        return 0;
+    if (!json_object_object_get_ex(o, "inliers", &x) || !json_object_is_type(x, json_type_array) ||
+        json_object_array_length(x) != 2 || !ju32_of(json_object_array_get_idx(x, 0), &p->inliers[0]) ||
+        !ju32_of(json_object_array_get_idx(x, 1), &p->inliers[1]))
+        return 0;
+    /* track_id: absent when the writer did not track */
+    return !json_object_object_get_ex(o, "track_id", &x) || ju32_of(x, &p->track_id);
+}
+
 int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const char **why)
 {
     json_tokener *tok;
@@ -601,6 +748,18 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
     if (r->status == 0 && json_object_object_get_ex(o, "body", &x) &&
         json_object_is_type(x, json_type_object))
         ok = ok && jkvec(x, "point", r->point_body, 3) && jkvec(x, "direction", r->direction_body, 3);
+    if (json_object_object_get_ex(o, "pipes", &x)) {
+        size_t k, np;
+        r->flags |= CDSPD_FLAG_MULTI;
+        if (!json_object_is_type(x, json_type_array) ||
+            (np = json_object_array_length(x)) > CDSP_MAX_PIPES || (np > 0 && r->status != 0)) {
+            ok = 0;
+        } else {
+            r->n_pipes = (uint32_t)np;
+            for (k = 0; k < np && ok; k++)
+                ok = jpipe(json_object_array_get_idx(x, k), &r->pipe[k]);
+        }
+    }
     if (json_object_object_get_ex(o, "truth", &x) && json_object_is_type(x, json_type_object)) {
         r->has_truth = 1;
         r->truth_in_view = jbool(x, "in_view");

@@ -18,9 +18,14 @@
 #include "cdsp.h"
 
 #define CDSPD_PROTO_MAGIC "CDSP"
-#define CDSPD_PROTO_VERSION 2
-#define CDSPD_PROTO_SIZE 376     /* bytes of a version-2 record */
+#define CDSPD_PROTO_VERSION 3
+#define CDSPD_PROTO_SIZE 380     /* bytes of a version-3 record without pipes */
+#define CDSPD_PROTO_SIZE_V2 376  /* bytes of a version-2 record (still decoded) */
 #define CDSPD_PROTO_SIZE_V1 320  /* bytes of a version-1 record (still decoded) */
+/* Version 3 (issue 13): after the version-2 fields, a pipe count and the
+ * size of one pipe entry, then that many entries (docs/protocol.md). */
+#define CDSPD_PROTO_PIPE_SIZE 232
+#define CDSPD_PROTO_MAX_SIZE (CDSPD_PROTO_SIZE + CDSP_MAX_PIPES * CDSPD_PROTO_PIPE_SIZE)
 
 /* kind */
 #define CDSPD_KIND_FRAME 1       /* the result of one frame */
@@ -37,6 +42,19 @@
 #define CDSPD_FLAG_TRUNCATED 0x0004u   /* more edges than the library keeps */
 #define CDSPD_FLAG_SOURCE_DOWN 0x0008u /* the source is being reopened */
 #define CDSPD_FLAG_RECORDED 0x0010u    /* this frame was saved by --record */
+#define CDSPD_FLAG_MULTI 0x0020u       /* multi_pipe: the record lists every pipe */
+
+/* One pipe of a multi-pipe record (version 3; cdsp_tool solve --all's
+ * "pipes" entry). */
+typedef struct {
+    double point[3], direction[3], distance;
+    double segment[2][3];
+    double sigma_point[3], sigma_direction[3], sigma_distance;
+    double confidence;
+    double lines[2][3];
+    uint32_t inliers[2];
+    uint32_t track_id;         /* kept from frame to frame while the pipe is in view */
+} cdspd_pipe;
 
 typedef struct {
     uint8_t version;
@@ -75,6 +93,10 @@ typedef struct {
     int has_truth, truth_in_view;
     double truth_point[3], truth_direction[3], truth_distance;
     double confidence;         /* version 2: cdsp_result.confidence, 0..1 (0 unless status == 0) */
+    /* version 3: every pipe, best first, when flags has CDSPD_FLAG_MULTI
+     * (pipe[0] is the pose above); 0 pipes otherwise or without a pose */
+    uint32_t n_pipes;
+    cdspd_pipe pipe[CDSP_MAX_PIPES];
 } cdspd_record;
 
 /* Short stable token of a status: the library's (cdsp_status_token) or
@@ -89,14 +111,22 @@ void cdspd_record_set_result(cdspd_record *r, const cdsp_result *res);
  * record carries (covariance and labels zero). */
 void cdspd_record_to_result(const cdspd_record *r, cdsp_result *res);
 
-/* Binary: writes CDSPD_PROTO_SIZE bytes; returns that, or 0 if cap is
- * smaller. */
+/* Every pipe of a frame into r->pipe[] (at most CDSP_MAX_PIPES); sets
+ * CDSPD_FLAG_MULTI. */
+void cdspd_record_set_pipes(cdspd_record *r, const cdsp_result *res, size_t n);
+/* One pipe of a record as a cdsp_result (the fields it carries). */
+void cdspd_pipe_to_result(const cdspd_pipe *p, cdsp_result *res);
+
+/* Binary: writes CDSPD_PROTO_SIZE + n_pipes * CDSPD_PROTO_PIPE_SIZE bytes;
+ * returns that, or 0 if cap is smaller. */
 size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *buf, size_t cap);
 
 /* Binary: 0 and *r filled, or -1 with *why set ("bad magic", ...).
- * Accepts version 2 records of CDSPD_PROTO_SIZE bytes or longer (later
- * additions append fields), and version 1 records of CDSPD_PROTO_SIZE_V1
- * bytes or longer (the body-frame fields then zero). */
+ * Accepts version 3 records (their length covering the pipe entries; a
+ * larger entry size than CDSPD_PROTO_PIPE_SIZE is a later addition and
+ * its tail is skipped), version 2 records of CDSPD_PROTO_SIZE_V2 bytes or
+ * longer (no pipes), and version 1 records of CDSPD_PROTO_SIZE_V1 bytes or
+ * longer (the body-frame fields then zero). */
 int cdspd_proto_decode(const uint8_t *buf, size_t len, cdspd_record *r, const char **why);
 
 /* JSON (no trailing newline, NUL-terminated): returns the length, or 0 if

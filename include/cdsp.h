@@ -210,10 +210,21 @@ typedef struct {
                                Default 0.06 (15 gray levels at 8 bit). */
     cdsp_roi roi;           /* where to look; default whole frame; any
                                values (clipped to the frame, no overflow) */
+    int coarse;             /* coarse pass, 0..CDSP_EDGE_MAX_COARSE: with
+                               F >= 2, every F-th row and column of the
+                               search is read first, then the others only
+                               within bands around the edges found there
+                               (docs/method.md §2: every edge of a contour
+                               spanning F*step px across its scanlines is
+                               still found, in the same order). 0 or 1: off,
+                               the whole roi (the default here; cdsp_params
+                               turns it on for the frame path) */
 } cdsp_edge_params;
 
 /* Largest scanline spacing (a wider step than any frame reads one line). */
 #define CDSP_EDGE_MAX_STEP 65536
+/* Largest coarse factor (cdsp_edge_params.coarse). */
+#define CDSP_EDGE_MAX_COARSE 64
 
 void cdsp_edge_params_default(cdsp_edge_params *p);
 
@@ -237,6 +248,30 @@ void cdsp_edge_params_default(cdsp_edge_params *p);
  */
 cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p,
                               cdsp_edge *out, size_t cap, size_t *n);
+
+/*
+ * The full search in strips, for callers that spread one frame over several
+ * cores (the library itself starts no thread). Strip k (0 <= k < n <=
+ * CDSP_EDGE_MAX_STRIPS) reads its share of the rows and of the column
+ * blocks (with the coarse pass, the coarse lines around them too) and
+ * writes its row edges to out[0, *n_rows) and its column edges after them
+ * (*n_cols); strips are independent (any order, any thread; out is the
+ * caller's, one per strip). cdsp_edges_merge_strips then lists every
+ * strip's rows and then every strip's columns, in strip order: exactly
+ * cdsp_edges_detect's result for the same image and parameters, bit for
+ * bit, whenever the merge returns CDSP_OK. Either returns CDSP_E_CAPACITY
+ * when the edges may not fit (a strip in its cap; the merge: cap edges or
+ * more, or cap / 2 with p->coarse >= 2, whose coarse lines share the
+ * whole-frame buffer): then call cdsp_edges_detect, whose rule for a full
+ * buffer (coarsening a family) needs the whole frame. Other returns:
+ * CDSP_OK, CDSP_E_ARG, CDSP_E_FORMAT.
+ */
+#define CDSP_EDGE_MAX_STRIPS 64
+cdsp_status cdsp_edges_detect_strip(const cdsp_image *img, const cdsp_edge_params *p, int k, int n,
+                                    cdsp_edge *out, size_t cap, size_t *n_rows, size_t *n_cols);
+cdsp_status cdsp_edges_merge_strips(const cdsp_edge_params *p, const cdsp_edge *const *strip,
+                                    const size_t *n_rows, const size_t *n_cols, int n,
+                                    cdsp_edge *out, size_t cap, size_t *count);
 
 /* In place: distorted -> undistorted positions; gradients are carried
  * through the local Jacobian (normals map by J^T) keeping their length.
@@ -361,6 +396,12 @@ typedef struct {
     uint32_t n_lines;        /* candidate contour lines considered */
     uint32_t n_candidates;   /* plausible pipe candidates found (>= 1 on CDSP_OK);
                                 the ranked list is in the workspace */
+    /* Since issue 13 (every pipe in view, lib/multi.c). */
+    uint32_t track_id;       /* cdsp_frame_solve_all / cdsp_points_solve_all with
+                                a tracker: the pipe's id, kept from frame to
+                                frame while it stays in view (1, 2, ...);
+                                0 without a tracker and from the single-pipe
+                                calls */
 } cdsp_result;
 
 #define CDSP_FLAG_TRACKED 1u     /* found in the bands around the prior */
@@ -602,8 +643,168 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam,
                              const cdsp_result *prior, cdsp_frame_ws *ws,
                              cdsp_rng *rng, cdsp_result *out);
 
+/*
+ * The full search in the caller's hands, e.g. in strips on its threads
+ * (cdsp_edges_detect_strip; the library itself starts none):
+ *   cdsp_frame_prepare(img, p, &fe): the frame's noise and the edge
+ *     parameters the full search uses on it (fe.edge: p->edge with this
+ *     frame's threshold); then the caller detects with fe.edge into
+ *     ws->edge (at most CDSP_MAX_EDGES), setting fe.status (CDSP_OK, or
+ *     CDSP_E_CAPACITY as cdsp_edges_detect returns it) and fe.n;
+ *   cdsp_frame_solve_detected(img, cam, radius, p, &fe, ws, rng, out):
+ *     the rest. With cdsp_edges_detect's edges (or strips merged into the
+ *     same list) the result is cdsp_frame_solve's with no prior, bit for
+ *     bit; the coarse pass's whole-frame fallback runs inside, on one core.
+ * Returns as cdsp_frame_solve (prepare: CDSP_OK, CDSP_E_ARG, CDSP_E_FORMAT).
+ */
+typedef struct {
+    cdsp_edge_params edge; /* the full search's parameters on this frame */
+    cdsp_real min_step;    /* its edge step threshold, gray levels */
+    cdsp_real sigma;       /* the frame's noise, gray levels */
+    cdsp_status status;    /* set by the caller: the detection's status */
+    size_t n;              /* set by the caller: edges in ws->edge */
+} cdsp_frame_edges;
+
+cdsp_status cdsp_frame_prepare(const cdsp_image *img, const cdsp_params *p, cdsp_frame_edges *fe);
+cdsp_status cdsp_frame_solve_detected(const cdsp_image *img, const cdsp_camera *cam,
+                                      cdsp_real radius, const cdsp_params *p,
+                                      const cdsp_frame_edges *fe, cdsp_frame_ws *ws,
+                                      cdsp_rng *rng, cdsp_result *out);
+
 /* Distance from a 3D point to the axis of a result (radius units). */
 cdsp_real cdsp_result_point_distance(const cdsp_result *r, const cdsp_real X[3]);
+
+/* ------------------------------------------------------------------------
+ * Every pipe in view (issue 13; lib/multi.c): the pipes of a rack.
+ *
+ * The single-pipe calls rank candidate bands and return the first. Here
+ * every pair of candidate lines that passes the pair tests ("The pair
+ * score" above) is an edge of a graph whose nodes are the contour lines,
+ * and the pipes are a matching of it: no contour belongs to two pipes.
+ * The matching has the most pairs the lines allow (then, among those, the
+ * greedy best-score one, improved by augmenting paths taken in score
+ * order): in a rack of k bright pipes the k pipes explain all 2k contours,
+ * while the k - 1 dark gaps between them would leave the two outer
+ * contours unexplained, so a gap (whose two "contours" are one contour of
+ * each neighbour) is never chosen over the pipes beside it, whatever the
+ * scores. Pipes are returned best score first. Confidence of each: its
+ * evidence E alone (how sure this band is a pipe; the single path's margin
+ * over rivals measures which pipe is meant, which a rack does not ask);
+ * min_confidence drops weaker pipes.
+ * ---------------------------------------------------------------------- */
+
+/* Pipes one call returns at most (capacity of the caller's output). */
+#ifndef CDSP_MAX_PIPES
+#define CDSP_MAX_PIPES 8
+#endif
+
+/* Scored pairs of candidate lines a frame keeps (PAIR_KEEP in lib/pair.c):
+ * what falls off the end is weaker than CDSP_MAX_PAIRS others. */
+#ifndef CDSP_MAX_PAIRS
+#define CDSP_MAX_PAIRS 48
+#endif
+
+/* One pair of candidate lines that passed the pair tests (internal to the
+ * library; public only so the workspaces below have a size). */
+typedef struct {
+    int i, j;               /* the two lines (indices into cdsp_pair_set.lines) */
+    cdsp_real score;        /* the pair score */
+    cdsp_real p_in[2];      /* a pixel between the lines */
+    cdsp_real support;      /* min over both contours of inliers on the overlap x spread */
+    cdsp_real contrast;     /* min over both contours of step / threshold */
+} cdsp_pair_eval;
+
+/* Candidate lines and their scored pairs (scratch; contents undefined
+ * between calls). */
+typedef struct {
+    cdsp_line lines[CDSP_MAX_LINES];
+    cdsp_pair_eval pair[CDSP_MAX_PAIRS]; /* best score first */
+    int nlines, npairs, capped;
+} cdsp_pair_set;
+
+/* Workspaces of the two multi-pipe paths: the single path's plus the pairs. */
+typedef struct {
+    cdsp_frame_ws frame;
+    cdsp_pair_set pairs;
+} cdsp_frame_all_ws;
+
+typedef struct {
+    cdsp_points_ws points;
+    cdsp_pair_set pairs;
+} cdsp_points_all_ws;
+
+/* Bytes of each workspace (the query for callers that place them in
+ * memory of their own, e.g. one per worker thread). */
+size_t cdsp_frame_all_ws_size(void);
+size_t cdsp_points_all_ws_size(void);
+
+/* Tracks the tracker keeps: a pipe out of view for a few frames keeps its
+ * slot (and id) for max_missed frames. */
+#ifndef CDSP_MAX_TRACKS
+#define CDSP_MAX_TRACKS (2 * CDSP_MAX_PIPES)
+#endif
+
+/* Caller-owned multi-pipe tracker state (place it anywhere; initialize
+ * with cdsp_tracker_init, then pass it to every frame of the sequence). */
+typedef struct {
+    uint32_t id;             /* 0: free slot */
+    uint32_t missed;         /* consecutive frames without a match */
+    cdsp_real lines[2][3];   /* the pipe's contours last seen (undistorted px) */
+    cdsp_real mid[2];        /* its visible segment's middle, undistorted px */
+    cdsp_real direction[3];  /* its axis direction last seen (sign kept) */
+    cdsp_real velocity[2];   /* each contour's shift along its normal from the
+                                frame before to the last, px per frame: the
+                                track is looked for where it will be, so a
+                                rack panning by about a gap per frame does
+                                not hand a pipe's track to the gap beside it */
+} cdsp_track;
+
+typedef struct {
+    cdsp_track track[CDSP_MAX_TRACKS];
+    uint32_t next_id;        /* the id the next new pipe gets (starts at 1) */
+    cdsp_real gate_px;       /* a pipe continues a track when both its
+                                contours lie within gate_px of the track's
+                                predicted ones (at the pipe's middle,
+                                undistorted px; constant velocity).
+                                Default 24: the image may move that much
+                                between two frames */
+    int max_missed;          /* frames a track survives unseen. Default 2 */
+} cdsp_tracker;
+
+void cdsp_tracker_init(cdsp_tracker *t);
+
+/*
+ * Frame -> every pipe in view, best score first: writes up to cap (at most
+ * CDSP_MAX_PIPES are ever found) full results to out and their number to
+ * *n_out; each has its own confidence, uncertainty, segment and (with a
+ * tracker) track_id. A full search of p->edge.roi every frame (the band
+ * search of cdsp_frame_solve's tracking is for one pipe); with a tracker,
+ * each pipe is matched to the track whose contours are nearest (within
+ * gate_px), keeps its id and its direction's sign, and new pipes get new
+ * ids. Returns CDSP_OK with *n_out >= 1, or the single path's statuses
+ * (CDSP_E_NO_PIPE when there is none; *n_out = 0 then). cdsp_frame_solve's
+ * results are not changed by this call's existence.
+ */
+cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam,
+                                 cdsp_real radius, const cdsp_params *p, cdsp_tracker *trk,
+                                 cdsp_frame_all_ws *ws, cdsp_rng *rng, cdsp_result *out,
+                                 size_t cap, size_t *n_out);
+
+/* The paper's spacing measure (Eq. 17-21, docs/method.md §8): the mean
+ * distance from n points evenly spaced along a's visible segment (segment
+ * midpoints of n equal parts) to b's axis, and its spread (RMS about the
+ * mean) along the segment; radius units. For two parallel pipes the mean
+ * is their spacing. CDSP_E_ARG for NULL or n < 1, CDSP_E_NONFINITE for a
+ * result holding NaN/Inf. */
+cdsp_status cdsp_result_axis_spacing(const cdsp_result *a, const cdsp_result *b, int n,
+                                     cdsp_real *mean, cdsp_real *spread);
+
+/* Undistorted edge points -> every pipe (as cdsp_points_solve and
+ * cdsp_frame_solve_all); n <= CDSP_MAX_POINTS. */
+cdsp_status cdsp_points_solve_all(const cdsp_camera *cam, cdsp_real radius,
+                                  const cdsp_edge *pts, size_t n, const cdsp_params *p,
+                                  cdsp_tracker *trk, cdsp_points_all_ws *ws, cdsp_rng *rng,
+                                  cdsp_result *out, size_t cap, size_t *n_out);
 
 /* ------------------------------------------------------------------------
  * Simulated frames (tests, tools, the daemon's simulated camera).
@@ -621,6 +822,20 @@ typedef struct {
     cdsp_real half_width;    /* radius units */
     cdsp_real level;         /* intensity, fraction of full scale */
 } cdsp_clutter;
+
+/* Pipes one scene can hold (the first plus extra_pipe[]). */
+#ifndef CDSP_RENDER_MAX_PIPES
+#define CDSP_RENDER_MAX_PIPES 8
+#endif
+
+/* A further pipe of a rack: a finite cylinder, camera frame, radius units,
+ * as the scene's own axis_point, axis_dir, radius and half_length. */
+typedef struct {
+    cdsp_real axis_point[3];
+    cdsp_real axis_dir[3];
+    cdsp_real radius;
+    cdsp_real half_length;     /* 0 = infinite */
+} cdsp_scene_pipe;
 
 typedef struct {
     /* the pipe: a finite cylinder, camera frame, radius units */
@@ -659,6 +874,13 @@ typedef struct {
     cdsp_real motion_px[2];    /* linear motion blur: the image moves by this
                                   vector (distorted px) during the exposure;
                                   |motion| <= CDSP_RENDER_MAX_MOTION_PX */
+    /* Added for racks (issue 13); 0 in cdsp_scene_default, and 0 leaves a
+     * frame bit-identical to before. More pipes with the first one's look
+     * (pipe_level, cap_level, light, ambient, specular), each rendered like
+     * it: exact area coverage along its contours, the nearest surface wins
+     * where they overlap in the image. */
+    int n_extra_pipes;         /* 0..CDSP_RENDER_MAX_PIPES - 1 */
+    cdsp_scene_pipe extra_pipe[CDSP_RENDER_MAX_PIPES - 1];
 } cdsp_scene;
 
 #define CDSP_RENDER_MAX_MOTION_PX 64

@@ -33,6 +33,7 @@ void cdsp_edge_params_default(cdsp_edge_params *p)
     p->half_window = 4;
     p->min_contrast = R(0.06);
     p->roi.x = p->roi.y = p->roi.w = p->roi.h = 0;
+    p->coarse = 0;
 }
 
 cdsp_status cdsp_image_check(const cdsp_image *img)
@@ -81,9 +82,10 @@ static cdsp_real sample_at(const cdsp_image *img, int horizontal, int s, int t, 
 }
 
 /* Refine candidate (s, t): returns 1 and fills e when the partial-area
- * estimate is a valid edge owned by this scan direction. */
-static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
-                  cdsp_edge *e)
+ * estimate is a valid edge owned by this scan direction. Internal entry
+ * (internal.h): the reference scan of tests/lib/test_edges_scan.c calls it. */
+int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
+                       cdsp_edge *e)
 {
     int k, c, S[3], A = 0, B = 0, gs = 0, gt = 0;
     cdsp_real diff, a, b, norm, gsn, gtn;
@@ -162,42 +164,74 @@ static int refine(const cdsp_image *img, int horizontal, int s, int t, int h, in
     return 1;
 }
 
-/* Candidates along a run are searched CHUNK pixels at a time: the central
- * differences of a chunk go into a small array (a loop compilers vectorize)
- * and a chunk whose largest |difference| is below the threshold, nearly all
- * of them in a frame, is skipped without further work. */
+/*
+ * The search for candidates. A candidate is a position s of a scanline
+ * where |g(s)|, g(s) = f(s+1) - f(s-1) the central difference along the
+ * scan, is at least thr and a local maximum: |g(s)| > |g(s-1)| and
+ * |g(s)| >= |g(s+1)| (ties broken to the left). For 8-bit frames the test
+ * is evaluated for many positions at once by one primitive,
+ * cdsp__edges_peaks (portable below; SIMD forms in lib/edges_simd.c), on
+ * five parallel runs of pixels f(s-2) .. f(s+2):
+ *   - rows: CHUNK positions of the row, the five runs the row shifted by
+ *     -2 .. +2;
+ *   - columns: CHUNK columns x = xs + k*step at a time, walked row by row
+ *     (memory order: a block of columns reads a few cache lines per row,
+ *     where a column at a time reads a new line at every pixel); for
+ *     candidate row c the five runs are rows c-2 .. c+2 over the block's
+ *     whole span xs .. xs + (ncols-1)*step, every pixel between the
+ *     sampled columns included (contiguous: no gather, and cheaper than
+ *     picking every step-th byte up to steps of 8), masked by `sel` to the
+ *     sampled columns, so a row without a candidate there is passed over
+ *     at once.
+ * Candidates are then refined in the order of the plain definition (along
+ * the scan for rows; for a block of columns row by row, left to right
+ * within a row), so the edges, and their order, are those of a pixel by
+ * pixel scan: tests/lib/test_edges_scan.c compares them bit for bit with
+ * one. 16-bit frames, column segments (tracking) and steps above
+ * PEAK_MAX_STEP take the per-pixel test.
+ */
 #define CHUNK 32
+#define PEAK_MAX_STEP 8
 
-/* Central differences g[i] = f(s0+i+1) - f(s0+i-1), i in [0, m), along a
- * run through `base` with element stride es (1 for a row, stride/bpp for a
- * column); returns max |g|. Rows get a copy with unit stride and a fixed
- * trip count, which compilers turn into SIMD code at -O2. */
-#define DEFINE_DIFFS(NAME, T)                                                                  \
-    static int NAME(const T *base, ptrdiff_t es, int s0, int m, int *g)                        \
-    {                                                                                          \
-        int i, mx = 0;                                                                         \
-        for (i = 0; i < m; i++) {                                                              \
-            int d = (int)base[(ptrdiff_t)(s0 + i + 1) * es] - (int)base[(ptrdiff_t)(s0 + i - 1) * es]; \
-            int ad = d < 0 ? -d : d;                                                           \
-            g[i] = d;                                                                          \
-            mx = ad > mx ? ad : mx;                                                            \
-        }                                                                                      \
-        return mx;                                                                             \
-    }                                                                                          \
-    static int NAME##_row(const T *row, int s0, int *g)                                        \
-    {                                                                                          \
-        int i, mx = 0;                                                                         \
-        const T *a = row + s0 + 1, *b = row + s0 - 1;                                          \
-        for (i = 0; i < CHUNK + 2; i++) {                                                      \
-            int d = (int)a[i] - (int)b[i];                                                     \
-            int ad = d < 0 ? -d : d;                                                           \
-            g[i] = d;                                                                          \
-            mx = ad > mx ? ad : mx;                                                            \
-        }                                                                                      \
-        return mx;                                                                             \
+/* Portable form of the primitive (internal.h). Byte-wide arithmetic (|a -
+ * b| of 8-bit samples fits a byte) and no early exit: a loop compilers
+ * turn into byte-vector code (restrict: flag never overlaps the frame, so
+ * no run-time overlap checks of seven pointers are needed). */
+int cdsp__edges_peaks_c(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
+                        uint8_t *flag)
+{
+    const uint8_t *restrict m2 = f[0], *restrict m1 = f[1], *restrict z = f[2];
+    const uint8_t *restrict p1 = f[3], *restrict p2 = f[4];
+    uint8_t *restrict out = flag;
+    size_t i;
+    uint8_t any = 0, t = (uint8_t)thr;
+    for (i = 0; i < n; i++) {
+        uint8_t gl = (uint8_t)(z[i] > m2[i] ? z[i] - m2[i] : m2[i] - z[i]);
+        uint8_t gc = (uint8_t)(p1[i] > m1[i] ? p1[i] - m1[i] : m1[i] - p1[i]);
+        uint8_t gr = (uint8_t)(p2[i] > z[i] ? p2[i] - z[i] : z[i] - p2[i]);
+        uint8_t c = (uint8_t)((gc >= t) & (gc > gl) & (gc >= gr) & (sel ? sel[i] : 1u));
+        out[i] = c;
+        any |= c;
     }
-DEFINE_DIFFS(diffs_u8, uint8_t)
-DEFINE_DIFFS(diffs_u16, uint16_t)
+    return any != 0;
+}
+
+/* |g| at position s of a run (pixel 0 at base, element stride es, in
+ * samples of the frame's size): |f(s+1) - f(s-1)|. */
+static inline int absg(const cdsp_image *img, const unsigned char *base, ptrdiff_t es, int s)
+{
+    if (img->bits <= 8)
+        return iabs((int)base[(s + 1) * es] - (int)base[(s - 1) * es]);
+    return iabs((int)((const uint16_t *)(const void *)base)[(s + 1) * es] -
+                (int)((const uint16_t *)(const void *)base)[(s - 1) * es]);
+}
+
+/* The per-pixel candidate test (16-bit frames, column segments). */
+static inline int is_peak(const cdsp_image *img, const unsigned char *base, ptrdiff_t es, int s, int thr)
+{
+    int a = absg(img, base, es, s);
+    return a >= thr && a > absg(img, base, es, s - 1) && a >= absg(img, base, es, s + 1);
+}
 
 /*
  * Scan one line: horizontal != 0 scans row `line` over x in [from, to);
@@ -212,10 +246,10 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
     int full = (1 << img->bits) - 1;
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
-    int g[CHUNK + 2];
     size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
     const unsigned char *base = (const unsigned char *)img->data;
     ptrdiff_t es;
+    uint8_t flag[CHUNK];
     if (to - from < 3 || cap == 0)
         return 0;
     /* the run's pixel s=0 and the element stride along it */
@@ -228,74 +262,72 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
     }
     /* candidates s in [from+1, to-1): a local maximum of |g| needs g at s-1..s+1 */
     for (s0 = from + 1; s0 < to - 1; s0 += CHUNK) {
-        int m = (to - 1 - s0) < CHUNK ? (to - 1 - s0) : CHUNK, mx, i;
-        /* g[0] is at s0 - 1, g[i + 1] at s0 + i */
-        if (es == 1 && m == CHUNK)
-            mx = bpp == 1 ? diffs_u8_row((const uint8_t *)(const void *)base, s0 - 1, g)
-                          : diffs_u16_row((const uint16_t *)(const void *)base, s0 - 1, g);
-        else
-            mx = bpp == 1 ? diffs_u8((const uint8_t *)(const void *)base, es, s0 - 1, m + 2, g)
-                          : diffs_u16((const uint16_t *)(const void *)base, es, s0 - 1, m + 2, g);
-        if (mx < thr)
-            continue;
-        for (i = 1; i <= m; i++) {
-            int a = iabs(g[i]);
-            /* local maximum of |central difference| (ties broken to the left) */
-            if (a >= thr && a > iabs(g[i - 1]) && a >= iabs(g[i + 1]) &&
-                refine(img, horizontal, s0 + i - 1, line, h, min_step, &out[n])) {
-                if (++n == cap)
-                    return n;
-            }
+        int m = (to - 1 - s0) < CHUNK ? (to - 1 - s0) : CHUNK, i;
+        if (es == 1 && bpp == 1) {
+            const uint8_t *r = (const uint8_t *)base + s0;
+            const uint8_t *const f[5] = {r - 2, r - 1, r, r + 1, r + 2};
+            if (!cdsp__edges_peaks(f, NULL, (size_t)m, thr, flag))
+                continue;
+        } else {
+            for (i = 0; i < m; i++)
+                flag[i] = (uint8_t)is_peak(img, base, es, s0 + i, thr);
         }
+        for (i = 0; i < m; i++)
+            if (flag[i] && cdsp__edges_refine(img, horizontal, s0 + i, line, h, min_step, &out[n]) &&
+                ++n == cap)
+                return n;
     }
     return n;
 }
 
 /*
  * Near-horizontal edges over the columns x = xs + k*step, k < ncols <=
- * CHUNK, rows [from, to): the same search as cdsp__edges_scan_segment on
- * each column, but walking the frame row by row so memory is read in order
- * (a column-at-a-time walk touches a new cache line at every pixel).
+ * CHUNK, rows [from, to): candidate rows c in [from, to - 1), listed row by
+ * row and left to right (see above).
  */
 static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, int step, int xs,
                               int ncols, int from, int to, cdsp_edge *out, size_t cap)
 {
-    int h = p->half_window, y, k;
+    int h = p->half_window, c, k;
     int full = (1 << img->bits) - 1;
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
-    int g0[CHUNK], g1[CHUNK], *gprev = g0, *gcur = g1, prev_hot = 0;
-    size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
-    /* g at row y - 1 (gprev) and y (gcur); a candidate at row y needs g(y+1) */
-    for (y = from - 1; y < to; y++) {
-        const unsigned char *up = (const unsigned char *)img->data + (size_t)(y - 1) * img->stride;
-        const unsigned char *dn = up + 2 * img->stride;
-        int hot = 0, *gnext = gprev; /* gprev's storage is free once gnext is computed */
-        int tmp[CHUNK];
-        for (k = 0; k < ncols; k++) {
-            size_t x = (size_t)(xs + k * step);
-            int d = bpp == 1 ? (int)dn[x] - (int)up[x]
-                             : (int)((const uint16_t *)(const void *)dn)[x] -
-                                   (int)((const uint16_t *)(const void *)up)[x];
-            tmp[k] = d;
-            hot |= iabs(d) >= thr;
+    int vec = img->bits <= 8 && step <= PEAK_MAX_STEP;
+    size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u, span = (size_t)(ncols - 1) * (size_t)step + 1;
+    ptrdiff_t es = (ptrdiff_t)(img->stride / bpp);
+    uint8_t flag[(CHUNK - 1) * PEAK_MAX_STEP + 1], sel[(CHUNK - 1) * PEAK_MAX_STEP + 1];
+    if (vec)
+        for (k = 0; k < (int)span; k++)
+            sel[k] = (uint8_t)(k % step == 0);
+    for (c = from; c < to - 1; c++) {
+        const uint8_t *r = (const uint8_t *)img->data + (size_t)c * img->stride + xs;
+        if (vec) {
+            const uint8_t *const f[5] = {r - 2 * img->stride, r - img->stride, r, r + img->stride,
+                                         r + 2 * img->stride};
+            if (!cdsp__edges_peaks(f, sel, span, thr, flag))
+                continue;
         }
-        /* candidates at row y - 1 use gprev (y - 2), gcur (y - 1), tmp (y) */
-        if (prev_hot && y - 1 > from - 1) {
+        if (!vec && bpp == 1) {
+            /* wide steps (the coarse pass's columns): 8-bit rows at hand,
+             * |g| at row c first, which nearly every column fails */
+            const uint8_t *um = r - img->stride, *dp = r + img->stride;
             for (k = 0; k < ncols; k++) {
-                int a = iabs(gcur[k]);
-                if (a >= thr && a > iabs(gprev[k]) && a >= iabs(tmp[k]) &&
-                    refine(img, 0, y - 1, xs + k * step, h, min_step, &out[n])) {
-                    if (++n == cap)
-                        return n;
-                }
+                size_t o = (size_t)k * (size_t)step;
+                int a = iabs((int)dp[o] - (int)um[o]);
+                if (a >= thr && a > iabs((int)r[o] - (int)(um - img->stride)[o]) &&
+                    a >= iabs((int)(dp + img->stride)[o] - (int)r[o]) &&
+                    cdsp__edges_refine(img, 0, c, xs + k * step, h, min_step, &out[n]) && ++n == cap)
+                    return n;
             }
+            continue;
         }
-        for (k = 0; k < ncols; k++)
-            gnext[k] = tmp[k];
-        gprev = gcur;
-        gcur = gnext;
-        prev_hot = hot;
+        for (k = 0; k < ncols; k++) {
+            int x = xs + k * step;
+            if ((vec ? flag[k * step]
+                     : is_peak(img, (const unsigned char *)img->data + (size_t)x * bpp, es, c, thr)) &&
+                cdsp__edges_refine(img, 0, c, x, h, min_step, &out[n]) && ++n == cap)
+                return n;
+        }
     }
     return n;
 }
@@ -322,19 +354,27 @@ void cdsp__edges_clip_roi(const cdsp_image *img, const cdsp_roi *roi, int *x0, i
 cdsp_status cdsp__edge_params_check(const cdsp_edge_params *p)
 {
     if (!p || p->step < 1 || p->step > CDSP_EDGE_MAX_STEP || p->half_window < 2 || p->half_window > 8 ||
-        !(p->min_contrast > R(0)) || !(p->min_contrast < R(1)))
+        !(p->min_contrast > R(0)) || !(p->min_contrast < R(1)) || p->coarse < 0 ||
+        p->coarse > CDSP_EDGE_MAX_COARSE)
         return CDSP_E_ARG;
     return CDSP_OK;
 }
 
-/* Near-vertical edges: rows y0 + 1 + step/2 + k*step of the clipped roi. */
-static size_t scan_rows(const cdsp_image *img, const cdsp_edge_params *p, int step, int x0, int y0,
+/* The first row (column) the family scans at `step` in [y0, ...) */
+static int first_line(int y0, int step)
+{
+    return (y0 > 1 ? y0 : 1) + step / 2;
+}
+
+/* Near-vertical edges: rows first + k*step of the clipped roi (the full
+ * search: first = first_line(y0, step)). */
+static size_t scan_rows(const cdsp_image *img, const cdsp_edge_params *p, int first, int step, int x0,
                         int x1, int y1, cdsp_edge *out, size_t cap)
 {
     int h = p->half_window, t;
     int from = x0 > h + 1 ? x0 : h + 1, to = x1 < img->width - h - 1 ? x1 : img->width - h - 1;
     size_t count = 0;
-    for (t = (y0 > 1 ? y0 : 1) + step / 2; t < y1 - 1 && t < img->height - 1; t += step) {
+    for (t = first; t < y1 - 1 && t < img->height - 1; t += step) {
         count += cdsp__edges_scan_segment(img, p, 1, t, from, to, out + count, cap - count);
         if (count == cap)
             break;
@@ -342,12 +382,12 @@ static size_t scan_rows(const cdsp_image *img, const cdsp_edge_params *p, int st
     return count;
 }
 
-/* Near-horizontal edges: the same over columns, CHUNK columns at a time. */
-static size_t scan_cols(const cdsp_image *img, const cdsp_edge_params *p, int step, int x0, int y0,
-                        int x1, int y1, cdsp_edge *out, size_t cap)
+/* Near-horizontal edges: the same over columns first + k*step, CHUNK
+ * columns at a time (the full search: first = first_line(x0, step)). */
+static size_t scan_cols_at(const cdsp_image *img, const cdsp_edge_params *p, int first, int step,
+                           int y0, int x1, int y1, cdsp_edge *out, size_t cap)
 {
     int h = p->half_window, t;
-    int first = (x0 > 1 ? x0 : 1) + step / 2;
     int last = (x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1); /* exclusive */
     int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
     size_t count = 0;
@@ -375,21 +415,12 @@ static size_t scan_cols(const cdsp_image *img, const cdsp_edge_params *p, int st
  * step that has passed the frame's extent reads one line only; if even that
  * overflows (cap smaller than one line's edges) the points found are kept.
  */
-cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
-                              size_t cap, size_t *n)
+static cdsp_status detect_full(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
+                               size_t cap, size_t *n)
 {
     int x0, y0, x1, y1, srow, scol, extent, rows_at = 0;
     size_t nr = 0, nc;
-    cdsp_status st, result = CDSP_OK;
-    if (!p || !out || !n)
-        return CDSP_E_ARG;
-    *n = 0;
-    st = cdsp_image_check(img);
-    if (st != CDSP_OK)
-        return st;
-    st = cdsp__edge_params_check(p);
-    if (st != CDSP_OK)
-        return st;
+    cdsp_status result = CDSP_OK;
     cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
     extent = img->width > img->height ? img->width : img->height;
     srow = scol = p->step;
@@ -397,14 +428,14 @@ cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, 
         /* a step may double while it stays within the frame (no overflow) */
         int can_r = srow <= extent / 2, can_c = scol <= extent / 2;
         if (rows_at != srow) /* rows already in out[0, nr) at this step are kept */
-            nr = scan_rows(img, p, srow, x0, y0, x1, y1, out, cap);
+            nr = scan_rows(img, p, first_line(y0, srow), srow, x0, x1, y1, out, cap);
         rows_at = srow;
         if (nr == cap && can_r) {
             srow *= 2;
             result = CDSP_E_CAPACITY;
             continue;
         }
-        nc = scan_cols(img, p, scol, x0, y0, x1, y1, out + nr, cap - nr);
+        nc = scan_cols_at(img, p, first_line(x0, scol), scol, y0, x1, y1, out + nr, cap - nr);
         if (nr + nc < cap)
             break;
         result = CDSP_E_CAPACITY;
@@ -417,4 +448,375 @@ cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, 
     }
     *n = nr + nc;
     return result;
+}
+
+/*
+ * The coarse pass (p->coarse = F >= 2; docs/method.md §2). The full
+ * search's scanlines are t_j = first + j*step; the coarse lines are those
+ * with j % F == 0, scanned exactly as the full search scans them, so their
+ * edges are full-search edges. Then only the bands around those edges are
+ * read at full resolution, with the full search's own scans on sub-ranges
+ * of its lines, so every edge reported is one the full search reports, in
+ * the full search's order. The bands: an edge owned by a family lies within
+ * 45 degrees of that family's scan normal (refine's ownership test), so a
+ * straight contour through an edge q on coarse line t_k stays within |t -
+ * t_k| px of q along the scan on line t. Each fine line between coarse
+ * lines k and k + 1 is therefore read around the edges of both, +- (that
+ * distance + BAND_MARGIN px); a coarse line itself is taken as it was
+ * scanned. For the columns, read in blocks of CHUNK columns whose order
+ * must be kept, a block reads the rows within F*step + BAND_MARGIN of the
+ * edges of every coarse column within F columns of it, all of its columns
+ * at once. The guarantee: every edge of the full search whose contour
+ * (straight, of that family) reaches a coarse line within F lines of it is
+ * reported - every edge of a contour spanning at least F*step px across
+ * its family's scanlines; tests/lib/test_edges_scan.c checks exactly that
+ * on its table of frames. What can be missed is a short contour lying
+ * wholly between two coarse lines; the frame path falls back to the full
+ * search when the band edges do not give it a pipe (lib/frame.c).
+ * The coarse edges are kept at the end of out while the bands are read
+ * into its start; if the two would meet, or the coarse pass overflows,
+ * the full search runs instead (its rule for a full buffer applies).
+ */
+#define BAND_MARGIN 2
+
+/* Backward element copy: dst > src, overlapping (no memmove in the lib). */
+static void move_up(cdsp_edge *dst, const cdsp_edge *src, size_t n)
+{
+    while (n--)
+        dst[n] = src[n];
+}
+
+/* Candidate range [lo, hi] of a band around coordinate c (+-d px) */
+static void band_of(cdsp_real c, int d, int *lo, int *hi)
+{
+    int ci = (int)R_FLOOR(c);
+    *lo = ci - d - BAND_MARGIN;
+    *hi = ci + 1 + d + BAND_MARGIN;
+}
+
+/* Fine rows j in [j0, j1) in bands; coarse row edges in rc[0, nrc),
+ * sorted by row (those of the coarse rows j0/F .. (j1-1)/F + 1 at least). */
+static size_t band_rows(const cdsp_image *img, const cdsp_edge_params *p, int F, int j0, int j1, int x0,
+                        int y0, int x1, int y1, const cdsp_edge *rc, size_t nrc, cdsp_edge *out,
+                        size_t cap, int *full)
+{
+    int h = p->half_window, step = p->step, t, j;
+    int from = x0 > h + 1 ? x0 : h + 1, to = x1 < img->width - h - 1 ? x1 : img->width - h - 1;
+    int first = first_line(y0, step), lim = y1 - 1 < img->height - 1 ? y1 - 1 : img->height - 1;
+    size_t n = 0, ia = 0, ib = 0, ic = 0; /* coarse row ka: [ia, ib), ka + 1: [ib, ic) */
+    int ka = -2;
+    for (j = j0, t = first + j0 * step; t < lim && j < j1; j++, t += step) {
+        int k = j / F, ta = first + k * F * step, tb = ta + F * step;
+        size_t u, v;
+        int cur_lo = 0, cur_hi = -1;
+        if (k != ka) { /* advance the two coarse rows around t */
+            ia = k == ka + 1 ? ib : ia;
+            while (ia < nrc && rc[ia].y < (cdsp_real)ta)
+                ia++;
+            for (ib = ia; ib < nrc && rc[ib].y == (cdsp_real)ta; ib++)
+                ;
+            for (ic = ib; ic < nrc && rc[ic].y == (cdsp_real)tb; ic++)
+                ;
+            ka = k;
+        }
+        if (j % F == 0) { /* a coarse row: as it was scanned */
+            if (n + (ib - ia) > cap) {
+                *full = 1;
+                return n;
+            }
+            for (u = ia; u < ib; u++)
+                out[n++] = rc[u];
+            continue;
+        }
+        /* merge the bands of both coarse rows (each sorted along x) */
+        for (u = ia, v = ib; u < ib || v < ic;) {
+            int lo, hi;
+            if (v >= ic || (u < ib && rc[u].x - (cdsp_real)(t - ta) <= rc[v].x - (cdsp_real)(tb - t))) {
+                band_of(rc[u].x, t - ta, &lo, &hi);
+                u++;
+            } else {
+                band_of(rc[v].x, tb - t, &lo, &hi);
+                v++;
+            }
+            if (cur_hi >= cur_lo && lo <= cur_hi + 1) {
+                cur_hi = hi > cur_hi ? hi : cur_hi;
+                continue;
+            }
+            if (cur_hi >= cur_lo) {
+                int f = cur_lo - 1 < from ? from : cur_lo - 1, e = cur_hi + 2 > to ? to : cur_hi + 2;
+                n += cdsp__edges_scan_segment(img, p, 1, t, f, e, out + n, cap - n);
+                if (n == cap) {
+                    *full = 1;
+                    return n;
+                }
+            }
+            cur_lo = lo;
+            cur_hi = hi;
+        }
+        if (cur_hi >= cur_lo) {
+            int f = cur_lo - 1 < from ? from : cur_lo - 1, e = cur_hi + 2 > to ? to : cur_hi + 2;
+            n += cdsp__edges_scan_segment(img, p, 1, t, f, e, out + n, cap - n);
+            if (n == cap) {
+                *full = 1;
+                return n;
+            }
+        }
+    }
+    return n;
+}
+
+/* First index of cc[from, ncc) with x >= xv: the coarse columns' blocks
+ * come in x order, so the predicate is monotone. */
+static size_t first_at(const cdsp_edge *cc, size_t from, size_t ncc, cdsp_real xv)
+{
+    while (from < ncc && cc[from].x < xv)
+        from++;
+    return from;
+}
+
+/* Fine column blocks in bands. cc[0, ncc): the coarse columns' edges as
+ * scan_cols lists them (blocks of CHUNK coarse columns; row by row within
+ * a block), so each coarse block's edges of any x range come sorted by
+ * row. A fine block draws on coarse columns ka..kb (within F columns of
+ * its own), which lie in at most two coarse blocks: two sorted streams,
+ * merged by row. */
+static size_t band_cols(const cdsp_image *img, const cdsp_edge_params *p, int F, int b0, int b1, int c0,
+                        int x0, int y0, int x1, int y1, const cdsp_edge *cc, size_t ncc,
+                        cdsp_edge *out, size_t cap, int *full)
+{
+    int h = p->half_window, step = p->step, t, b, D = F * step;
+    int first = first_line(x0, step);
+    int last = (x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1);
+    int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
+    size_t n = 0, bstart = 0;
+    for (b = b0, t = first + b0 * CHUNK * step; t < last && from < to && b < b1; b++, t += CHUNK * step) {
+        int ncols = (last - 1 - t) / step + 1, ka, kb, i, cur_lo = 0, cur_hi = -1;
+        size_t cur[2], end[2];
+        cdsp_real xa, xb;
+        if (ncols > CHUNK)
+            ncols = CHUNK;
+        ka = (b * CHUNK) / F;
+        kb = (b * CHUNK + ncols - 1) / F + 1;
+        xa = (cdsp_real)(first + ka * D);
+        xb = (cdsp_real)(first + kb * D);
+        /* the coarse blocks holding columns ka and kb (cc's blocks start
+         * at coarse column c0 <= ka) */
+        for (i = 0; i < 2; i++) {
+            int B = ((i == 0 ? ka : kb) - c0) / CHUNK;
+            size_t s0 = first_at(cc, i == 0 ? bstart : cur[0], ncc,
+                                 (cdsp_real)(first + (c0 + B * CHUNK) * D));
+            if (i == 0)
+                bstart = s0;
+            cur[i] = s0;
+            end[i] = first_at(cc, s0, ncc, (cdsp_real)(first + (c0 + (B + 1) * CHUNK) * D));
+            if (i == 1 && B == (ka - c0) / CHUNK)
+                cur[1] = end[1] = 0; /* one coarse block only */
+        }
+        /* merge by row the edges with x in [xa, xb]; bands +-D around each */
+        for (;;) {
+            int best = -1, lo = 0, hi = -1;
+            for (i = 0; i < 2; i++) {
+                while (cur[i] < end[i] && (cc[cur[i]].x < xa || cc[cur[i]].x > xb))
+                    cur[i]++;
+                if (cur[i] < end[i] && (best < 0 || cc[cur[i]].y < cc[cur[best]].y))
+                    best = i;
+            }
+            if (best >= 0) {
+                band_of(cc[cur[best]].y, D, &lo, &hi);
+                cur[best]++;
+                if (cur_hi >= cur_lo && lo <= cur_hi + 1) {
+                    cur_hi = hi > cur_hi ? hi : cur_hi;
+                    continue;
+                }
+            }
+            if (cur_hi >= cur_lo) {
+                /* candidate rows [cur_lo, cur_hi]; scan_cols_block takes
+                 * candidates in [f, e - 1) */
+                int f = cur_lo < from ? from : cur_lo, e = cur_hi + 2 > to ? to : cur_hi + 2;
+                if (f < e) {
+                    n += scan_cols_block(img, p, step, t, ncols, f, e, out + n, cap - n);
+                    if (n == cap) {
+                        *full = 1;
+                        return n;
+                    }
+                }
+            }
+            if (best < 0)
+                break;
+            cur_lo = lo;
+            cur_hi = hi;
+        }
+    }
+    return n;
+}
+
+/* The number of the full search's rows (jn) and column blocks (bn). */
+static void family_extents(const cdsp_image *img, const cdsp_edge_params *p, int x0, int y0, int x1,
+                           int y1, int *jn, int *bn)
+{
+    int h = p->half_window, step = p->step;
+    int fr = first_line(y0, step), lim = y1 - 1 < img->height - 1 ? y1 - 1 : img->height - 1;
+    int fc = first_line(x0, step), last = x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1;
+    int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
+    *jn = lim > fr ? (lim - fr + step - 1) / step : 0;
+    *bn = last > fc && from < to ? ((last - fc + step - 1) / step + CHUNK - 1) / CHUNK : 0;
+}
+
+/*
+ * The full search (p->coarse < 2) or the coarse pass over the rows j in
+ * [j0, j1) and the column blocks b in [b0, b1) of the full search: rows'
+ * edges to out[0, *nr), the columns' after them (*nc). CDSP_E_CAPACITY
+ * when they do not fit in cap (nothing is coarsened here).
+ */
+static cdsp_status detect_range(const cdsp_image *img, const cdsp_edge_params *p, int j0, int j1, int b0,
+                                int b1, cdsp_edge *out, size_t cap, size_t *nr, size_t *nc)
+{
+    int x0, y0, x1, y1, F = p->coarse, step = p->step, full = 0, fr, fc;
+    size_t nrc = 0, ncc = 0;
+    cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
+    fr = first_line(y0, step);
+    fc = first_line(x0, step);
+    *nr = *nc = 0;
+    if (F < 2) {
+        /* rows fr + j*step, j < j1: scan_rows stops below y1' - 1 */
+        *nr = j1 > j0 ? scan_rows(img, p, fr + j0 * step, step, x0, x1,
+                                  y1 < fr + (j1 - 1) * step + 2 ? y1 : fr + (j1 - 1) * step + 2, out, cap)
+                      : 0;
+        if (*nr == cap)
+            return CDSP_E_CAPACITY;
+        /* column blocks: scan_cols_at stops before column x1' - 1 */
+        if (b1 > b0) {
+            int xe = fc + b1 * CHUNK * step + 1;
+            *nc = scan_cols_at(img, p, fc + b0 * CHUNK * step, step, y0, x1 < xe ? x1 : xe, y1, out + *nr,
+                               cap - *nr);
+        }
+        return *nr + *nc == cap ? CDSP_E_CAPACITY : CDSP_OK;
+    }
+    /* coarse rows (every F-th) around [j0, j1), coarse columns around the
+     * blocks, into out[0, nrc + ncc) */
+    if (j1 > j0) {
+        int ka = j0 / F, kb = (j1 - 1) / F + 1;
+        nrc = scan_rows(img, p, fr + ka * F * step, F * step, x0, x1,
+                        y1 < fr + kb * F * step + 2 ? y1 : fr + kb * F * step + 2, out, cap / 2);
+    }
+    if (b1 > b0 && nrc < cap / 2) {
+        /* coarse columns c0 .. ce inclusive: scan_cols_at's last is xe - 1 */
+        int c0 = (b0 * CHUNK) / F, ce = ((b1 * CHUNK - 1) / F + 1), xe = fc + ce * F * step + 2;
+        ncc = scan_cols_at(img, p, fc + c0 * F * step, F * step, y0, x1 < xe ? x1 : xe, y1, out + nrc,
+                           cap / 2 - nrc);
+    }
+    if (nrc + ncc >= cap / 2)
+        return CDSP_E_CAPACITY;
+    /* the coarse edges to the end of out; the bands into its start */
+    move_up(out + cap - (nrc + ncc), out, nrc + ncc);
+    {
+        const cdsp_edge *rc = out + cap - (nrc + ncc), *cc = rc + nrc;
+        size_t room = cap - (nrc + ncc);
+        *nr = band_rows(img, p, F, j0, j1, x0, y0, x1, y1, rc, nrc, out, room, &full);
+        *nc = full ? 0
+                   : band_cols(img, p, F, b0, b1, (b0 * CHUNK) / F, x0, y0, x1, y1, cc, ncc, out + *nr,
+                               room - *nr, &full);
+        if (full || *nr + *nc >= room)
+            return CDSP_E_CAPACITY;
+    }
+    return CDSP_OK;
+}
+
+static cdsp_status detect_coarse(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
+                                 size_t cap, size_t *n)
+{
+    int x0, y0, x1, y1, jn, bn;
+    size_t nr, nc;
+    cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
+    family_extents(img, p, x0, y0, x1, y1, &jn, &bn);
+    if (detect_range(img, p, 0, jn, 0, bn, out, cap, &nr, &nc) != CDSP_OK)
+        return detect_full(img, p, out, cap, n);
+    *n = nr + nc;
+    return CDSP_OK;
+}
+
+/* Where strip k of n starts among m lines (or blocks): the first m % n
+ * strips one longer. No product that could overflow (and no 64-bit
+ * division, which 32-bit targets would call a helper for). */
+static int strip_start(int m, int k, int n)
+{
+    return (m / n) * k + (k < m % n ? k : m % n);
+}
+
+/* The image and parameter checks of the detect entry points. */
+static cdsp_status detect_args_check(const cdsp_image *img, const cdsp_edge_params *p)
+{
+    cdsp_status st = cdsp_image_check(img);
+    return st != CDSP_OK ? st : cdsp__edge_params_check(p);
+}
+
+/*
+ * Strips (docs/method.md §2): strip k of n is the full search's (or the
+ * coarse pass's) rows j in [strip_start(jn, k, n), strip_start(jn, k+1, n))
+ * and column blocks likewise; rows, then columns, in the full search's order
+ * within each. Every strip's rows before every strip's columns, in strip
+ * order, is therefore cdsp_edges_detect's list, bit for bit, whenever that
+ * fits (cdsp_edges_merge_strips).
+ */
+cdsp_status cdsp_edges_detect_strip(const cdsp_image *img, const cdsp_edge_params *p, int k, int n,
+                                    cdsp_edge *out, size_t cap, size_t *n_rows, size_t *n_cols)
+{
+    int x0, y0, x1, y1, jn, bn;
+    cdsp_status st;
+    if (!p || !out || !n_rows || !n_cols)
+        return CDSP_E_ARG;
+    *n_rows = *n_cols = 0;
+    if (n < 1 || n > CDSP_EDGE_MAX_STRIPS || k < 0 || k >= n)
+        return CDSP_E_ARG;
+    st = detect_args_check(img, p);
+    if (st != CDSP_OK)
+        return st;
+    cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
+    family_extents(img, p, x0, y0, x1, y1, &jn, &bn);
+    return detect_range(img, p, strip_start(jn, k, n), strip_start(jn, k + 1, n), strip_start(bn, k, n),
+                        strip_start(bn, k + 1, n), out, cap, n_rows, n_cols);
+}
+
+/* The merge fits when cdsp_edges_detect's own list surely fits: fewer
+ * than cap edges, or with the coarse pass fewer than cap / 2 (there the
+ * coarse lines' edges, each also in the result, share the buffer: with
+ * fewer than cap / 2 results both fit; above, the caller's fallback to
+ * cdsp_edges_detect gives the same list anyway). */
+cdsp_status cdsp_edges_merge_strips(const cdsp_edge_params *p, const cdsp_edge *const *strip,
+                                    const size_t *n_rows, const size_t *n_cols, int n, cdsp_edge *out,
+                                    size_t cap, size_t *count)
+{
+    int k, f;
+    size_t m = 0, i;
+    if (!p || !strip || !n_rows || !n_cols || !out || !count || n < 1 || n > CDSP_EDGE_MAX_STRIPS)
+        return CDSP_E_ARG;
+    *count = 0;
+    if (p->coarse >= 2)
+        cap /= 2;
+    for (f = 0; f < 2; f++)
+        for (k = 0; k < n; k++) {
+            size_t c = f == 0 ? n_rows[k] : n_cols[k];
+            const cdsp_edge *src = strip[k] + (f == 0 ? 0 : n_rows[k]);
+            if (!strip[k] && c)
+                return CDSP_E_ARG;
+            if (c >= cap - m) /* the whole frame's list would not fit either */
+                return CDSP_E_CAPACITY;
+            for (i = 0; i < c; i++)
+                out[m++] = src[i];
+        }
+    *count = m;
+    return CDSP_OK;
+}
+
+cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p, cdsp_edge *out,
+                              size_t cap, size_t *n)
+{
+    cdsp_status st;
+    if (!p || !out || !n)
+        return CDSP_E_ARG;
+    *n = 0;
+    st = detect_args_check(img, p);
+    if (st != CDSP_OK)
+        return st;
+    return p->coarse >= 2 ? detect_coarse(img, p, out, cap, n) : detect_full(img, p, out, cap, n);
 }

@@ -201,27 +201,105 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
                             rng, img, &ws->profile, out);
 }
 
+/*
+ * The full search's end: fe holds the frame's edge parameters and the
+ * status and count of the edges detected with them into ws->edge (by
+ * cdsp_edges_detect, or by the caller's strips); solved here. With the
+ * coarse pass (docs/method.md §2) only the bands around what its coarse
+ * lines saw were read; when those edges give no pipe, or one as thinly
+ * supported as a failed track, the whole frame is read: a pipe the full
+ * search would find is never lost to the bands.
+ */
+static cdsp_status full_search(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                               const cdsp_params *p, const cdsp_result *prior, const cdsp_frame_edges *fe,
+                               cdsp_frame_ws *ws, cdsp_rng *rng, cdsp_result *out)
+{
+    cdsp_edge_params edge = fe->edge;
+    cdsp_status st = fe->status;
+    size_t n = fe->n;
+    uint32_t flags = CDSP_FLAG_FULL_SEARCH;
+    for (;;) {
+        if (st == CDSP_E_CAPACITY)
+            flags |= CDSP_FLAG_TRUNCATED;
+        else if (st != CDSP_OK)
+            return st;
+        st = solve_edges(img, cam, radius, ws, n, p, fe->min_step, prior, rng, out);
+        if (edge.coarse >= 2 && (st != CDSP_OK || out->inliers[0] < (uint32_t)p->track_min_inliers ||
+                                 out->inliers[1] < (uint32_t)p->track_min_inliers)) {
+            edge.coarse = 0;
+            flags &= ~CDSP_FLAG_TRUNCATED;
+            st = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &n);
+            continue;
+        }
+        break;
+    }
+    if (st != CDSP_OK)
+        return st;
+    out->flags |= flags;
+    out->noise = fe->sigma;
+    out->min_step = fe->min_step;
+    return CDSP_OK;
+}
+
+/* The checks of the frame entry points. */
+static cdsp_status frame_args_check(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                                    const cdsp_params *p)
+{
+    cdsp_status st = cdsp_image_check(img);
+    if (st != CDSP_OK)
+        return st;
+    st = cdsp__solve_args_check(cam, radius, p);
+    if (st != CDSP_OK)
+        return st;
+    return img->width != cam->width || img->height != cam->height ? CDSP_E_ARG : CDSP_OK;
+}
+
+cdsp_status cdsp_frame_prepare(const cdsp_image *img, const cdsp_params *p, cdsp_frame_edges *fe)
+{
+    cdsp_status st;
+    int range;
+    if (!img || !p || !fe)
+        return CDSP_E_ARG;
+    st = cdsp_image_check(img);
+    if (st == CDSP_OK)
+        st = cdsp__params_check(p);
+    if (st != CDSP_OK)
+        return st;
+    frame_noise(img, &fe->sigma, &range);
+    frame_edge_params(img, p, fe->sigma, range, &fe->edge, &fe->min_step);
+    fe->status = CDSP_OK;
+    fe->n = 0;
+    return CDSP_OK;
+}
+
+cdsp_status cdsp_frame_solve_detected(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                                      const cdsp_params *p, const cdsp_frame_edges *fe, cdsp_frame_ws *ws,
+                                      cdsp_rng *rng, cdsp_result *out)
+{
+    cdsp_status st;
+    if (!img || !cam || !p || !fe || !ws || !rng || !out || fe->n > CDSP_MAX_EDGES)
+        return CDSP_E_ARG;
+    st = frame_args_check(img, cam, radius, p);
+    if (st != CDSP_OK)
+        return st;
+    return full_search(img, cam, radius, p, NULL, fe, ws, rng, out);
+}
+
 cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
                              const cdsp_params *p, const cdsp_result *prior, cdsp_frame_ws *ws,
                              cdsp_rng *rng, cdsp_result *out)
 {
     cdsp_status st;
     size_t n = 0;
-    uint32_t flags = CDSP_FLAG_FULL_SEARCH;
     cdsp_edge_params edge;
+    cdsp_frame_edges fe;
     cdsp_real sigma = R(0), min_step;
     int range = 0;
     if (!img || !cam || !p || !ws || !rng || !out)
         return CDSP_E_ARG;
-    st = cdsp_image_check(img);
+    st = frame_args_check(img, cam, radius, p);
     if (st != CDSP_OK)
         return st;
-    st = cdsp__solve_args_check(cam, radius, p);
-    if (st != CDSP_OK)
-        return st;
-    if (img->width != cam->width || img->height != cam->height)
-        return CDSP_E_ARG;
-
     /* The prior's noise figure stands for this frame's while tracking (the
      * same camera a frame later); a full search measures it. */
     if (prior && R_FINITE(prior->noise) && prior->noise > R(0) && prior->min_step > R(0)) {
@@ -258,16 +336,29 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
         frame_noise(img, &sigma, &range);
         frame_edge_params(img, p, sigma, range, &edge, &min_step);
     }
-    st = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &n);
+    fe.edge = edge;
+    fe.min_step = min_step;
+    fe.sigma = sigma;
+    fe.status = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &fe.n);
+    return full_search(img, cam, radius, p, prior, &fe, ws, rng, out);
+}
+
+/* The full search's first steps for lib/multi.c (internal.h): the same
+ * noise, threshold, scan and undistortion as cdsp_frame_solve's. */
+cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_frame_ws *ws, size_t *n, cdsp_real *sigma, cdsp_real *min_step,
+                              uint32_t *flags)
+{
+    cdsp_edge_params edge;
+    cdsp_status st;
+    int range = 0;
+    *flags = CDSP_FLAG_FULL_SEARCH;
+    frame_noise(img, sigma, &range);
+    frame_edge_params(img, p, *sigma, range, &edge, min_step);
+    st = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, n);
     if (st == CDSP_E_CAPACITY)
-        flags |= CDSP_FLAG_TRUNCATED;
+        *flags |= CDSP_FLAG_TRUNCATED;
     else if (st != CDSP_OK)
         return st;
-    st = solve_edges(img, cam, radius, ws, n, p, min_step, prior, rng, out);
-    if (st != CDSP_OK)
-        return st;
-    out->flags |= flags;
-    out->noise = sigma;
-    out->min_step = min_step;
-    return CDSP_OK;
+    return cdsp_camera_undistort_edges(cam, ws->edge, n);
 }

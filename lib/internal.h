@@ -140,6 +140,26 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
                              size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
                              cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
                              const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out);
+/* pair.c, split for the multi-pipe path (lib/multi.c): every candidate
+ * line and scored pair (CDSP_E_NO_PIPE when none), one pair's full result
+ * (confidence, n_candidates, track_id and the direction's sign are the
+ * caller's), and a pair's evidence E (include/cdsp.h, "The pair score"). */
+cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                 size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                                 const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set);
+cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                              size_t n, const uint8_t *label, cdsp_pair_set *set,
+                              const cdsp_pair_eval *c, const cdsp_params *p, const cdsp_image *img,
+                              cdsp_profile_ws *pws, cdsp_result *out);
+cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known);
+/* Every coordinate and gradient of the n points is finite. */
+int cdsp__points_finite(const cdsp_edge *e, size_t n);
+/* frame.c: a full search's edge points (undistorted) in ws->edge, *n of
+ * them, with the frame's noise and step threshold; *flags gets
+ * CDSP_FLAG_FULL_SEARCH and CDSP_FLAG_TRUNCATED when it applies. */
+cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_frame_ws *ws, size_t *n, cdsp_real *sigma, cdsp_real *min_step,
+                              uint32_t *flags);
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,
@@ -166,5 +186,31 @@ void cdsp__edges_clip_roi(const cdsp_image *img, const cdsp_roi *roi, int *x0, i
 size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p,
                                 int horizontal, int line, int from, int to,
                                 cdsp_edge *out, size_t cap);
+/* edges.c: the partial-area estimate at candidate (s along the scan, t
+ * across it; horizontal: s is x on row t): 1 and *e filled when it is a
+ * valid edge owned by this scan direction. The scans call it; so does the
+ * reference scan of tests/lib/test_edges_scan.c. */
+int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
+                       cdsp_edge *e);
+/* The scans' candidate test on n parallel positions (8-bit samples,
+ * 1 <= thr <= 255), lib/edges.c: f[0..4] are the runs of pixels at -2 .. +2
+ * along the scan; flag[i] = 1 when |f[3][i] - f[1][i]| >= thr, > |f[2][i] -
+ * f[0][i]| and >= |f[4][i] - f[2][i]| (a local maximum of the central
+ * difference) and sel[i] = 1 (sel: 0/1 bytes, or NULL for all), else 0;
+ * returns whether any flag is set. flag must not overlap the inputs. The
+ * portable form is always built (the reference); cdsp__edges_peaks is the
+ * form the scans use: the SIMD one of lib/edges_simd.c (SSE2 on x86-64,
+ * AVX2 when compiled with -mavx2, NEON on AArch64) unless CDSP_NO_SIMD. */
+int cdsp__edges_peaks_c(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
+                        uint8_t *flag);
+#if !defined(CDSP_NO_SIMD) && (defined(__SSE2__) || (defined(__aarch64__) && defined(__ARM_NEON)))
+#define CDSP__SIMD 1
+int cdsp__edges_peaks_simd(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
+                           uint8_t *flag);
+#define cdsp__edges_peaks cdsp__edges_peaks_simd
+#else
+#define CDSP__SIMD 0
+#define cdsp__edges_peaks cdsp__edges_peaks_c
+#endif
 
 #endif /* CDSP_INTERNAL_H */

@@ -32,19 +32,14 @@
  */
 #include "internal.h"
 
-/* A pair that passed the tests, with what its score and confidence need. */
-typedef struct {
-    int i, j;
-    cdsp_real score;
-    cdsp_real p_in[2];
-    cdsp_real support;  /* min over both contours of inliers on the overlap x spread */
-    cdsp_real contrast; /* min over both contours of step / threshold */
-} pair_choice;
+/* A pair that passed the tests, with what its score and confidence need
+ * (include/cdsp.h, cdsp_pair_eval). */
+typedef cdsp_pair_eval pair_choice;
 
 /* Pairs kept for the ranking: the strongest PAIR_KEEP (a frame rarely has
  * more than a few dozen plausible ones; what falls off the end can only be
  * an alternative weaker than PAIR_KEEP others). */
-#define PAIR_KEEP 48
+#define PAIR_KEEP CDSP_MAX_PAIRS
 #define SUPPORT_BINS 32
 
 /* Occupancy of SUPPORT_BINS equal bins over each line's [t_min, t_max]:
@@ -435,30 +430,25 @@ static cdsp_real evidence(const pair_choice *c, int contrast_known)
     return e;
 }
 
-cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                             size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
-                             cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
-                             const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out)
+cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                 size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                                 const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set)
 {
-    cdsp_line lines[CDSP_MAX_LINES];
     uint32_t mask[CDSP_MAX_LINES];
-    uint8_t used[CDSP_MAX_LINES], dead[PAIR_KEEP];
-    pair_choice list[PAIR_KEEP], chosen[CDSP_MAX_CANDIDATES];
-    const cdsp_line *L[2];
-    int nlines = 0, i, j, np = 0, nc = 0, capped = 0, profiled = 0;
-    cdsp_real edge_offset[2] = {0, 0}, edge_blur[2] = {0, 0};
+    cdsp_line *lines = set->lines;
+    int nlines = 0, i, j, capped = 0;
     score_ctx sc;
-    cdsp_result r;
-    cdsp__axis ax;
     cdsp_status st;
-    cdsp_real conf;
 
+    set->nlines = set->npairs = set->capped = 0;
     if (n < 4)
         return CDSP_E_FEW_POINTS;
     st = cdsp__lines_find(pts, n, label, &p->pair, R_COS(p->pair.normal_tol_deg * R_PI / R(180)),
                           rng, lines, &nlines, &capped);
     if (st != CDSP_OK)
         return st;
+    set->nlines = nlines;
+    set->capped = capped;
     if (nlines < 2)
         return CDSP_E_NO_PIPE;
     support_masks(pts, n, label, lines, nlines, mask);
@@ -478,10 +468,91 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
             c.j = j;
             c.score = pair_score(&sc, &lines[i], &lines[j], mask[i], mask[j], &c);
             if (c.score > R(0))
-                keep_pair(list, &np, &c);
+                keep_pair(set->pair, &set->npairs, &c);
         }
-    if (np == 0)
-        return CDSP_E_NO_PIPE;
+    return set->npairs ? CDSP_OK : CDSP_E_NO_PIPE;
+}
+
+cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known)
+{
+    return evidence(c, contrast_known);
+}
+
+cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                              size_t n, const uint8_t *label, cdsp_pair_set *set,
+                              const cdsp_pair_eval *c, const cdsp_params *p, const cdsp_image *img,
+                              cdsp_profile_ws *pws, cdsp_result *out)
+{
+    cdsp_line *lines = set->lines;
+    const cdsp_line *L[2];
+    int i, profiled = 0;
+    cdsp_real edge_offset[2] = {0, 0}, edge_blur[2] = {0, 0};
+    cdsp_result r;
+    cdsp__axis ax;
+    cdsp_status st;
+
+    L[0] = &lines[c->i];
+    L[1] = &lines[c->j];
+    /* the edge-profile model moves each line to its modelled silhouette
+     * (lib/profile.c); a contour it cannot model keeps the detector's line */
+    if (img && pws && p->profile.enable) {
+        for (i = 0; i < 2; i++) {
+            cdsp_profile pr;
+            cdsp_real moved = R(0);
+            if (cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)((i ? c->j : c->i) + 1),
+                                     &lines[i ? c->j : c->i], c->p_in, &p->profile,
+                                     p->edge.half_window, pws, &pr, &moved) == CDSP_OK) {
+                edge_offset[i] = moved;
+                edge_blur[i] = pr.blur;
+                profiled++;
+            }
+        }
+    }
+    st = cdsp__axis_core(cam, L[0]->l, L[1]->l, c->p_in, radius, &ax);
+    if (st != CDSP_OK)
+        return st;
+    zero_bytes(&r, sizeof r); /* no stale bytes, padding included, reach the caller */
+    cdsp__axis_to_result(&ax, L[0]->l, L[1]->l, &r);
+    r.rms[0] = L[0]->rms;
+    r.rms[1] = L[1]->rms;
+    r.inliers[0] = L[0]->count;
+    r.inliers[1] = L[1]->count;
+    r.label[0] = (uint8_t)(c->i + 1);
+    r.label[1] = (uint8_t)(c->j + 1);
+    r.n_edges = (uint32_t)n;
+    r.flags = (set->capped ? CDSP_FLAG_CAPPED : 0u) | (profiled == 2 ? CDSP_FLAG_PROFILE : 0u);
+    for (i = 0; i < 2; i++) {
+        r.edge_offset[i] = edge_offset[i];
+        r.edge_blur[i] = edge_blur[i];
+    }
+    r.score = c->score;
+    r.n_lines = (uint32_t)set->nlines;
+    propagate(cam, radius, L, c->p_in, &r);
+    visible_segment(cam, L, &r);
+    *out = r;
+    return CDSP_OK;
+}
+
+cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                             size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
+                             cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
+                             const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out)
+{
+    cdsp_pair_set set;
+    const cdsp_line *lines = set.lines;
+    const pair_choice *list = set.pair;
+    uint8_t used[CDSP_MAX_LINES], dead[PAIR_KEEP];
+    pair_choice chosen[CDSP_MAX_CANDIDATES];
+    int nlines, i, np, nc = 0;
+    cdsp_result r;
+    cdsp_status st;
+    cdsp_real conf;
+
+    st = cdsp__pair_score_all(cam, radius, pts, n, label, p, min_step, prior, rng, &set);
+    if (st != CDSP_OK)
+        return st;
+    nlines = set.nlines;
+    np = set.npairs;
     /* Each contour belongs to one candidate: best first, a pair sharing a
      * line with a better one is dropped, and a pair is passed over when its
      * two lines do better with other partners (the gap between two pipes). */
@@ -529,55 +600,20 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         cand[0].confidence *= (R(1) - ratio * ratio) / (cdsp_real)nc;
     }
     conf = cand[0].confidence;
-    L[0] = &lines[chosen[0].i];
-    L[1] = &lines[chosen[0].j];
-    /* the edge-profile model moves each line to its modelled silhouette
-     * (lib/profile.c); a contour it cannot model keeps the detector's line */
-    if (img && pws && p->profile.enable) {
-        for (i = 0; i < 2; i++) {
-            cdsp_profile pr;
-            cdsp_real moved = R(0);
-            if (cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)((i ? chosen[0].j : chosen[0].i) + 1),
-                                     &lines[i ? chosen[0].j : chosen[0].i], chosen[0].p_in, &p->profile,
-                                     p->edge.half_window, pws, &pr, &moved) == CDSP_OK) {
-                edge_offset[i] = moved;
-                edge_blur[i] = pr.blur;
-                profiled++;
-            }
-        }
-    }
-    st = cdsp__axis_core(cam, L[0]->l, L[1]->l, chosen[0].p_in, radius, &ax);
+    st = cdsp__pair_result(cam, radius, pts, n, label, &set, &chosen[0], p, img, pws, &r);
     if (st != CDSP_OK)
         return st;
     if (conf < p->min_confidence)
         return CDSP_E_NO_PIPE;
-    zero_bytes(&r, sizeof r); /* no stale bytes, padding included, reach the caller */
-    cdsp__axis_to_result(&ax, L[0]->l, L[1]->l, &r);
-    r.rms[0] = L[0]->rms;
-    r.rms[1] = L[1]->rms;
-    r.inliers[0] = L[0]->count;
-    r.inliers[1] = L[1]->count;
-    r.label[0] = (uint8_t)(chosen[0].i + 1);
-    r.label[1] = (uint8_t)(chosen[0].j + 1);
-    r.n_edges = (uint32_t)n;
-    r.flags = (capped ? CDSP_FLAG_CAPPED : 0u) | (profiled == 2 ? CDSP_FLAG_PROFILE : 0u);
-    for (i = 0; i < 2; i++) {
-        r.edge_offset[i] = edge_offset[i];
-        r.edge_blur[i] = edge_blur[i];
-    }
     r.confidence = conf;
-    r.score = chosen[0].score;
-    r.n_lines = (uint32_t)nlines;
     r.n_candidates = (uint32_t)nc;
-    propagate(cam, radius, L, chosen[0].p_in, &r);
-    visible_segment(cam, L, &r);
     if (prior ? v3_dot(r.direction, prior->direction) < R(0) : cdsp__axis_wants_swap(r.direction))
         cdsp__axis_swap(&r);
     *out = r;
     return CDSP_OK;
 }
 
-static int edges_finite(const cdsp_edge *e, size_t n)
+int cdsp__points_finite(const cdsp_edge *e, size_t n)
 {
     size_t i;
     for (i = 0; i < n; i++)
@@ -634,7 +670,7 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cd
         return st;
     if (n > CDSP_MAX_POINTS)
         return CDSP_E_CAPACITY;
-    if (!edges_finite(pts, n))
+    if (!cdsp__points_finite(pts, n))
         return CDSP_E_NONFINITE;
     return cdsp__pair_solve(cam, radius, pts, n, ws->label, ws->cand, p, R(0), prior, rng, NULL, NULL,
                             out);
@@ -643,6 +679,7 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cd
 void cdsp_params_default(cdsp_params *p)
 {
     cdsp_edge_params_default(&p->edge);
+    p->edge.coarse = 8; /* the frame path's full search: coarse pass (issue 17) */
     cdsp_pair_params_default(&p->pair);
     p->track_band_px = R(12);
     p->track_min_inliers = 30;

@@ -57,6 +57,13 @@ void cdsp_scene_default(cdsp_scene *s)
     s->specular = R(0);
     s->specular_exp = R(0);
     s->motion_px[0] = s->motion_px[1] = R(0);
+    s->n_extra_pipes = 0;
+    for (i = 0; i < CDSP_RENDER_MAX_PIPES - 1; i++) {
+        int k;
+        for (k = 0; k < 3; k++)
+            s->extra_pipe[i].axis_point[k] = s->extra_pipe[i].axis_dir[k] = R(0);
+        s->extra_pipe[i].radius = s->extra_pipe[i].half_length = R(0);
+    }
 }
 
 /* ---- the exact contours (ground truth and the renderer's anti-aliasing) - */
@@ -161,16 +168,22 @@ typedef struct {
     cdsp_real r, half; /* radius, half length (0: infinite) */
 } cyl;
 
+/* One pipe of the scene with its exact contours. */
 typedef struct {
-    const cdsp_scene *s;
-    const cdsp_camera *cam;
-    cyl pipe;
-    cyl bars[CDSP_RENDER_MAX_CLUTTER];
-    int nbars;
-    cdsp_real light[3];
+    cyl c;
     cdsp_real n[2][3];   /* contour planes of the pipe (pipe side positive) */
     cdsp_real l[2][3];   /* their image lines (undistorted px) */
     int have_contours;
+} pipe_geo;
+
+typedef struct {
+    const cdsp_scene *s;
+    const cdsp_camera *cam;
+    pipe_geo pipes[CDSP_RENDER_MAX_PIPES]; /* the scene's pipe first, then extra_pipe[] */
+    int npipes;
+    cyl bars[CDSP_RENDER_MAX_CLUTTER];
+    int nbars;
+    cdsp_real light[3];
     cdsp_real full;      /* full scale of the output */
 } ctx;
 
@@ -300,37 +313,43 @@ static cdsp_real highlight(const ctx *k, const cdsp_real X[3], const cdsp_real n
 }
 
 /* Intensity (fraction of full scale) seen along the ray through undistorted
- * pixel q, and which surface it is. */
-static cdsp_real cast(const ctx *k, const cdsp_real q[2], int *what)
+ * pixel q, which surface it is, and (body or cap) which pipe. */
+static cdsp_real cast(const ctx *k, const cdsp_real q[2], int *what, int *which)
 {
     cdsp_real D[3], t, best = R_MAX, X[3], val = R(0);
-    int kind, i, b;
+    int kind, i, b, pi;
     cdsp_camera_ray(k->cam, q, D);
     *what = HIT_NONE;
-    if (cyl_hit(&k->pipe, D, &t, &kind, X)) {
+    *which = -1;
+    for (pi = 0; pi < k->npipes; pi++) {
+        const cyl *c = &k->pipes[pi].c;
         cdsp_real rel[3], ax, nrm[3];
+        if (!cyl_hit(c, D, &t, &kind, X) || !(t < best))
+            continue;
         best = t;
         for (i = 0; i < 3; i++)
-            rel[i] = X[i] - k->pipe.p0[i];
-        ax = v3_dot(rel, k->pipe.v);
+            rel[i] = X[i] - c->p0[i];
+        ax = v3_dot(rel, c->v);
         if (kind == HIT_BODY) {
             for (i = 0; i < 3; i++)
-                nrm[i] = (rel[i] - ax * k->pipe.v[i]) / k->pipe.r;
+                nrm[i] = (rel[i] - ax * c->v[i]) / c->r;
             val = k->s->pipe_level * shade(k, nrm);
             if (k->s->specular > R(0))
                 val += highlight(k, X, nrm);
         } else {
             for (i = 0; i < 3; i++)
-                nrm[i] = ax > R(0) ? k->pipe.v[i] : -k->pipe.v[i];
+                nrm[i] = ax > R(0) ? c->v[i] : -c->v[i];
             val = k->s->cap_level * shade(k, nrm);
         }
         *what = kind;
+        *which = pi;
     }
     for (b = 0; b < k->nbars; b++) {
         if (cyl_hit(&k->bars[b], D, &t, &kind, X) && t < best) {
             best = t;
             val = k->s->clutter[b].level;
             *what = HIT_CLUTTER + b;
+            *which = -1;
         }
     }
     if (*what == HIT_NONE)
@@ -368,20 +387,26 @@ static cdsp_real coverage(cdsp_real s, cdsp_real nx, cdsp_real ny)
 static cdsp_real pixel(const ctx *k, const cdsp_real q[2], const cdsp_real Jp[4])
 {
     cdsp_real Ju[4], det = Jp[0] * Jp[3] - Jp[1] * Jp[2], val, probe[2];
-    int what, pw, same = 1, i;
+    int what, which, pw, pwh, same = 1, i, pi, near = 0;
     static const cdsp_real off[4][2] = {{-0.5, 0}, {0.5, 0}, {0, -0.5}, {0, 0.5}};
     /* Ju = Jp^-1 maps distorted offsets to undistorted ones */
     Ju[0] = Jp[3] / det;
     Ju[1] = -Jp[1] / det;
     Ju[2] = -Jp[2] / det;
     Ju[3] = Jp[0] / det;
-    val = cast(k, q, &what);
+    val = cast(k, q, &what, &which);
 
-    /* Near a long contour of the pipe and away from its ends: exact coverage. */
-    if (k->have_contours && what != HIT_CAP && what < HIT_CLUTTER) {
+    /* Near a long contour of a pipe and away from its ends: exact coverage
+     * (the first contour within a pixel decides; a rack's pipes are never
+     * within a pixel of each other's contours where this applies). */
+    for (pi = 0; pi < k->npipes && !near; pi++) {
+        const pipe_geo *g = &k->pipes[pi];
         int c;
+        if (!g->have_contours || what == HIT_CAP || what >= HIT_CLUTTER ||
+            (what == HIT_BODY && which != pi))
+            continue;
         for (c = 0; c < 2; c++) {
-            const cdsp_real *l = k->l[c];
+            const cdsp_real *l = g->l[c];
             /* gradient of l.und(p) in distorted px: Ju^T (a, b) */
             cdsp_real gx = Ju[0] * l[0] + Ju[2] * l[1], gy = Ju[1] * l[0] + Ju[3] * l[1];
             cdsp_real gl = R_SQRT(gx * gx + gy * gy);
@@ -390,31 +415,33 @@ static cdsp_real pixel(const ctx *k, const cdsp_real q[2], const cdsp_real Jp[4]
                 /* the limb point's axial position must be well inside the pipe */
                 cdsp_real D[3], rel[3], Dv, ax, tnear, lim[3], cov, body, outside;
                 int ok = 1, w2;
+                near = 1;
                 cdsp_camera_ray(k->cam, q, D);
-                Dv = v3_dot(D, k->pipe.v);
+                Dv = v3_dot(D, g->c.v);
                 /* closest approach of the ray to the axis */
                 {
-                    cdsp_real wv = -v3_dot(k->pipe.p0, k->pipe.v), a = v3_dot(D, D);
-                    cdsp_real bb = Dv, dd = -v3_dot(D, k->pipe.p0), den = a - bb * bb;
+                    cdsp_real wv = -v3_dot(g->c.p0, g->c.v), a = v3_dot(D, D);
+                    cdsp_real bb = Dv, dd = -v3_dot(D, g->c.p0), den = a - bb * bb;
                     tnear = den > R(0) ? (bb * wv - dd) / den : R(0);
                     for (i = 0; i < 3; i++)
-                        rel[i] = tnear * D[i] - k->pipe.p0[i];
-                    ax = v3_dot(rel, k->pipe.v);
+                        rel[i] = tnear * D[i] - g->c.p0[i];
+                    ax = v3_dot(rel, g->c.v);
                 }
-                if (k->pipe.half > R(0)) {
+                if (g->c.half > R(0)) {
                     /* a pixel's footprint at that depth, plus the radius (the
                      * cap's outline reaches r beyond the end along the view) */
                     cdsp_real foot = R(4) * tnear / (k->cam->fx < k->cam->fy ? k->cam->fx : k->cam->fy);
-                    if (R_FABS(ax) > k->pipe.half - k->pipe.r - foot)
+                    if (R_FABS(ax) > g->c.half - g->c.r - foot)
                         ok = 0;
                 }
-                /* clutter in front of or behind the limb: leave it to supersampling */
+                /* clutter, a cap or another pipe in front of or behind the
+                 * limb: leave it to supersampling */
                 for (w2 = 0; ok && w2 < 4; w2++) {
-                    int pk;
+                    int pk, pkh;
                     probe[0] = q[0] + Ju[0] * off[w2][0] + Ju[1] * off[w2][1];
                     probe[1] = q[1] + Ju[2] * off[w2][0] + Ju[3] * off[w2][1];
-                    (void)cast(k, probe, &pk);
-                    if (pk >= HIT_CLUTTER || pk == HIT_CAP)
+                    (void)cast(k, probe, &pk, &pkh);
+                    if (pk >= HIT_CLUTTER || pk == HIT_CAP || (pk == HIT_BODY && pkh != pi))
                         ok = 0;
                 }
                 if (ok) {
@@ -429,18 +456,18 @@ static cdsp_real pixel(const ctx *k, const cdsp_real q[2], const cdsp_real Jp[4]
                                                      0.6521451548625461, 0.3478548451374538};
                     cdsp_real ux = gx / gl, uy = gy / gl, half = (R_FABS(ux) + R_FABS(uy)) / R(2);
                     cdsp_real t0 = -sd > -half ? -sd : -half, t1 = half, acc = R(0);
-                    int g;
+                    int gq;
                     for (i = 0; i < 3; i++)
-                        lim[i] = -k->n[c][i]; /* outward normal at the limb */
+                        lim[i] = -g->n[c][i]; /* outward normal at the limb */
                     body = k->s->pipe_level * shade(k, lim);
-                    for (g = 0; g < 4; g++) {
-                        cdsp_real tt = (t0 + t1) / R(2) + (t1 - t0) / R(2) * gx4[g], pk[2], val_g;
-                        int hit;
+                    for (gq = 0; gq < 4; gq++) {
+                        cdsp_real tt = (t0 + t1) / R(2) + (t1 - t0) / R(2) * gx4[gq], pk[2], val_g;
+                        int hit, hw;
                         pk[0] = q[0] + Ju[0] * tt * ux + Ju[1] * tt * uy;
                         pk[1] = q[1] + Ju[2] * tt * ux + Ju[3] * tt * uy;
-                        val_g = cast(k, pk, &hit);
+                        val_g = cast(k, pk, &hit, &hw);
                         /* a node a hair outside the limb misses: the limb's value */
-                        acc += gw4[g] * (hit == HIT_BODY ? val_g : body);
+                        acc += gw4[gq] * (hit == HIT_BODY && hw == pi ? val_g : body);
                     }
                     body = acc / R(2);
                     outside = background(k, q[0], q[1]);
@@ -455,8 +482,8 @@ static cdsp_real pixel(const ctx *k, const cdsp_real q[2], const cdsp_real Jp[4]
     for (i = 0; i < 4 && same; i++) {
         probe[0] = q[0] + Ju[0] * off[i][0] + Ju[1] * off[i][1];
         probe[1] = q[1] + Ju[2] * off[i][0] + Ju[3] * off[i][1];
-        (void)cast(k, probe, &pw);
-        same = pw == what;
+        (void)cast(k, probe, &pw, &pwh);
+        same = pw == what && pwh == which;
     }
     if (!same) {
         cdsp_real sum = R(0);
@@ -466,7 +493,7 @@ static cdsp_real pixel(const ctx *k, const cdsp_real q[2], const cdsp_real Jp[4]
                 cdsp_real du = (R(a) + R(0.5)) / R(4) - R(0.5), dv = (R(b) + R(0.5)) / R(4) - R(0.5);
                 probe[0] = q[0] + Ju[0] * du + Ju[1] * dv;
                 probe[1] = q[1] + Ju[2] * du + Ju[3] * dv;
-                sum += cast(k, probe, &pw);
+                sum += cast(k, probe, &pw, &pwh);
             }
         val = sum / R(16);
     }
@@ -567,6 +594,12 @@ static int scene_finite(const cdsp_scene *s)
         !R_FINITE(s->background_ramp[1]) || !R_FINITE(s->specular) ||
         !R_FINITE(s->specular_exp) || !R_FINITE(s->motion_px[0]) || !R_FINITE(s->motion_px[1]))
         return 0;
+    for (i = 0; i < s->n_extra_pipes && i < CDSP_RENDER_MAX_PIPES - 1; i++) {
+        const cdsp_scene_pipe *e = &s->extra_pipe[i];
+        if (!v3_finite(e->axis_point) || !v3_finite(e->axis_dir) || !R_FINITE(e->radius) ||
+            !R_FINITE(e->half_length))
+            return 0;
+    }
     for (i = 0; i < s->n_clutter && i < CDSP_RENDER_MAX_CLUTTER; i++) {
         const cdsp_clutter *c = &s->clutter[i];
         if (!v3_finite(c->p0) || !v3_finite(c->p1) || !R_FINITE(c->half_width) ||
@@ -653,6 +686,7 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
             R(CDSP_RENDER_MAX_MOTION_PX) * R(CDSP_RENDER_MAX_MOTION_PX))
         return CDSP_E_ARG;
     if (!(s->radius > R(0)) || s->n_clutter < 0 || s->n_clutter > CDSP_RENDER_MAX_CLUTTER ||
+        s->n_extra_pipes < 0 || s->n_extra_pipes > CDSP_RENDER_MAX_PIPES - 1 ||
         s->blur_sigma_px < R(0) || s->blur_sigma_px > R(CDSP_RENDER_MAX_BLUR_PX) ||
         s->noise_sigma < R(0))
         return CDSP_E_ARG;
@@ -666,16 +700,25 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
     k.s = s;
     k.cam = cam;
     k.full = (cdsp_real)((1L << out_bits) - 1);
-    for (i = 0; i < 3; i++) {
-        k.pipe.p0[i] = s->axis_point[i];
-        k.pipe.v[i] = s->axis_dir[i];
-        k.light[i] = s->light[i];
+    k.npipes = 1 + s->n_extra_pipes;
+    for (b = 0; b < k.npipes; b++) {
+        const cdsp_real *P = b ? s->extra_pipe[b - 1].axis_point : s->axis_point;
+        const cdsp_real *V = b ? s->extra_pipe[b - 1].axis_dir : s->axis_dir;
+        cdsp_real r = b ? s->extra_pipe[b - 1].radius : s->radius;
+        cdsp_real hl = b ? s->extra_pipe[b - 1].half_length : s->half_length;
+        cyl *c = &k.pipes[b].c;
+        for (i = 0; i < 3; i++) {
+            c->p0[i] = P[i];
+            c->v[i] = V[i];
+        }
+        if (!(v3_normalize(c->v) > R(0)) || !(r > R(0)))
+            return CDSP_E_ARG;
+        c->r = r;
+        c->half = hl > R(0) ? hl : R(0);
     }
-    if (!(v3_normalize(k.pipe.v) > R(0)))
-        return CDSP_E_ARG;
+    for (i = 0; i < 3; i++)
+        k.light[i] = s->light[i];
     v3_normalize(k.light);
-    k.pipe.r = s->radius;
-    k.pipe.half = s->half_length > R(0) ? s->half_length : R(0);
     k.nbars = s->n_clutter;
     for (b = 0; b < s->n_clutter; b++) {
         const cdsp_clutter *c = &s->clutter[b];
@@ -690,11 +733,12 @@ cdsp_status cdsp_render(const cdsp_scene *s, const cdsp_camera *cam, void *out, 
         k.bars[b].half = len / R(2);
         k.bars[b].r = c->half_width;
     }
-    {
+    for (b = 0; b < k.npipes; b++) {
+        pipe_geo *g = &k.pipes[b];
         cdsp_real foot[3], pin[2];
-        k.have_contours = contour_planes(k.pipe.p0, k.pipe.v, k.pipe.r, k.n, foot) == CDSP_OK &&
-                          cdsp_cylinder_contours(cam, k.pipe.p0, k.pipe.v, k.pipe.r, 1, k.l[0],
-                                                 k.l[1], pin) == CDSP_OK;
+        g->have_contours = contour_planes(g->c.p0, g->c.v, g->c.r, g->n, foot) == CDSP_OK &&
+                           cdsp_cylinder_contours(cam, g->c.p0, g->c.v, g->c.r, 1, g->l[0],
+                                                  g->l[1], pin) == CDSP_OK;
     }
 
     for (y = 0; y < H; y++) {

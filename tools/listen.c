@@ -17,6 +17,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+#include "cdsp_host.h"
 #include <unistd.h>
 
 #include <arpa/inet.h>
@@ -51,6 +53,15 @@ static const char listen_description[] =
     "    source-down: cdspd is reopening the camera) prints \"--\" with cdspd's\n"
     "    counters. At the end a summary line counts the datagrams, the\n"
     "    undecodable ones and the gaps in the sequence numbers.\n"
+    "\n"
+    "    With cdspd's solver.multi_pipe on, the line goes on with every pipe:\n"
+    "\n"
+    "      | N pipes:  #1 id I d D conf C  #2 id I d D conf C (S from #1) ...\n"
+    "\n"
+    "    rank, track id (kept while the pipe is in view), distance,\n"
+    "    confidence, and each pipe's axis distance from the first (the\n"
+    "    paper's spacing measure); --json prints them as \"pipes\" and\n"
+    "    \"pairs\" (docs/protocol.md).\n"
     "\n"
     "    ADDR:PORT is where to listen: default 0.0.0.0:" STR(CDSP_HOST_DEFAULT_PORT) " (cdspd's\n"
     "    default --dest port). A multicast ADDR joins that group; [V6ADDR]:PORT\n"
@@ -147,6 +158,27 @@ static void format_human(const cdspd_record *r, char *out, size_t cap)
              r->sigma_point[2], r->direction[0], r->direction[1], r->direction[2], r->distance,
              r->confidence, r->inliers[0], r->inliers[1], r->proc_us * 1e-3, r->latency_us * 1e-3,
              (r->flags & CDSPD_FLAG_TRACKED) ? "  tracked" : "", (unsigned long)r->frames_dropped);
+    if (r->flags & CDSPD_FLAG_MULTI) {
+        /* every pipe, on the same line (a record is one line): rank,
+         * track id, distance, confidence, and the spacing of each to the
+         * first (the paper's axis distance) */
+        size_t len = strlen(out);
+        uint32_t k;
+        cdsp_result first, other;
+        len += (size_t)snprintf(out + len, len < cap ? cap - len : 0, "  | %u pipe%s:", r->n_pipes,
+                                r->n_pipes == 1 ? "" : "s");
+        if (r->n_pipes)
+            cdspd_pipe_to_result(&r->pipe[0], &first);
+        for (k = 0; k < r->n_pipes && len < cap; k++) {
+            double ang = 0, dist = 0, rms = 0;
+            const cdspd_pipe *q = &r->pipe[k];
+            len += (size_t)snprintf(out + len, cap - len, "  #%u id %u d %.2f conf %.2f", k + 1, q->track_id,
+                                    q->distance, q->confidence);
+            cdspd_pipe_to_result(q, &other);
+            if (k > 0 && len < cap && cdsp_host_pipe_pair(&first, &other, &ang, &dist, &rms) == 0)
+                len += (size_t)snprintf(out + len, cap - len, " (%.3f from #1)", dist);
+        }
+    }
 }
 
 int cdsp_tool_listen_format(const uint8_t *buf, size_t len, int json, char *out, size_t cap,
@@ -185,7 +217,7 @@ int cdsp_tool_listen(int argc, char **argv)
     uint32_t last_seq = 0;
     int have_seq = 0;
     static uint8_t buf[65536];
-    static char out[4096];
+    static char out[65536]; /* a record with every pipe and pair */
     char **pos = NULL;
     const tool_opt opts[] = {
         {"json", 0, OPT_FLAG, &json, 0, 0, NULL,

@@ -36,7 +36,7 @@ double tool_overlay_scale(int width, int height)
 }
 
 int tool_overlay_annotate(uint8_t *rgb, int w, int h, const cdsp_roi *roi,
-                          const char *const *lines, int nlines)
+                          const char *const *lines, int nlines, const tool_tag *tags, int ntags)
 {
     cairo_surface_t *surf = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
     unsigned char *px;
@@ -70,6 +70,22 @@ int tool_overlay_annotate(uint8_t *rgb, int w, int h, const cdsp_roi *roi,
         cairo_rectangle(cr, roi->x, roi->y, roi->w, roi->h);
         cairo_stroke(cr);
         cairo_set_dash(cr, NULL, 0, 0);
+    }
+    if (ntags > 0) {
+        /* white on a dark box, readable on any part of the frame */
+        cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
+        cairo_set_font_size(cr, font);
+        for (i = 0; i < ntags; i++) {
+            cairo_text_extents_t e;
+            cairo_text_extents(cr, tags[i].text, &e);
+            cairo_set_source_rgb(cr, BAND_GRAY / 255.0, BAND_GRAY / 255.0, BAND_GRAY / 255.0);
+            cairo_rectangle(cr, tags[i].x - pad / 2, tags[i].y - font - pad / 2, e.x_advance + pad,
+                            font * 1.3 + pad / 2);
+            cairo_fill(cr);
+            cairo_set_source_rgb(cr, 1, 1, 1);
+            cairo_move_to(cr, tags[i].x, tags[i].y);
+            cairo_show_text(cr, tags[i].text);
+        }
     }
     if (nlines > 0) {
         double widest = 0;

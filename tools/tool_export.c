@@ -162,21 +162,11 @@ static int nonzero(const double d[3])
     return d[0] != 0 || d[1] != 0 || d[2] != 0;
 }
 
-/* One solve record; 1 added, 0 skipped (error record), -1 malformed. */
-static int from_record(json_object *o, const export_opts *E, parts *ps, const char **why)
+/* One pipe of a record (the record itself, or an entry of its "pipes"):
+ * 0 added, -1 malformed. */
+static int from_pose(json_object *o, double r, const export_opts *E, parts *ps, const char **why)
 {
-    json_object *st;
-    double seg[2][3], point[3], dir[3], r = E->radius, len;
-    if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string)) {
-        *why = NOT_A_RECORD " (no \"status\")";
-        return -1;
-    }
-    if (strcmp(json_object_get_string(st), "ok") != 0)
-        return 0;
-    if (!(r > 0) && get_num(o, "radius", &r) != 0) {
-        *why = "no \"radius\" (give --radius)";
-        return -1;
-    }
+    double seg[2][3], point[3], dir[3], len;
     if (get_vec(o, "point", point, 3) || get_vec(o, "direction", dir, 3)) {
         *why = "\"point\" or \"direction\" missing or not three numbers";
         return -1;
@@ -206,7 +196,44 @@ static int from_record(json_object *o, const export_opts *E, parts *ps, const ch
         *why = "out of memory";
         return -1;
     }
-    return 1;
+    return 0;
+}
+
+/* One solve record; the pipes added (every entry of "pipes" when the
+ * record has it, from solve --all or cdspd multi_pipe; else the record's
+ * own pose), 0 for an error record, -1 malformed. */
+static int from_record(json_object *o, const export_opts *E, parts *ps, const char **why)
+{
+    json_object *st, *pipes;
+    double r = E->radius;
+    size_t i, n;
+    if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string)) {
+        *why = NOT_A_RECORD " (no \"status\")";
+        return -1;
+    }
+    if (strcmp(json_object_get_string(st), "ok") != 0)
+        return 0;
+    if (!(r > 0) && get_num(o, "radius", &r) != 0) {
+        *why = "no \"radius\" (give --radius)";
+        return -1;
+    }
+    if (!json_object_object_get_ex(o, "pipes", &pipes))
+        return from_pose(o, r, E, ps, why) == 0 ? 1 : -1;
+    if (!json_object_is_type(pipes, json_type_array)) {
+        *why = "\"pipes\" is not a list";
+        return -1;
+    }
+    n = json_object_array_length(pipes);
+    for (i = 0; i < n; i++) {
+        json_object *p = json_object_array_get_idx(pipes, i);
+        if (!json_object_is_type(p, json_type_object)) {
+            *why = "an entry of \"pipes\" is not an object";
+            return -1;
+        }
+        if (from_pose(p, r, E, ps, why) != 0)
+            return -1;
+    }
+    return (int)(n > 1000000 ? 1000000 : n);
 }
 
 /* sim's truth.json: {"radius": R, "frames": [{axis_point, axis_dir, half_length}]}. */

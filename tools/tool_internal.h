@@ -199,18 +199,23 @@ int tool_solve_main(int argc, char **argv);   /* also "overlay" */
 int tool_sim_main(int argc, char **argv);
 int tool_export_main(int argc, char **argv);
 int tool_bench_main(int argc, char **argv);
+/* tool_rack.c: bench --rack, the paper's real experiment rendered (frames
+ * per group; CSV into out_dir). */
+int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet);
 int tool_plot_main(int argc, char **argv);
 int tool_compare_main(int argc, char **argv);
 
 /* overlay drawing (tool_overlay.c): the frame in gray with the edge points
- * (distorted positions; label per point: 0 other, 1 / 2 contour inliers),
- * the two contours and the projected visible axis when r != NULL, the ROI
- * (when roi->w > 0) and ncaption lines of caption (tool_caption.c).
+ * (distorted positions; label per point: 0 other, 2k + 1 / 2k + 2 the
+ * contour inliers of r[k]), the two contours and the projected visible
+ * axis of each of the nr results r[] (none when r is NULL; with nr > 1
+ * each pipe's rank "#1", "#2", ... beside its axis), the ROI (when
+ * roi->w > 0) and ncaption lines of caption (tool_caption.c).
  * Writes an RGB PNG. */
 int tool_overlay_write(const char *path, const cdsp_host_image *img, const cdsp_camera *cam,
                        const cdsp_edge *edges, const uint8_t *label, size_t n,
-                       const cdsp_result *r, const cdsp_roi *roi, const char *const *caption,
-                       int ncaption, cdsp_host_err *err);
+                       const cdsp_result *r, size_t nr, const cdsp_roi *roi,
+                       const char *const *caption, int ncaption, cdsp_host_err *err);
 
 /* tool_caption.c: the size of the overlay's marks and text relative to a
  * 1000 px frame (1 below that), and the ROI (dashed cyan) and a caption
@@ -220,7 +225,13 @@ double tool_overlay_scale(int width, int height);
 /* Releases cairo's and fontconfig's caches once nothing is drawing any
  * more (the end of overlay and plot), so that leak checkers see only ours. */
 void tool_cairo_done(void);
+/* A short text drawn at (x, y) (frame px) by tool_overlay_annotate: the
+ * pipes' ranks. */
+typedef struct {
+    double x, y;
+    char text[16];
+} tool_tag;
 int tool_overlay_annotate(uint8_t *rgb, int w, int h, const cdsp_roi *roi,
-                          const char *const *lines, int nlines);
+                          const char *const *lines, int nlines, const tool_tag *tags, int ntags);
 
 #endif

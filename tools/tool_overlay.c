@@ -137,14 +137,16 @@ static void draw_axis(canvas *c, const cdsp_camera *cam, const cdsp_result *r, i
 
 int tool_overlay_write(const char *path, const cdsp_host_image *img, const cdsp_camera *cam,
                        const cdsp_edge *edges, const uint8_t *label, size_t n,
-                       const cdsp_result *r, const cdsp_roi *roi, const char *const *caption,
-                       int ncaption, cdsp_host_err *err)
+                       const cdsp_result *r, size_t nr, const cdsp_roi *roi,
+                       const char *const *caption, int ncaption, cdsp_host_err *err)
 {
     static const uint8_t blue[3] = {40, 120, 255}, green[3] = {0, 230, 0},
                          magenta[3] = {255, 0, 255}, yellow[3] = {255, 230, 0},
                          red[3] = {255, 30, 30};
     canvas c;
-    size_t i, npx;
+    tool_tag tags[CDSP_MAX_PIPES];
+    int ntags = 0;
+    size_t i, k, npx;
     int rc, rad = (img->width > img->height ? img->width : img->height) / 1000;
     c.w = img->width;
     c.h = img->height;
@@ -160,17 +162,33 @@ int tool_overlay_write(const char *path, const cdsp_host_image *img, const cdsp_
         uint8_t g = (uint8_t)(cdsp_host_image_at(img, x, y) * 200.0 + 0.5);
         c.rgb[3 * i] = c.rgb[3 * i + 1] = c.rgb[3 * i + 2] = g;
     }
-    if (r) {
-        draw_line(&c, cam, r->lines[0], rad, yellow);
-        draw_line(&c, cam, r->lines[1], rad, yellow);
+    if (!r)
+        nr = 0;
+    for (k = 0; k < nr; k++) {
+        draw_line(&c, cam, r[k].lines[0], rad, yellow);
+        draw_line(&c, cam, r[k].lines[1], rad, yellow);
     }
     for (i = 0; i < n; i++)
         mark(&c, (double)edges[i].x, (double)edges[i].y, 2 * rad + 1,
-             label[i] == 1 ? green : label[i] == 2 ? magenta : blue);
-    if (r)
-        draw_axis(&c, cam, r, rad, red);
+             label[i] == 0 ? blue : label[i] % 2 ? green : magenta);
+    for (k = 0; k < nr; k++) {
+        cdsp_real mid[3], pix[2];
+        draw_axis(&c, cam, &r[k], rad, red);
+        if (nr < 2 || k >= CDSP_MAX_PIPES)
+            continue;
+        /* the rank beside the axis' middle */
+        for (i = 0; i < 3; i++)
+            mid[i] = (r[k].segment[0][i] + r[k].segment[1][i]) / 2;
+        if (cdsp_camera_project(cam, mid, pix) == CDSP_OK && pix[0] > -1e6 && pix[0] < 1e6 &&
+            pix[1] > -1e6 && pix[1] < 1e6) {
+            tags[ntags].x = (double)pix[0] + 4.0 * (rad + 1);
+            tags[ntags].y = (double)pix[1];
+            snprintf(tags[ntags].text, sizeof tags[ntags].text, "#%zu", k + 1);
+            ntags++;
+        }
+    }
     /* the ROI and the caption, in words (cairo: tool_caption.c) */
-    if (tool_overlay_annotate(c.rgb, c.w, c.h, roi, caption, ncaption) != 0) {
+    if (tool_overlay_annotate(c.rgb, c.w, c.h, roi, caption, ncaption, tags, ntags) != 0) {
         free(c.rgb);
         snprintf(err->msg, sizeof err->msg, "%s: out of memory for the overlay's caption", path);
         return CDSP_HOST_E_NOMEM;

@@ -21,6 +21,8 @@ typedef struct {
     double point[3], dir[3], move[3], radius, length, turn;
     double pipe_level, background_level, noise, blur, texture, ambient;
     uint64_t seed;
+    int pipes;      /* --pipes: a rack of this many parallel pipes */
+    double spacing; /* --spacing: their axes' spacing (0: 3 R) */
 } sim_opts;
 
 static const char sim_description[] =
@@ -96,6 +98,31 @@ static void json_vec(cdsp_host_json *j, const char *key, const double *v, int n)
     cdsp_host_json_end_array(j);
 }
 
+/* The rack's further pipes: copies of the first moved by k * spacing along
+ * s = dir x point (perpendicular to the axis and the line of sight). */
+static void rack_place(cdsp_scene *sc, const double point[3], const double dir[3], double spacing)
+{
+    double s[3], n;
+    int i, q;
+    s[0] = dir[1] * point[2] - dir[2] * point[1];
+    s[1] = dir[2] * point[0] - dir[0] * point[2];
+    s[2] = dir[0] * point[1] - dir[1] * point[0];
+    n = sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+    if (!(n > 0)) {
+        s[0] = 1; /* looking along the axis: any side will do */
+        s[1] = s[2] = 0;
+        n = 1;
+    }
+    for (i = 0; i < sc->n_extra_pipes; i++) {
+        for (q = 0; q < 3; q++) {
+            sc->extra_pipe[i].axis_point[q] = (cdsp_real)(point[q] + (i + 1) * spacing * s[q] / n);
+            sc->extra_pipe[i].axis_dir[q] = (cdsp_real)dir[q];
+        }
+        sc->extra_pipe[i].radius = sc->radius;
+        sc->extra_pipe[i].half_length = sc->half_length;
+    }
+}
+
 int tool_sim_main(int argc, char **argv)
 {
     sim_opts o;
@@ -117,6 +144,7 @@ int tool_sim_main(int argc, char **argv)
         "--out DIR [OPTIONS]", sim_description, sim_after, sim_exit};
 
     memset(&o, 0, sizeof o);
+    o.pipes = 1;
     cdsp_scene_default(&scene);
     o.prefix = "frame";
     o.frames = 1;
@@ -169,6 +197,13 @@ int tool_sim_main(int argc, char **argv)
              "The pipe's length, centred on --point; 0: infinite.", NULL, 0},
             {"move", 0, OPT_VEC3, o.move, 0, 0, "DX,DY,DZ",
              "Translation of the pipe per frame, camera frame.", NULL, 0},
+            {"pipes", 0, OPT_INT, &o.pipes, 1, CDSP_RENDER_MAX_PIPES, "N",
+             "A rack: N parallel pipes of the same radius and length, the first as "
+             "--point and --dir say, the others beside it at multiples of --spacing "
+             "(along the direction perpendicular to the axis and to the line of sight "
+             "to --point); truth.json lists them as \"rack\".", NULL, 0},
+            {"spacing", 0, OPT_REAL, &o.spacing, 0, 1e12, "S",
+             "The rack's axis spacing (unit of R); 0: 3 R, a gap of one radius.", NULL, 0},
             {"turn", 0, OPT_REAL, &o.turn, -180, 180, "DEG",
              "Rotation of the axis direction per frame about the optical axis, degrees.",
              NULL, 0},
@@ -260,7 +295,7 @@ int tool_sim_main(int argc, char **argv)
     }
     scratch_len = cdsp_render_scratch_size(cam.width, cam.height);
     scratch = malloc((scratch_len ? scratch_len : 1) * sizeof *scratch);
-    truth_cap = 4096 + (size_t)n_frames * 1600;
+    truth_cap = 4096 + (size_t)n_frames * (1600 + 400 * (size_t)o.pipes);
     truth = malloc(truth_cap);
     if (!scratch || !truth) {
         cdsp_host_image_free(&img);
@@ -309,6 +344,8 @@ int tool_sim_main(int argc, char **argv)
             scene.axis_dir[i] = (cdsp_real)dir[i];
         }
         scene.half_length = (cdsp_real)half;
+        scene.n_extra_pipes = o.preset == 1 ? 0 : o.pipes - 1;
+        rack_place(&scene, point, dir, o.spacing > 0 ? o.spacing : 3 * (double)scene.radius);
         cdsp_rng_seed(&rng, o.seed, (uint64_t)k);
         st = cdsp_render(&scene, &cam, img.data, img.stride, o.bits, scratch, scratch_len, &rng);
         snprintf(name, sizeof name, "%s_%04d.%s", o.prefix, k, o.format == 1 ? "png" : "pgm");
@@ -334,6 +371,25 @@ int tool_sim_main(int argc, char **argv)
             char pn[4] = {'p', (char)('1' + k), 0, 0};
             cdsp_host_json_key(&j, "pipe");
             cdsp_host_json_string(&j, pn);
+        }
+        if (scene.n_extra_pipes > 0) {
+            cdsp_host_json_key(&j, "rack");
+            cdsp_host_json_begin_array(&j);
+            for (i = 0; i <= scene.n_extra_pipes; i++) {
+                double pp[3], pf[3], pu[3], pd;
+                int q;
+                for (q = 0; q < 3; q++)
+                    pp[q] = i ? (double)scene.extra_pipe[i - 1].axis_point[q] : point[q];
+                tool_axis_truth(pp, dir, pf, pu, &pd);
+                cdsp_host_json_begin_object(&j);
+                json_vec(&j, "axis_point", pp, 3);
+                json_vec(&j, "point", pf, 3);
+                json_vec(&j, "direction", pu, 3);
+                cdsp_host_json_key(&j, "distance");
+                cdsp_host_json_number(&j, pd);
+                cdsp_host_json_end_object(&j);
+            }
+            cdsp_host_json_end_array(&j);
         }
         json_vec(&j, "axis_point", point, 3);
         json_vec(&j, "axis_dir", dir, 3);

@@ -26,7 +26,7 @@ typedef struct {
     const char *calib_path, *list, *out_dir;
     double radius;
     cdsp_roi roi;
-    int track, threads, csv, no_time, quiet, polarity, step, window;
+    int track, threads, csv, no_time, quiet, polarity, step, window, all;
     double min_contrast, inlier_px, band, min_distance, max_distance, min_confidence;
     uint64_t seed;
     /* derived */
@@ -34,6 +34,7 @@ typedef struct {
     cdsp_camera cam;
     cdsp_params params;
     tool_frames frames;
+    cdsp_tracker *trk; /* --all --track: the pipes' tracks (run's, main thread only) */
 } job;
 
 typedef struct {
@@ -43,6 +44,8 @@ typedef struct {
     char message[600];
     cdsp_status st;
     cdsp_result res;
+    cdsp_result pipes[CDSP_MAX_PIPES]; /* --all: every pipe, res = pipes[0] */
+    size_t npipes;
     double time_us;
     char overlay_path[4200];
     int output_failed;
@@ -80,6 +83,8 @@ static void overlay_name(const job *J, const char *frame, char *out, size_t cap)
 
 static void draw(const job *J, slot *s, cdsp_frame_ws *ws)
 {
+    const cdsp_result *shown = J->all ? s->pipes : &s->res;
+    size_t nshown = J->all ? s->npipes : 1, k;
     cdsp_host_err err;
     cdsp_image view = cdsp_host_image_view(&s->img);
     uint8_t *label = malloc(CDSP_MAX_EDGES);
@@ -98,7 +103,12 @@ static void draw(const job *J, slot *s, cdsp_frame_ws *ws)
                 ws->edge[i].x = dist[0];
                 ws->edge[i].y = dist[1];
             }
-            label[i] = ws->label[i] == s->res.label[0] ? 1 : ws->label[i] == s->res.label[1] ? 2 : 0;
+            /* pipe k's contours: 2k + 1 and 2k + 2 */
+            label[i] = 0;
+            for (k = 0; k < nshown && !label[i]; k++)
+                label[i] = ws->label[i] == shown[k].label[0]   ? (uint8_t)(2 * k + 1)
+                           : ws->label[i] == shown[k].label[1] ? (uint8_t)(2 * k + 2)
+                                                               : 0;
         }
     } else {
         /* no pipe: show what the edge detector saw */
@@ -129,6 +139,11 @@ static void draw(const job *J, slot *s, cdsp_frame_ws *ws)
                      (unsigned)r->inliers[0], (unsigned)r->inliers[1], (unsigned)r->n_edges,
                      (double)r->rms[0], (double)r->rms[1],
                      (r->flags & CDSP_FLAG_TRACKED) ? "   tracked" : "");
+            if (J->all) {
+                size_t len = strlen(l1);
+                snprintf(l1 + len, sizeof l1 - len, "   %zu pipe%s (#1 described)", s->npipes,
+                         s->npipes == 1 ? "" : "s");
+            }
         } else {
             snprintf(l0, sizeof l0, "%s   %s: %s", base, cdsp_status_token(s->st),
                      cdsp_strerror(s->st));
@@ -136,7 +151,8 @@ static void draw(const job *J, slot *s, cdsp_frame_ws *ws)
                      J->roi.w > 0 ? " inside the region of interest (cyan)" : "");
         }
         if (tool_overlay_write(s->overlay_path, &s->img, &J->cam, ws->edge, label, n,
-                               s->st == CDSP_OK ? &s->res : NULL, &J->roi, lines, 2, &err) != 0) {
+                               s->st == CDSP_OK ? shown : NULL, s->st == CDSP_OK ? nshown : 0,
+                               &J->roi, lines, 2, &err) != 0) {
             s->output_failed = 1;
             s->overlay_path[0] = 0;
             tool_warn(J->cmd, "%s", err.msg);
@@ -145,8 +161,9 @@ static void draw(const job *J, slot *s, cdsp_frame_ws *ws)
     free(label);
 }
 
-static void solve_frame(const job *J, slot *s, cdsp_frame_ws *ws, const cdsp_result *prior)
+static void solve_frame(const job *J, slot *s, cdsp_frame_all_ws *aws, const cdsp_result *prior)
 {
+    cdsp_frame_ws *ws = &aws->frame;
     cdsp_image view;
     cdsp_rng rng;
     double t0;
@@ -155,8 +172,15 @@ static void solve_frame(const job *J, slot *s, cdsp_frame_ws *ws, const cdsp_res
     view = cdsp_host_image_view(&s->img);
     cdsp_rng_seed(&rng, J->seed, (uint64_t)s->index);
     t0 = tool_now_us();
-    s->st = cdsp_frame_solve(&view, &J->cam, (cdsp_real)J->radius, &J->params, prior, ws, &rng,
-                             &s->res);
+    if (J->all) {
+        s->st = cdsp_frame_solve_all(&view, &J->cam, (cdsp_real)J->radius, &J->params, J->trk, aws,
+                                     &rng, s->pipes, CDSP_MAX_PIPES, &s->npipes);
+        if (s->st == CDSP_OK)
+            s->res = s->pipes[0];
+    } else {
+        s->st = cdsp_frame_solve(&view, &J->cam, (cdsp_real)J->radius, &J->params, prior, ws, &rng,
+                                 &s->res);
+    }
     s->time_us = tool_now_us() - t0;
     if (s->st != CDSP_OK) {
         s->error_token = cdsp_status_token(s->st);
@@ -176,14 +200,14 @@ static void csv_header(const job *J)
     size_t n, i;
     int c;
     char name[96];
-    printf("frame,file,status,error,radius,message");
+    printf("frame,file,status,error,radius,message%s", J->all ? ",pipe" : "");
     f = cdsp_host_pose_fields(&n);
     for (i = 0; i < n; i++)
         for (c = 0; c < cdsp_host_field_columns(&f[i]); c++) {
             cdsp_host_field_column_name(&f[i], c, name, sizeof name);
             printf(",%s", name);
         }
-    printf("%s,time_us\n", J->overlay ? ",overlay" : "");
+    printf("%s%s,time_us\n", J->all ? ",track_id" : "", J->overlay ? ",overlay" : "");
 }
 
 /* A CSV field: quoted (RFC 4180) when it holds a comma, quote or newline. */
@@ -203,15 +227,16 @@ static size_t csv_text(char *out, size_t cap, const char *s)
     return k;
 }
 
-static void format_csv(const job *J, slot *s)
+/* One CSV row: the pose r (NULL: an error row); with --all, rank the
+ * pipe's place (cell "pipe") and its track_id. */
+static size_t csv_row(const job *J, const slot *s, const cdsp_result *r, size_t rank, char *t,
+                      size_t cap)
 {
     const char *path = J->frames.path[s->index];
     const cdsp_host_field *f;
-    size_t nf, i, cap = 6 * (strlen(path) + strlen(s->message) + strlen(s->overlay_path)) + 4096, k;
-    char *t = malloc(cap), b[32];
+    size_t nf, i, k;
+    char b[32];
     int c;
-    if (!t)
-        return;
     k = (size_t)snprintf(t, cap, "%zu,", s->index);
     k += csv_text(t + k, cap - k, path);
     k += (size_t)snprintf(t + k, cap - k, ",%s,%s,", s->error_token ? "error" : "ok",
@@ -219,13 +244,20 @@ static void format_csv(const job *J, slot *s)
     k += (size_t)snprintf(t + k, cap - k, "%s,", cdsp_host_fmt_real(b, J->radius));
     if (s->error_token)
         k += csv_text(t + k, cap - k, s->message);
+    if (J->all)
+        k += r ? (size_t)snprintf(t + k, cap - k, ",%zu", rank) : (size_t)snprintf(t + k, cap - k, ",");
     f = cdsp_host_pose_fields(&nf);
     for (i = 0; i < nf; i++)
         for (c = 0; c < cdsp_host_field_columns(&f[i]); c++) {
             t[k++] = ',';
-            if (!s->error_token)
-                k += cdsp_host_field_csv(&f[i], &s->res, c, t + k, cap - k);
+            if (r)
+                k += cdsp_host_field_csv(&f[i], r, c, t + k, cap - k);
         }
+    if (J->all) {
+        t[k++] = ',';
+        if (r && J->track)
+            k += (size_t)snprintf(t + k, cap - k, "%u", (unsigned)r->track_id);
+    }
     if (J->overlay) {
         t[k++] = ',';
         k += csv_text(t + k, cap - k, s->overlay_path);
@@ -234,13 +266,33 @@ static void format_csv(const job *J, slot *s)
         k += (size_t)snprintf(t + k, cap - k, ",\n");
     else
         k += (size_t)snprintf(t + k, cap - k, ",%.0f\n", s->time_us);
+    return k;
+}
+
+static void format_csv(const job *J, slot *s)
+{
+    const char *path = J->frames.path[s->index];
+    size_t row = 6 * (strlen(path) + strlen(s->message) + strlen(s->overlay_path)) + 4096;
+    size_t rows = J->all && !s->error_token ? s->npipes : 1, cap = rows * row, k = 0, p;
+    char *t = malloc(cap);
+    if (!t)
+        return;
+    if (s->error_token)
+        k = csv_row(J, s, NULL, 0, t, cap);
+    else if (!J->all)
+        k = csv_row(J, s, &s->res, 0, t, cap);
+    else
+        for (p = 0; p < s->npipes; p++)
+            k += csv_row(J, s, &s->pipes[p], p, t + k, cap - k);
+    (void)k;
     s->text = t;
 }
 
 static void format_json(const job *J, slot *s)
 {
     const char *path = J->frames.path[s->index];
-    size_t cap = 6 * (strlen(path) + strlen(s->message) + strlen(s->overlay_path)) + 4096;
+    size_t cap = 6 * (strlen(path) + strlen(s->message) + strlen(s->overlay_path)) + 4096 +
+                 (J->all ? CDSP_HOST_JSON_PIPES_MAX(CDSP_MAX_PIPES) : 0);
     char *t = malloc(cap);
     const char *done;
     cdsp_host_json j;
@@ -258,6 +310,8 @@ static void format_json(const job *J, slot *s)
         cdsp_host_json_key(&j, "message");
         cdsp_host_json_string(&j, s->message);
     }
+    if (J->all)
+        cdsp_host_json_pipes(&j, s->pipes, s->error_token ? 0 : s->npipes, J->track);
     if (J->overlay && s->overlay_path[0]) {
         cdsp_host_json_key(&j, "overlay");
         cdsp_host_json_string(&j, s->overlay_path);
@@ -299,7 +353,7 @@ static void *worker(void *arg)
 {
     shared *S = arg;
     const job *J = S->J;
-    cdsp_frame_ws *ws = J->track ? NULL : malloc(sizeof *ws);
+    cdsp_frame_all_ws *ws = J->track ? NULL : malloc(sizeof *ws);
     for (;;) {
         size_t i;
         slot *s;
@@ -354,7 +408,8 @@ static int emit(const job *J, slot *s)
 
 static int run(job *J)
 {
-    cdsp_frame_ws *ws = malloc(sizeof *ws);
+    cdsp_frame_all_ws *ws = malloc(sizeof *ws);
+    cdsp_tracker trk;
     cdsp_result prior;
     int have_prior = 0, failed = 0;
     size_t n_failed = 0;
@@ -362,6 +417,9 @@ static int run(job *J)
     tool_progress prog;
     if (!ws)
         return tool_usage_error(J->cmd, "out of memory for the workspace");
+    cdsp_tracker_init(&trk);
+    trk.gate_px = (cdsp_real)(2 * J->band); /* --band: the single path's band, the gate twice it */
+    J->trk = J->all && J->track ? &trk : NULL;
     if (J->csv)
         csv_header(J);
     tool_progress_start(&prog, J->cmd, J->frames.n, J->quiet);
@@ -531,6 +589,17 @@ static const char solve_after[] =
     "      confidence 0..1: how sure the solver is that this is the pipe (its\n"
     "                 evidence and margin over the next candidate; see\n"
     "                 --min-confidence)\n"
+    "      pipes      (--all) every pipe, best first: objects with point,\n"
+    "                 direction, distance, segment, sigma, confidence (how sure\n"
+    "                 this band is a pipe), lines, inliers, and with --track\n"
+    "                 track_id (kept from frame to frame while the pipe is in\n"
+    "                 view); the fields above describe pipes[0]\n"
+    "      pairs      (--all) for every two pipes i < j: {\"i\", \"j\",\n"
+    "                 \"angle_deg\" between their axes, \"axis_distance\": the\n"
+    "                 mean distance from 100 points of pipe i's visible axis\n"
+    "                 segment to pipe j's axis (the paper's Eq. 17-21: the\n"
+    "                 spacing of parallel pipes), \"axis_distance_rms\": its\n"
+    "                 spread along the segment}\n"
     "      overlay    (overlay only) the picture written\n"
     "      time_us    processing time of the frame in the library, microseconds\n"
     "                 (omitted with --no-time)\n"
@@ -538,12 +607,16 @@ static const char solve_after[] =
     "    the JSON record, in its order, flattened: vectors _x _y _z, one per\n"
     "    contour _1 _2 (lines_1_a .. lines_2_c, segment_1_x .. segment_2_z),\n"
     "    sigma.point as sigma_point_x ...; booleans true/false; cells empty\n"
-    "    where the JSON record has no field (the pose of an error).\n"
+    "    where the JSON record has no field (the pose of an error). With --all:\n"
+    "    one line per pipe, the pose columns that pipe's, with a column \"pipe\"\n"
+    "    (its rank, 0 first) after message and \"track_id\" (with --track) after\n"
+    "    the pose; \"pairs\" is in the JSON output only.\n"
     "\n"
     "EXAMPLES\n"
     "    cdsp_tool solve --calib cam.yaml --radius 8 frames/ > poses.jsonl\n"
     "    cdsp_tool solve --calib cam.yaml --radius 8 --track -j 4 run1/*.png\n"
     "    cdsp_tool overlay --calib cam.yaml --radius 8 --out check/ f0001.pgm\n"
+    "    cdsp_tool solve --calib cam.yaml --radius 8 --all --track rack/ > rack.jsonl\n"
     "    find data -name '*.pgm' | cdsp_tool solve --calib cam.yaml --radius 8 \\\n"
     "        --list - --csv > poses.csv\n";
 
@@ -602,6 +675,15 @@ int tool_solve_main(int argc, char **argv)
              "(search near the previous contours first, full search when that fails; "
              "an error record resets the prior). Solves run in input order; --threads "
              "then only parallelizes reading and decoding.", NULL, 0},
+            {"all", 'a', OPT_FLAG, &J.all, 0, 0, NULL,
+             "Every pipe in view (a rack): the record's usual fields describe the "
+             "first-ranked pipe, and \"pipes\" and \"pairs\" (see OUTPUT) list every pipe "
+             "and the spacing of every two; with --csv one line per pipe; the overlay "
+             "draws every pipe with its rank. No contour is shared by two pipes, so the "
+             "gap between two pipes is never one. With --track each pipe keeps a "
+             "track_id while it stays in view (a full search every frame; a pipe "
+             "continues a track when its contours lie within twice --band of it).",
+             NULL, 0},
             {"threads", 'j', OPT_INT, &J.threads, 0, 256, "N",
              "Solve N frames at a time on N threads (0: one per core). The output is "
              "the same, byte for byte, whatever N is.", NULL, 0},

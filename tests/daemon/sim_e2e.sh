@@ -6,8 +6,9 @@
 #      sequence numbers continuous at both, status datagrams (no pipe)
 #      while the pipe is out of view (sim.away);
 #   2. the same as JSON (--format json);
-#   3. --record every frame, then replay the recording with file: and get
-#      the recorded results again; the file source ends -> exit status 0;
+#   3. --record every frame, then replay the recording with file: (and
+#      solver.threads=2) and get the recorded results again; the file
+#      source ends -> exit status 0;
 #   4. a slow file source: "no-frame" status datagrams between frames;
 #   5. the listener (cdsp_tool listen) decodes and prints the stream.
 # Exit status 0 when all pass.
@@ -64,8 +65,10 @@ n_json=$(wc -l <"$jsonl")
 echo "recorded $n_pgm frames, $n_json results"
 [ "$n_pgm" -ge 20 ] && [ "$n_pgm" -eq "$n_json" ] || fail "recorded $n_pgm frames and $n_json results"
 start_rx rx5 --compare-jsonl "$jsonl" --duration $rx_max --idle 2 --max-dropped 0
+# the replay's full searches run in strips on 2 threads (solver.threads):
+# the recording's results came from one core
 start_cdspd d4 --calib "$CALIB" --radius 10 --source "file:$rec/*.pgm" --set file.rate=100 \
-    --dest 127.0.0.1:$RX_PORT --set stats_interval=0
+    --dest 127.0.0.1:$RX_PORT --set stats_interval=0 --set solver.threads=2
 wait_for "$d4_pid" $rx_max; rc=$?
 [ $rc -eq 0 ] || fail "cdspd replaying a recording: exit status $rc, expected 0 at its end"
 grep -q "no more frames" "$work/d4.log" || fail "the file source did not report its end"
@@ -96,6 +99,42 @@ if [ ${#listen[@]} -gt 0 ] && [ -x "${listen[0]}" ]; then
     [ "$n_ok" -ge 15 ] || fail "the listener printed $n_ok poses of 20 datagrams"
     grep -q "20 datagrams, 0 undecodable, 0 sequence numbers missing" "$work/listen.err" ||
         fail "listener summary"
+
+    echo "--- 5b. solver.multi_pipe: every pipe of a rack, binary and JSON, track ids kept"
+    # cdsp_tool sim renders three parallel pipes (gaps narrower than the
+    # pipes); cdspd replays them with multi_pipe on; the listener must see
+    # three pipes per record (never a gap) with the same three ids
+    "${listen[0]}" sim --out "$work/rack" --frames 6 --pipes 3 --spacing 26 --move 3,0,0 \
+        --ambient 1 >/dev/null || fail "cdsp_tool sim --pipes"
+    for fmt in binary json; do
+        jflag=(); [ $fmt = json ] && jflag=(--json)
+        # a free port (listen --json says nothing on stderr): a test
+        # receiver binds port 0, says which, and is stopped, as fields.sh
+        start_rx probe$fmt --duration 30
+        kill -TERM "$(eval echo \$probe${fmt}_pid)"; wait "$(eval echo \$probe${fmt}_pid)" 2>/dev/null
+        lport=$RX_PORT
+        "${listen[@]}" 127.0.0.1:$lport "${jflag[@]}" --count 6 --duration $rx_max \
+            >"$work/mlisten.out" 2>"$work/mlisten.err" &
+        lpid=$!; pids+=("$lpid")
+        sleep 0.3 # (the file source's first frame comes after its set-up; a late bind loses none of 6 at 20/s)
+        start_cdspd dm$fmt --calib "$work/rack/camera.yaml" --radius 8 \
+            --source "file:$work/rack/*.pgm" --set file.rate=20 --set solver.multi_pipe=true \
+            --format $fmt --dest 127.0.0.1:$lport --set stats_interval=0
+        wait_for "$lpid" $rx_max || fail "cdsp_tool listen ($fmt, multi_pipe) exit status $?"
+        wait_for "$(eval echo \$dm${fmt}_pid)" $rx_max || fail "cdspd (multi_pipe) exit status $?"
+        head -2 "$work/mlisten.out"
+        if [ $fmt = json ]; then
+            ids=$(grep -o '"track_id":[0-9]*' "$work/mlisten.out" | sort | uniq -c | awk '{print $1}' | tr '\n' ' ')
+            [ "$(grep -o '"track_id":' "$work/mlisten.out" | wc -l)" -eq 18 ] ||
+                fail "multi_pipe JSON: not 3 pipes in each of 6 records"
+            [ "$ids" = "6 6 6 " ] || fail "multi_pipe JSON: track ids not kept ($ids)"
+            [ "$(grep -o '"axis_distance":' "$work/mlisten.out" | wc -l)" -eq 18 ] ||
+                fail "multi_pipe JSON: not 3 pairs per record"
+        else
+            [ "$(grep -c '3 pipes:  #1 id [123] ' "$work/mlisten.out")" -eq 6 ] ||
+                fail "multi_pipe binary: the listener did not print 3 pipes per record"
+        fi
+    done
 fi
 if [ -n "${MALLOC_COUNT:-}" ]; then
     echo "--- 6. no allocation per frame in steady state"

@@ -122,12 +122,17 @@ static void test_layout(void **state)
     r.confidence = -2.0;
     assert_int_equal(cdspd_proto_encode(&r, b, CDSPD_PROTO_SIZE - 1), 0);
     assert_int_equal(cdspd_proto_encode(&r, b, sizeof b), CDSPD_PROTO_SIZE);
-    assert_int_equal(CDSPD_PROTO_SIZE, 376);
+    assert_int_equal(CDSPD_PROTO_SIZE, 380);
     assert_memory_equal(b, "CDSP", 4);
-    assert_int_equal(b[4], 2);
+    assert_int_equal(b[4], 3);
     assert_int_equal(b[5], CDSPD_KIND_FRAME);
-    assert_int_equal(b[6], 376 & 0xFF);
-    assert_int_equal(b[7], 376 >> 8);
+    assert_int_equal(b[6], 380 & 0xFF);
+    assert_int_equal(b[7], 380 >> 8);
+    /* version 3: no pipes, entries of 232 bytes */
+    assert_int_equal(b[376], 0);
+    assert_int_equal(b[377], 0);
+    assert_int_equal(b[378], 232 & 0xFF);
+    assert_int_equal(b[379], 232 >> 8);
     assert_memory_equal(b + 368, minus2_le, 8); /* confidence (version 2) */
     assert_int_equal(b[8], 0x04);
     assert_int_equal(b[11], 0x01);
@@ -173,7 +178,7 @@ static void test_binary_round_trip(void **state)
         random_record(&g, &a, i % 3 != 0);
         assert_int_equal(cdspd_proto_encode(&a, buf, sizeof buf), CDSPD_PROTO_SIZE);
         assert_int_equal(cdspd_proto_decode(buf, sizeof buf, &b, &why), 0);
-        assert_int_equal(b.version, 2);
+        assert_int_equal(b.version, 3);
         assert_records_equal(&a, &b);
     }
 }
@@ -196,23 +201,31 @@ static void test_binary_rejects(void **state)
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     assert_non_null(strstr(why, "magic"));
     buf[0] = 'C';
-    buf[4] = 3;
+    buf[4] = 4;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     assert_non_null(strstr(why, "version"));
-    buf[4] = 2;
+    buf[4] = 3;
     buf[5] = 9;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     buf[5] = CDSPD_KIND_FRAME;
-    buf[6] = (uint8_t)(375 & 0xFF);
-    buf[7] = 375 >> 8;
+    buf[6] = (uint8_t)(379 & 0xFF);
+    buf[7] = 379 >> 8;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     /* a longer record of a later revision: fields appended, still read */
     buf[6] = (uint8_t)(448 & 0xFF);
     buf[7] = 448 >> 8;
     memset(buf + CDSPD_PROTO_SIZE, 0x5A, 80);
-    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 448, has 376 */
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 448, has 380 */
     assert_int_equal(cdspd_proto_decode(buf, 448, &b, &why), 0);
     assert_records_equal(&a, &b);
+    /* a version-2 record (376 bytes) of the previous cdspd: read, no pipes */
+    buf[4] = 2;
+    buf[6] = (uint8_t)(376 & 0xFF);
+    buf[7] = 376 >> 8;
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE_V2, &b, &why), 0);
+    assert_int_equal(b.version, 2);
+    assert_int_equal(b.n_pipes, 0);
+    assert_memory_equal(&a.confidence, &b.confidence, sizeof a.confidence);
     /* a version-1 record (320 bytes) of an older cdspd: read, no body fields */
     buf[4] = 1;
     buf[6] = (uint8_t)(320 & 0xFF);
@@ -224,6 +237,103 @@ static void test_binary_rejects(void **state)
     buf[6] = (uint8_t)(319 & 0xFF);
     buf[7] = 319 >> 8;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE_V1, &b, &why), -1);
+}
+
+/* Version 3's pipe list (docs/protocol.md): binary and JSON round trips of
+ * records with 0..CDSP_MAX_PIPES pipes, the JSON's pairs, and hostile
+ * lists (too many, truncated, a non-finite number, a larger entry of a
+ * later revision). */
+static void random_pipes(cdsp_rng *g, cdspd_record *r, uint32_t n)
+{
+    uint32_t k;
+    int i;
+    r->flags |= CDSPD_FLAG_MULTI;
+    r->n_pipes = n;
+    for (k = 0; k < n; k++) {
+        cdspd_pipe *p = &r->pipe[k];
+        double *d[] = {p->point, p->direction, &p->segment[0][0], p->sigma_point,
+                       p->sigma_direction, &p->lines[0][0]};
+        int nd[] = {3, 3, 6, 3, 3, 6}, j;
+        for (i = 0; i < 6; i++)
+            for (j = 0; j < nd[i]; j++)
+                d[i][j] = 500 * ((double)cdsp_rng_uniform(g) - 0.5);
+        p->distance = 300 + 100 * (double)cdsp_rng_uniform(g);
+        p->sigma_distance = 1e-2 * (double)cdsp_rng_uniform(g);
+        p->confidence = (double)cdsp_rng_uniform(g);
+        p->inliers[0] = cdsp_rng_below(g, 5000);
+        p->inliers[1] = cdsp_rng_below(g, 5000);
+        p->track_id = 1 + cdsp_rng_below(g, 1000);
+    }
+}
+
+static void assert_pipes_equal(const cdspd_record *a, const cdspd_record *b)
+{
+    assert_int_equal(a->n_pipes, b->n_pipes);
+    assert_true((a->flags & CDSPD_FLAG_MULTI) == (b->flags & CDSPD_FLAG_MULTI));
+    if (a->n_pipes)
+        assert_memory_equal(a->pipe, b->pipe, a->n_pipes * sizeof a->pipe[0]);
+}
+
+static void test_pipes_round_trip(void **state)
+{
+    cdsp_rng g;
+    uint32_t n;
+    (void)state;
+    cdsp_rng_seed(&g, 9, 1);
+    for (n = 0; n <= CDSP_MAX_PIPES; n++) {
+        cdspd_record a, b;
+        uint8_t buf[CDSPD_PROTO_MAX_SIZE + 64];
+        static char text[65536];
+        const char *why = NULL, *p;
+        size_t len;
+        int pairs = 0;
+        random_record(&g, &a, 1);
+        memset(a.pipe, 0, sizeof a.pipe);
+        random_pipes(&g, &a, n);
+        len = cdspd_proto_encode(&a, buf, sizeof buf);
+        assert_int_equal(len, CDSPD_PROTO_SIZE + n * CDSPD_PROTO_PIPE_SIZE);
+        assert_int_equal(cdspd_proto_encode(&a, buf, len - 1), 0);
+        assert_int_equal(cdspd_proto_decode(buf, len, &b, &why), 0);
+        assert_records_equal(&a, &b);
+        assert_pipes_equal(&a, &b);
+        /* JSON: shortest round-trip numbers, so the same bits back */
+        assert_true(cdspd_proto_encode_json(&a, text, sizeof text) > 0);
+        assert_int_equal(cdspd_proto_decode_json(text, strlen(text), &b, &why), 0);
+        assert_pipes_equal(&a, &b);
+        for (p = text; (p = strstr(p, "\"axis_distance\":")) != NULL; p++)
+            pairs++;
+        assert_int_equal(pairs, (int)(n * (n - (n > 0)) / 2));
+        if (n == 3) {
+            /* hostile: too many pipes, a short list, NaN, and a later revision's larger entries */
+            uint8_t big[CDSPD_PROTO_SIZE + 3 * 240];
+            uint32_t k;
+            buf[376] = CDSP_MAX_PIPES + 1;
+            assert_int_equal(cdspd_proto_decode(buf, len, &b, &why), -1);
+            assert_non_null(strstr(why, "pipes"));
+            buf[376] = 3;
+            assert_int_equal(cdspd_proto_decode(buf, len - 1, &b, &why), -1);
+            buf[6] = (uint8_t)((len - 8) & 0xFF);
+            buf[7] = (uint8_t)((len - 8) >> 8);
+            assert_int_equal(cdspd_proto_decode(buf, len, &b, &why), -1);
+            assert_string_equal(why, "truncated pipe list");
+            buf[6] = (uint8_t)(len & 0xFF);
+            buf[7] = (uint8_t)(len >> 8);
+            memset(buf + CDSPD_PROTO_SIZE + CDSPD_PROTO_PIPE_SIZE + 48, 0xFF, 8); /* distance: NaN */
+            assert_int_equal(cdspd_proto_decode(buf, len, &b, &why), -1);
+            memcpy(big, buf, CDSPD_PROTO_SIZE);
+            cdspd_proto_encode(&a, buf, sizeof buf);
+            for (k = 0; k < 3; k++) {
+                memcpy(big + CDSPD_PROTO_SIZE + k * 240, buf + CDSPD_PROTO_SIZE + k * CDSPD_PROTO_PIPE_SIZE,
+                       CDSPD_PROTO_PIPE_SIZE);
+                memset(big + CDSPD_PROTO_SIZE + k * 240 + CDSPD_PROTO_PIPE_SIZE, 0x5A, 8);
+            }
+            big[378] = 240;
+            big[6] = (uint8_t)(sizeof big & 0xFF);
+            big[7] = (uint8_t)(sizeof big >> 8);
+            assert_int_equal(cdspd_proto_decode(big, sizeof big, &b, &why), 0);
+            assert_pipes_equal(&a, &b);
+        }
+    }
 }
 
 static void test_json_round_trip(void **state)
@@ -431,7 +541,7 @@ int main(void)
         cmocka_unit_test(test_layout),         cmocka_unit_test(test_binary_round_trip),
         cmocka_unit_test(test_binary_rejects), cmocka_unit_test(test_json_round_trip),
         cmocka_unit_test(test_json_fields),    cmocka_unit_test(test_status_tokens),
-        cmocka_unit_test(test_json_hostile),
+        cmocka_unit_test(test_json_hostile),   cmocka_unit_test(test_pipes_round_trip),
     };
     return cmocka_run_group_tests_name("daemon-proto", tests, NULL, NULL);
 }

@@ -70,7 +70,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     roi.w = (int)fz_range(&in, -1, 60);
     roi.h = (int)fz_range(&in, -1, 60);
     ncaption = (int)fz_range(&in, 0, 2);
-    (void)tool_overlay_write(path, &img, &cam, edges, label, n, with_result ? &r : NULL,
+    (void)tool_overlay_write(path, &img, &cam, edges, label, n, with_result ? &r : NULL, 1,
                              &roi, caption, ncaption, &err);
     /* cairo's and fontconfig's caches live until this (as at the end of
      * `cdsp_tool overlay`): what is left after it is ours, and leaks */

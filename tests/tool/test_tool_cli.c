@@ -1057,6 +1057,127 @@ static void docs_match_help(void **state)
     free(doc);
 }
 
+/* ---- tests: every pipe (solve --all) ---------------------------------------------- */
+
+/* A rack of three parallel pipes 26 mm apart (gaps of 10 mm, narrower than
+ * the 16 mm pipes, so each gap is itself a plausible band) moving 4 mm per
+ * frame, flat light. Every frame: three pipes, each on a true one (P_C
+ * within 0.5 mm, as check_pose's flat-light tolerance at this distance,
+ * 400 mm), the gaps never; the neighbours' axis_distance within 0.05 mm of
+ * 26 (tests/lib/test_multi.c derives the flat rack's spacing tolerance,
+ * 6 sigma of the lateral spacing: 0.03-0.05 mm at this scale; measured
+ * here 0.005-0.025 mm); track ids kept; CSV one line per pipe; the
+ * overlay names the picture; export meshes every pipe. */
+static void solve_all_rack(void **state)
+{
+    char dir[600], recs_path[800], single_path[800], mesh3[800], mesh1[800], ov[800], f0[800];
+    truth t;
+    json_object *recs[8];
+    run_result r;
+    unsigned ids[3] = {0, 0, 0};
+    int n, i, k, q, lines = 0;
+    char *text, *p;
+    long nv3, nv1;
+    (void)state;
+    /* tt_path's buffers rotate: copies */
+    snprintf(dir, sizeof dir, "%s", tt_path("rack"));
+    snprintf(recs_path, sizeof recs_path, "%s", tt_path("rack.jsonl"));
+    snprintf(single_path, sizeof single_path, "%s", tt_path("rack1.jsonl"));
+    snprintf(mesh3, sizeof mesh3, "%s", tt_path("rack3.ply"));
+    snprintf(mesh1, sizeof mesh1, "%s", tt_path("rack1.ply"));
+    snprintf(ov, sizeof ov, "%s", tt_path("rack_ov"));
+    snprintf(f0, sizeof f0, "%s", tt_path("rack/frame_0000.pgm"));
+    sim_or_fail((const char *const[]){"sim", "--out", dir, "--frames", "4", "--pipes", "3",
+                                      "--spacing", "26", "--move", "4,0,0", "--ambient", "1",
+                                      NULL});
+    truth_load(&t, dir);
+    r = RUN("solve", "--calib", calib_of(dir), "--radius", "8", "--all", "--track", "--no-time",
+            dir);
+    expect_status(&r, 0);
+    tt_write(recs_path, r.out, r.out_len);
+    n = parse_lines(r.out, recs, 8);
+    assert_int_equal(n, 4);
+    for (i = 0; i < n; i++) {
+        json_object *pipes = key(recs[i], "pipes"), *pairs = key(recs[i], "pairs");
+        json_object *rack = key(truth_frame(&t, (size_t)i), "rack");
+        int which[3];
+        check_ok_schema(recs[i]);
+        assert_int_equal(json_object_array_length(pipes), 3);
+        assert_int_equal(json_object_array_length(pairs), 3);
+        for (k = 0; k < 3; k++) {
+            json_object *pk = json_object_array_get_idx(pipes, (size_t)k);
+            double P[3], best = 1e9;
+            vec(key(pk, "point"), P, 3);
+            which[k] = -1;
+            for (q = 0; q < 3; q++) {
+                double T[3], d;
+                vec(key(json_object_array_get_idx(rack, (size_t)q), "point"), T, 3);
+                d = sqrt((P[0] - T[0]) * (P[0] - T[0]) + (P[1] - T[1]) * (P[1] - T[1]) +
+                         (P[2] - T[2]) * (P[2] - T[2]));
+                if (d < best) {
+                    best = d;
+                    which[k] = q;
+                }
+            }
+            if (best > 0.5)
+                fail_msg("frame %d: pipe %d is %.3f mm from every true pipe", i, k, best);
+            if (i == 0)
+                ids[which[k]] = (unsigned)json_object_get_int64(key(pk, "track_id"));
+            else
+                assert_int_equal(json_object_get_int64(key(pk, "track_id")), ids[which[k]]);
+        }
+        assert_true(which[0] != which[1] && which[1] != which[2] && which[0] != which[2]);
+        for (k = 0; k < 3; k++) {
+            json_object *pr = json_object_array_get_idx(pairs, (size_t)k);
+            int a = (int)json_object_get_int64(key(pr, "i")), b = (int)json_object_get_int64(key(pr, "j"));
+            double want = 26.0 * abs(which[a] - which[b]);
+            assert_true(a < b);
+            if (fabs(num(key(pr, "axis_distance")) - want) > 0.05 * abs(which[a] - which[b]))
+                fail_msg("frame %d: pipes %d-%d %.4f mm apart, truth %.1f", i, a, b,
+                         num(key(pr, "axis_distance")), want);
+            assert_true(num(key(pr, "angle_deg")) < 0.1);
+            assert_true(num(key(pr, "axis_distance_rms")) < 0.05);
+        }
+    }
+    assert_true(ids[0] && ids[1] && ids[2] && ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2]);
+    put_all(recs, n);
+    run_free(&r);
+    /* CSV: a header and one line per pipe */
+    r = RUN("solve", "--calib", calib_of(dir), "--radius", "8", "--all", "--csv", "--no-time", dir);
+    expect_status(&r, 0);
+    for (p = r.out; (p = strchr(p, '\n')) != NULL; p++)
+        lines++;
+    assert_int_equal(lines, 1 + 4 * 3);
+    assert_non_null(strstr(r.out, ",message,pipe,point_x,"));
+    run_free(&r);
+    /* the overlay: one picture, named in the record */
+    r = RUN("overlay", "--calib", calib_of(dir), "--radius", "8", "--all", "--out", ov, f0);
+    expect_status(&r, 0);
+    assert_non_null(strstr(r.out, "\"overlay\":"));
+    run_free(&r);
+    /* export: three cylinders per record, as many vertices as three
+     * single-pipe records' */
+    r = RUN("solve", "--calib", calib_of(dir), "--radius", "8", "--no-time", dir);
+    expect_status(&r, 0);
+    tt_write(single_path, r.out, r.out_len);
+    run_free(&r);
+    r = RUN("export", "--no-camera", "--sides", "8", "--out", mesh3, recs_path);
+    expect_status(&r, 0);
+    run_free(&r);
+    r = RUN("export", "--no-camera", "--sides", "8", "--out", mesh1, single_path);
+    expect_status(&r, 0);
+    run_free(&r);
+    text = slurp(mesh3, NULL);
+    nv3 = atol(strstr(text, "element vertex ") + 15);
+    free(text);
+    text = slurp(mesh1, NULL);
+    nv1 = atol(strstr(text, "element vertex ") + 15);
+    free(text);
+    assert_true(nv1 > 0);
+    assert_int_equal(nv3, 3 * nv1);
+    json_object_put(t.doc);
+}
+
 /* ---- tests: overlay, export, bench ------------------------------------------------ */
 
 static void overlay_draws_the_pipe(void **state)
@@ -2041,6 +2162,7 @@ int main(void)
         cmocka_unit_test(docs_match_help),
         cmocka_unit_test(overlay_draws_the_pipe),
         cmocka_unit_test(export_meshes),
+        cmocka_unit_test(solve_all_rack),
         cmocka_unit_test(bench_files),
         cmocka_unit_test(out_dirs_created_with_parents),
         cmocka_unit_test(not_a_record_named),

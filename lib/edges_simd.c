@@ -1,0 +1,134 @@
+/*
+ * edges_simd.c - the SIMD forms of the edge scans' candidate test
+ * (cdsp__edges_peaks, internal.h; the portable form, the reference, is
+ * cdsp__edges_peaks_c in lib/edges.c). 16 positions per instruction with
+ * SSE2 (every x86-64) or NEON (every AArch64), 32 with AVX2 when the
+ * library is compiled for it (-mavx2: a compile-time choice, no run-time
+ * dispatch). All of it is exact 8-bit integer arithmetic: |a - b| as the
+ * OR of the two saturating differences (one of them is 0), the comparisons
+ * as saturating differences tested against 0, so the flags are those of
+ * the portable form bit for bit (tests/lib/test_edges_scan.c checks every
+ * length, offset and threshold class, and the whole scan against a pixel
+ * by pixel reference). A run's tail is the vector ending at its last
+ * position (overlapping the one before it, recomputing equal flags); runs
+ * shorter than a vector take the portable form. Without a SIMD target (Cortex-M, CDSP_NO_SIMD) this file is empty.
+ */
+#include "internal.h"
+
+#if CDSP__SIMD
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
+
+/* Flags of the 16 positions from i (0/1 bytes) stored, and returned. */
+static inline __m128i peaks16(const uint8_t *const f[5], const uint8_t *sel, size_t i, __m128i t,
+                              uint8_t *flag)
+{
+    const __m128i zero = _mm_setzero_si128();
+    __m128i m2 = _mm_loadu_si128((const __m128i *)(const void *)(f[0] + i));
+    __m128i m1 = _mm_loadu_si128((const __m128i *)(const void *)(f[1] + i));
+    __m128i c0 = _mm_loadu_si128((const __m128i *)(const void *)(f[2] + i));
+    __m128i p1 = _mm_loadu_si128((const __m128i *)(const void *)(f[3] + i));
+    __m128i p2 = _mm_loadu_si128((const __m128i *)(const void *)(f[4] + i));
+    __m128i gl = _mm_or_si128(_mm_subs_epu8(c0, m2), _mm_subs_epu8(m2, c0));
+    __m128i gc = _mm_or_si128(_mm_subs_epu8(p1, m1), _mm_subs_epu8(m1, p1));
+    __m128i gr = _mm_or_si128(_mm_subs_epu8(p2, c0), _mm_subs_epu8(c0, p2));
+    /* gc >= t and gc >= gr: t - gc and gr - gc saturate to 0; gc > gl:
+     * gc - gl does not */
+    __m128i ge = _mm_cmpeq_epi8(_mm_or_si128(_mm_subs_epu8(t, gc), _mm_subs_epu8(gr, gc)), zero);
+    __m128i c = _mm_andnot_si128(_mm_cmpeq_epi8(_mm_subs_epu8(gc, gl), zero), ge);
+    c = _mm_and_si128(c, sel ? _mm_loadu_si128((const __m128i *)(const void *)(sel + i))
+                             : _mm_set1_epi8(1));
+    _mm_storeu_si128((__m128i *)(void *)(flag + i), c);
+    return c;
+}
+
+#if defined(__AVX2__)
+/* The same for 32 positions. */
+static inline __m256i peaks32(const uint8_t *const f[5], const uint8_t *sel, size_t i, __m256i t,
+                              uint8_t *flag)
+{
+    const __m256i zero = _mm256_setzero_si256();
+    __m256i m2 = _mm256_loadu_si256((const __m256i *)(const void *)(f[0] + i));
+    __m256i m1 = _mm256_loadu_si256((const __m256i *)(const void *)(f[1] + i));
+    __m256i c0 = _mm256_loadu_si256((const __m256i *)(const void *)(f[2] + i));
+    __m256i p1 = _mm256_loadu_si256((const __m256i *)(const void *)(f[3] + i));
+    __m256i p2 = _mm256_loadu_si256((const __m256i *)(const void *)(f[4] + i));
+    __m256i gl = _mm256_or_si256(_mm256_subs_epu8(c0, m2), _mm256_subs_epu8(m2, c0));
+    __m256i gc = _mm256_or_si256(_mm256_subs_epu8(p1, m1), _mm256_subs_epu8(m1, p1));
+    __m256i gr = _mm256_or_si256(_mm256_subs_epu8(p2, c0), _mm256_subs_epu8(c0, p2));
+    __m256i ge = _mm256_cmpeq_epi8(_mm256_or_si256(_mm256_subs_epu8(t, gc), _mm256_subs_epu8(gr, gc)), zero);
+    __m256i c = _mm256_andnot_si256(_mm256_cmpeq_epi8(_mm256_subs_epu8(gc, gl), zero), ge);
+    c = _mm256_and_si256(c, sel ? _mm256_loadu_si256((const __m256i *)(const void *)(sel + i))
+                                : _mm256_set1_epi8(1));
+    _mm256_storeu_si256((__m256i *)(void *)(flag + i), c);
+    return c;
+}
+#endif
+
+int cdsp__edges_peaks_simd(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
+                           uint8_t *flag)
+{
+    size_t i = 0;
+    const __m128i t = _mm_set1_epi8((char)thr);
+    __m128i acc = _mm_setzero_si128();
+    if (n < 16)
+        return cdsp__edges_peaks_c(f, sel, n, thr, flag);
+#if defined(__AVX2__)
+    {
+        const __m256i t8 = _mm256_set1_epi8((char)thr);
+        __m256i acc8 = _mm256_setzero_si256();
+        for (; i + 32 <= n; i += 32)
+            acc8 = _mm256_or_si256(acc8, peaks32(f, sel, i, t8, flag));
+        acc = _mm_or_si128(_mm256_castsi256_si128(acc8), _mm256_extracti128_si256(acc8, 1));
+    }
+#endif
+    for (; i + 16 <= n; i += 16)
+        acc = _mm_or_si128(acc, peaks16(f, sel, i, t, flag));
+    /* the tail: the 16 positions ending at n, overlapping those before,
+     * whose flags are recomputed equal and stored again */
+    if (i < n)
+        acc = _mm_or_si128(acc, peaks16(f, sel, n - 16, t, flag));
+    return _mm_movemask_epi8(_mm_cmpeq_epi8(acc, _mm_setzero_si128())) != 0xFFFF;
+}
+
+#else /* AArch64 NEON */
+#include <arm_neon.h>
+
+/* Flags of the 16 positions from i (0/1 bytes) stored, and returned. */
+static inline uint8x16_t peaks16(const uint8_t *const f[5], const uint8_t *sel, size_t i, uint8x16_t t,
+                                 uint8_t *flag)
+{
+    uint8x16_t m2 = vld1q_u8(f[0] + i), m1 = vld1q_u8(f[1] + i), c0 = vld1q_u8(f[2] + i);
+    uint8x16_t p1 = vld1q_u8(f[3] + i), p2 = vld1q_u8(f[4] + i);
+    uint8x16_t gl = vabdq_u8(c0, m2), gc = vabdq_u8(p1, m1), gr = vabdq_u8(p2, c0);
+    uint8x16_t c = vandq_u8(vandq_u8(vcgeq_u8(gc, t), vcgtq_u8(gc, gl)), vcgeq_u8(gc, gr));
+    c = vandq_u8(c, sel ? vld1q_u8(sel + i) : vdupq_n_u8(1));
+    vst1q_u8(flag + i, c);
+    return c;
+}
+
+int cdsp__edges_peaks_simd(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
+                           uint8_t *flag)
+{
+    size_t i = 0;
+    const uint8x16_t t = vdupq_n_u8((uint8_t)thr);
+    uint8x16_t acc = vdupq_n_u8(0);
+    if (n < 16)
+        return cdsp__edges_peaks_c(f, sel, n, thr, flag);
+    for (; i + 16 <= n; i += 16)
+        acc = vorrq_u8(acc, peaks16(f, sel, i, t, flag));
+    /* the tail: the 16 positions ending at n (see the SSE2 form) */
+    if (i < n)
+        acc = vorrq_u8(acc, peaks16(f, sel, n - 16, t, flag));
+    return vmaxvq_u8(acc) != 0;
+}
+#endif
+
+#else
+/* ISO C forbids an empty translation unit */
+typedef int cdsp__edges_simd_unused;
+#endif

@@ -1,0 +1,588 @@
+/*
+ * multi.c - every pipe in view: the pipes of a rack as a matching of the
+ * candidate contour lines, and their track ids from frame to frame.
+ *
+ * pair.c scores every pair of candidate lines that passes the pair tests.
+ * A contour belongs to one pipe, so the pipes are a matching in the graph
+ * whose nodes are the lines and whose edges are the scored pairs. The
+ * single-pipe path ranks bands; here the question is which set of bands
+ * explains the contours, and the answer is the matching with the most
+ * pairs: across a rack of k bright pipes the edges alternate in polarity,
+ * and pairing them as the k pipes uses all 2k contours, whereas pairing
+ * them as the k - 1 dark gaps leaves the two outer ones over. Maximum
+ * cardinality is found from the greedy best-score matching by augmenting
+ * paths (Berge 1957: a matching is maximum iff no augmenting path exists;
+ * the search below is Kuhn's, exact on bipartite graphs, and the pair graph
+ * is bipartite whenever the contours are near-parallel, since a pair joins
+ * a line whose normal points one way to one whose normal points the other;
+ * on other graphs it may stop short, never with an invalid matching). Edges
+ * are tried in score order, so among the augmentations the strongest pairs
+ * come in. With a tracker the pairs near a live track are tried first
+ * (their score weighted as in the single path's tracking, 1 + 2 exp(-e^2/2)).
+ *
+ * Tracking: each pipe is matched to the live track whose predicted
+ * contours are nearest to its own (the largest of the two contours'
+ * distances, at the pipe's middle, undistorted px), within the tracker's
+ * gate, greedily by distance; it keeps the track's id and its direction's
+ * sign. The prediction moves each contour by its last shift per frame
+ * (constant velocity, times the frames since it was seen): without it a
+ * rack panning by about a gap's width per frame puts the gap where a pipe
+ * was, and the gap would inherit the pipe's track. A track not seen for
+ * more than max_missed frames is dropped.
+ */
+#include "internal.h"
+
+void cdsp_tracker_init(cdsp_tracker *t)
+{
+    if (!t)
+        return;
+    zero_bytes(t, sizeof *t);
+    t->next_id = 1u;
+    t->gate_px = R(24);
+    t->max_missed = 2;
+}
+
+size_t cdsp_frame_all_ws_size(void)
+{
+    return sizeof(cdsp_frame_all_ws);
+}
+
+size_t cdsp_points_all_ws_size(void)
+{
+    return sizeof(cdsp_points_all_ws);
+}
+
+/* A matching: mate[line] = index of its pair in the pair list, or -1. */
+typedef struct {
+    const cdsp_pair_set *set;
+    const uint8_t *order;    /* pair indices in the order they are tried */
+    int mate[CDSP_MAX_LINES];
+    uint8_t seen[CDSP_MAX_LINES];
+    int width, height;       /* the frame, undistorted px (the camera's size) */
+} matching;
+
+static void link_pair(matching *m, int k)
+{
+    const cdsp_pair_eval *e = &m->set->pair[k];
+    m->mate[e->i] = k;
+    m->mate[e->j] = k;
+}
+
+static int other_end(const cdsp_pair_eval *e, int v)
+{
+    return e->i == v ? e->j : e->j == v ? e->i : -1;
+}
+
+/* Kuhn's search for an augmenting path from the free line root, depth
+ * first, iterative (no recursion: the stack bound stays known): level l
+ * holds a line v_l and the pair via[l] = (v_l, w_l) it tries; w_l's
+ * partner x opens level l + 1; a free w ends the path, and linking every
+ * level's pair flips it (each w_l leaves its old pair for v_l). */
+static int augment(matching *m, int root)
+{
+    const cdsp_pair_set *set = m->set;
+    int line[CDSP_MAX_LINES], next[CDSP_MAX_LINES], via[CDSP_MAX_LINES], top = 1;
+    line[0] = root;
+    next[0] = 0;
+    m->seen[root] = 1;
+    while (top > 0) {
+        int v = line[top - 1], opened = 0;
+        while (next[top - 1] < set->npairs && !opened) {
+            int k = m->order[next[top - 1]++], w = other_end(&set->pair[k], v), x, l;
+            if (w < 0 || m->seen[w] || m->mate[v] == k)
+                continue;
+            m->seen[w] = 1;
+            via[top - 1] = k;
+            if (m->mate[w] < 0) {
+                for (l = 0; l < top; l++)
+                    link_pair(m, via[l]);
+                return 1;
+            }
+            x = other_end(&set->pair[m->mate[w]], w);
+            if (x < 0 || m->seen[x] || top == CDSP_MAX_LINES)
+                continue;
+            m->seen[x] = 1;
+            line[top] = x;
+            next[top] = 0;
+            top++;
+            opened = 1;
+        }
+        if (!opened)
+            top--;
+    }
+    return 0;
+}
+
+/* +1 when pair e's band lies on its lines' normal side (a band brighter
+ * than its surroundings: the normals, toward the bright side, point into
+ * it), -1 for a darker band. */
+static int pair_sign(const cdsp_pair_set *set, const cdsp_pair_eval *e)
+{
+    const cdsp_line *A = &set->lines[e->i], *B = &set->lines[e->j];
+    return A->l[0] * B->centroid[0] + A->l[1] * B->centroid[1] + A->l[2] > R(0) ? 1 : -1;
+}
+
+/* Line v left over with bands of sign s: explained when its band would
+ * reach out of the frame within `reach` px (the pipe whose other contour is
+ * beyond the edge), from its centroid across it, on the band's side. */
+static int frame_explains(const matching *m, int v, int s, cdsp_real reach)
+{
+    const cdsp_line *L = &m->set->lines[v];
+    cdsp_real x = L->centroid[0] + (cdsp_real)s * reach * L->l[0];
+    cdsp_real y = L->centroid[1] + (cdsp_real)s * reach * L->l[1];
+    return !(x >= R(0) && y >= R(0) && x <= (cdsp_real)(m->width - 1) && y <= (cdsp_real)(m->height - 1));
+}
+
+/* Among matchings of the same size, the one whose left-over lines the
+ * frame's edge explains (see the top): from a left-over line root that the
+ * frame does not explain, an alternating path root - w1 = x1 - w2 = ... =
+ * x_m of new pairs of one sign s (the pairs (w_k, x_k) in the matching),
+ * ending at a line x_m that the frame explains for bands of sign s, is
+ * flipped when the new pairs score at least as much as the old ones: root
+ * is matched, x_m left over, the size unchanged. (The greedy start took
+ * the best pair first, so a gap scoring a little above the pipe beside it
+ * locked both pipes out.) Depth first, iterative, as augment. */
+static int rebalance(matching *m, int root, int s_now, cdsp_real reach)
+{
+    const cdsp_pair_set *set = m->set;
+    int line[CDSP_MAX_LINES], next[CDSP_MAX_LINES], via[CDSP_MAX_LINES], was[CDSP_MAX_LINES];
+    int top = 1, sign = 0;
+    if (frame_explains(m, root, s_now, reach))
+        return 0;
+    line[0] = root;
+    next[0] = 0;
+    m->seen[root] = 1;
+    while (top > 0) {
+        int v = line[top - 1], opened = 0;
+        while (next[top - 1] < set->npairs && !opened) {
+            int k = m->order[next[top - 1]++], w = other_end(&set->pair[k], v), x, l;
+            if (w < 0 || m->seen[w] || m->mate[v] == k || m->mate[w] < 0)
+                continue;
+            if (top == 1)
+                sign = pair_sign(set, &set->pair[k]);
+            else if (pair_sign(set, &set->pair[k]) != sign)
+                continue;
+            x = other_end(&set->pair[m->mate[w]], w);
+            if (x < 0 || m->seen[x])
+                continue;
+            via[top - 1] = k;
+            was[top - 1] = m->mate[w];
+            if (frame_explains(m, x, sign, reach)) {
+                cdsp_real gain = R(0);
+                for (l = 0; l < top; l++)
+                    gain += set->pair[via[l]].score - set->pair[was[l]].score;
+                if (gain < R(0))
+                    continue;
+                for (l = 0; l < top; l++)
+                    link_pair(m, via[l]);
+                m->mate[x] = -1;
+                return 1;
+            }
+            if (top == CDSP_MAX_LINES)
+                continue;
+            m->seen[w] = m->seen[x] = 1;
+            line[top] = x;
+            next[top] = 0;
+            top++;
+            opened = 1;
+        }
+        if (!opened)
+            top--;
+    }
+    return 0;
+}
+
+/* Distance (px) of pipe contours l (at their foot from point q) from the
+ * nearer contour of track t: the larger of the two. */
+static cdsp_real track_offset(const cdsp_real *l0, const cdsp_real *l1, const cdsp_real q[2],
+                              const cdsp_real *t0, const cdsp_real *t1)
+{
+    cdsp_real worst = R(0);
+    int c;
+    for (c = 0; c < 2; c++) {
+        const cdsp_real *l = c ? l1 : l0;
+        cdsp_real d = l[0] * q[0] + l[1] * q[1] + l[2], f[2], e0, e1;
+        f[0] = q[0] - d * l[0];
+        f[1] = q[1] - d * l[1];
+        e0 = R_FABS(t0[0] * f[0] + t0[1] * f[1] + t0[2]);
+        e1 = R_FABS(t1[0] * f[0] + t1[1] * f[1] + t1[2]);
+        e0 = e1 < e0 ? e1 : e0;
+        worst = e0 > worst ? e0 : worst;
+    }
+    return worst;
+}
+
+/* Undistorted pixel of the middle of a result's visible segment (its foot
+ * point when the segment is behind the camera). */
+static void result_mid(const cdsp_camera *cam, const cdsp_result *r, cdsp_real q[2])
+{
+    cdsp_real X[3];
+    int i;
+    for (i = 0; i < 3; i++)
+        X[i] = (r->segment[0][i] + r->segment[1][i]) / R(2);
+    if (!(X[2] > R(0)))
+        for (i = 0; i < 3; i++)
+            X[i] = r->point[i];
+    q[0] = cam->fx * X[0] / X[2] + cam->cx;
+    q[1] = cam->fy * X[1] / X[2] + cam->cy;
+}
+
+/* Where track t's contours are expected this frame: each moved along its
+ * normal by its velocity times the frames since it was seen (a line
+ * a u + b v + c = 0 with a^2 + b^2 = 1 moved by s along (a, b) has c - s). */
+static void track_predict(const cdsp_track *t, cdsp_real out[2][3])
+{
+    cdsp_real k = (cdsp_real)(t->missed + 1u);
+    int c;
+    for (c = 0; c < 2; c++) {
+        out[c][0] = t->lines[c][0];
+        out[c][1] = t->lines[c][1];
+        out[c][2] = t->lines[c][2] - k * t->velocity[c];
+    }
+}
+
+/* The pair's contours' offset from track t's prediction, px, at p_in. */
+static cdsp_real pair_track_offset(const cdsp_pair_set *set, const cdsp_pair_eval *e,
+                                   const cdsp_track *t)
+{
+    cdsp_real pr[2][3];
+    track_predict(t, pr);
+    return track_offset(set->lines[e->i].l, set->lines[e->j].l, e->p_in, pr[0], pr[1]);
+}
+
+/* Order of trial: by score, weighted near a live track (see the top). */
+static void trial_order(const cdsp_pair_set *set, const cdsp_tracker *trk, cdsp_real gate,
+                        uint8_t *order)
+{
+    cdsp_real w[CDSP_MAX_PAIRS];
+    int k, a;
+    for (k = 0; k < set->npairs; k++) {
+        w[k] = set->pair[k].score;
+        if (trk) {
+            cdsp_real best = R_MAX;
+            int t;
+            for (t = 0; t < CDSP_MAX_TRACKS; t++) {
+                cdsp_real e;
+                if (!trk->track[t].id)
+                    continue;
+                e = pair_track_offset(set, &set->pair[k], &trk->track[t]);
+                best = e < best ? e : best;
+            }
+            if (best < R_MAX) {
+                cdsp_real z = best / gate;
+                w[k] *= R(1) + R(2) * R_EXP(R(-0.5) * z * z);
+            }
+        }
+        order[k] = (uint8_t)k;
+    }
+    /* insertion sort, descending weight (at most CDSP_MAX_PAIRS) */
+    for (k = 1; k < set->npairs; k++)
+        for (a = k; a > 0 && w[order[a - 1]] < w[order[a]]; a--) {
+            uint8_t t = order[a];
+            order[a] = order[a - 1];
+            order[a - 1] = t;
+        }
+}
+
+/* The matching (see the top): chosen[] receives pair indices, best score
+ * first; returns their number (<= CDSP_MAX_LINES / 2). */
+static int select_pipes(const cdsp_pair_set *set, const cdsp_camera *cam, const cdsp_tracker *trk,
+                        cdsp_real gate, int *chosen)
+{
+    matching m;
+    uint8_t order[CDSP_MAX_PAIRS];
+    int v, k, o, n = 0, grew = 1, signs = 0;
+    cdsp_real reach = R(0);
+    m.set = set;
+    m.order = order;
+    m.width = cam->width;
+    m.height = cam->height;
+    trial_order(set, trk, gate, order);
+    for (v = 0; v < set->nlines; v++)
+        m.mate[v] = -1;
+    for (o = 0; o < set->npairs; o++) {
+        const cdsp_pair_eval *e = &set->pair[order[o]];
+        if (m.mate[e->i] < 0 && m.mate[e->j] < 0)
+            link_pair(&m, order[o]);
+    }
+    /* each augmentation adds one pair; at most nlines / 2 rounds */
+    while (grew) {
+        grew = 0;
+        for (v = 0; v < set->nlines && !grew; v++) {
+            if (m.mate[v] >= 0)
+                continue;
+            for (k = 0; k < set->nlines; k++)
+                m.seen[k] = 0;
+            grew = augment(&m, v);
+        }
+    }
+    /* the matching's band sign (most pairs') and the widest band: how far
+     * beyond a left-over line the frame's edge may hide its partner */
+    for (k = 0; k < set->npairs; k++) {
+        const cdsp_pair_eval *e = &set->pair[k];
+        const cdsp_line *A = &set->lines[e->i];
+        cdsp_real wd;
+        if (m.mate[e->i] != k || m.mate[e->j] != k)
+            continue;
+        signs += pair_sign(set, e);
+        wd = R(2) * R_FABS(A->l[0] * e->p_in[0] + A->l[1] * e->p_in[1] + A->l[2]);
+        reach = wd > reach ? wd : reach;
+    }
+    reach *= R(1.5);
+    for (v = 0; v < set->nlines && signs != 0; v++) {
+        if (m.mate[v] >= 0)
+            continue;
+        for (k = 0; k < set->nlines; k++)
+            m.seen[k] = 0;
+        (void)rebalance(&m, v, signs > 0 ? 1 : -1, reach);
+    }
+    /* the pairs of the matching, in score order (the pair list's own) */
+    for (k = 0; k < set->npairs; k++) {
+        const cdsp_pair_eval *e = &set->pair[k];
+        if (m.mate[e->i] == k && m.mate[e->j] == k)
+            chosen[n++] = k;
+    }
+    return n;
+}
+
+/* Tracks: match, keep ids and signs, start new tracks, age the rest. */
+static void track_update(cdsp_tracker *trk, const cdsp_camera *cam, cdsp_result *out, size_t n)
+{
+    uint8_t taken_t[CDSP_MAX_TRACKS], taken_r[CDSP_MAX_PIPES];
+    cdsp_real mid[CDSP_MAX_PIPES][2];
+    size_t i;
+    int t, k;
+    for (t = 0; t < CDSP_MAX_TRACKS; t++)
+        taken_t[t] = 0;
+    for (i = 0; i < n; i++) {
+        taken_r[i] = 0;
+        result_mid(cam, &out[i], mid[i]);
+    }
+    /* greedy by distance: the closest (pipe, track) first */
+    for (;;) {
+        cdsp_real best = trk->gate_px;
+        int bt = -1;
+        size_t bi = 0;
+        for (i = 0; i < n; i++) {
+            if (taken_r[i])
+                continue;
+            for (t = 0; t < CDSP_MAX_TRACKS; t++) {
+                cdsp_real e, pr[2][3];
+                if (!trk->track[t].id || taken_t[t])
+                    continue;
+                track_predict(&trk->track[t], pr);
+                e = track_offset(out[i].lines[0], out[i].lines[1], mid[i], pr[0], pr[1]);
+                if (e <= best) {
+                    best = e;
+                    bt = t;
+                    bi = i;
+                }
+            }
+        }
+        if (bt < 0)
+            break;
+        taken_t[bt] = 1;
+        taken_r[bi] = 1;
+        out[bi].track_id = trk->track[bt].id;
+        if (v3_dot(out[bi].direction, trk->track[bt].direction) < R(0))
+            cdsp__axis_swap(&out[bi]);
+    }
+    /* unseen tracks age; new pipes take a free slot (or the oldest unseen) */
+    for (t = 0; t < CDSP_MAX_TRACKS; t++)
+        if (trk->track[t].id && !taken_t[t] && ++trk->track[t].missed > (uint32_t)trk->max_missed)
+            trk->track[t].id = 0;
+    for (i = 0; i < n; i++) {
+        int slot = -1;
+        if (taken_r[i])
+            continue;
+        for (t = 0; t < CDSP_MAX_TRACKS && slot < 0; t++)
+            if (!trk->track[t].id)
+                slot = t;
+        for (t = 0; t < CDSP_MAX_TRACKS && slot < 0; t++)
+            if (!taken_t[t] && trk->track[t].missed > 0)
+                slot = t;
+        if (slot < 0)
+            continue; /* every slot holds a pipe seen this frame: no id */
+        trk->track[slot].id = trk->next_id++;
+        if (trk->next_id == 0u)
+            trk->next_id = 1u; /* wrapped after 2^32 pipes: 0 means none */
+        taken_t[slot] = 1;
+        out[i].track_id = trk->track[slot].id;
+        trk->track[slot].missed = 0;
+        trk->track[slot].velocity[0] = trk->track[slot].velocity[1] = R(0);
+        for (k = 0; k < 3; k++) { /* no motion known yet: the velocity below stays 0 */
+            trk->track[slot].lines[0][k] = out[i].lines[0][k];
+            trk->track[slot].lines[1][k] = out[i].lines[1][k];
+        }
+    }
+    /* what every matched or new track saw this frame */
+    for (i = 0; i < n; i++) {
+        cdsp_track *tr = NULL;
+        if (!out[i].track_id)
+            continue;
+        for (t = 0; t < CDSP_MAX_TRACKS; t++)
+            if (trk->track[t].id == out[i].track_id)
+                tr = &trk->track[t];
+        if (!tr)
+            continue;
+        /* each new contour's shift from the old one of its polarity (the
+         * one whose normal points the same way; the order of a result's
+         * two lines may change), per frame since it was seen */
+        for (k = 0; k < 2; k++) {
+            const cdsp_real *nl = out[i].lines[k];
+            int m = nl[0] * tr->lines[0][0] + nl[1] * tr->lines[0][1] >=
+                            nl[0] * tr->lines[1][0] + nl[1] * tr->lines[1][1]
+                        ? 0
+                        : 1;
+            cdsp_real dot = nl[0] * tr->lines[m][0] + nl[1] * tr->lines[m][1];
+            tr->velocity[k] = dot > R(0) ? (tr->lines[m][2] - nl[2]) / (cdsp_real)(tr->missed + 1u)
+                                         : R(0);
+        }
+        tr->missed = 0;
+        for (k = 0; k < 3; k++) {
+            tr->lines[0][k] = out[i].lines[0][k];
+            tr->lines[1][k] = out[i].lines[1][k];
+            tr->direction[k] = out[i].direction[k];
+        }
+        tr->mid[0] = mid[i][0];
+        tr->mid[1] = mid[i][1];
+    }
+}
+
+/* From scored pairs to results (both paths). */
+static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
+                             const uint8_t *label, cdsp_pair_set *set, const cdsp_params *p,
+                             cdsp_real min_step, const cdsp_image *img, cdsp_profile_ws *pws,
+                             cdsp_tracker *trk, cdsp_result *out, size_t cap, size_t *n_out)
+{
+    int chosen[CDSP_MAX_LINES / 2 + 1], nc, k;
+    size_t m = 0, i;
+    nc = select_pipes(set, cam, trk, trk ? trk->gate_px : R(1), chosen);
+    if (cap > CDSP_MAX_PIPES)
+        cap = CDSP_MAX_PIPES;
+    for (k = 0; k < nc && m < cap; k++) {
+        const cdsp_pair_eval *e = &set->pair[chosen[k]];
+        cdsp_real conf = cdsp__pair_evidence(e, min_step > R(0));
+        cdsp_result *r = &out[m];
+        if (conf < p->min_confidence)
+            continue;
+        if (cdsp__pair_result(cam, radius, pts, n, label, set, e, p, img, pws, r) != CDSP_OK)
+            continue; /* the refined lines turned degenerate: not a pose */
+        r->confidence = conf;
+        if (cdsp__axis_wants_swap(r->direction))
+            cdsp__axis_swap(r);
+        m++;
+    }
+    for (i = 0; i < m; i++)
+        out[i].n_candidates = (uint32_t)m;
+    if (trk)
+        track_update(trk, cam, out, m);
+    *n_out = m;
+    return m ? CDSP_OK : CDSP_E_NO_PIPE;
+}
+
+static cdsp_status tracker_check(const cdsp_tracker *trk)
+{
+    if (trk && (!(trk->gate_px > R(0)) || !R_FINITE(trk->gate_px) || trk->max_missed < 0))
+        return CDSP_E_ARG;
+    return CDSP_OK;
+}
+
+cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                                 const cdsp_params *p, cdsp_tracker *trk, cdsp_frame_all_ws *ws,
+                                 cdsp_rng *rng, cdsp_result *out, size_t cap, size_t *n_out)
+{
+    cdsp_status st;
+    size_t n = 0, i;
+    uint32_t flags;
+    cdsp_real sigma = R(0), min_step = R(0);
+    if (!img || !cam || !p || !ws || !rng || !out || !n_out || cap == 0)
+        return CDSP_E_ARG;
+    *n_out = 0;
+    st = cdsp_image_check(img);
+    if (st != CDSP_OK)
+        return st;
+    st = cdsp__solve_args_check(cam, radius, p);
+    if (st == CDSP_OK)
+        st = tracker_check(trk);
+    if (st != CDSP_OK)
+        return st;
+    if (img->width != cam->width || img->height != cam->height)
+        return CDSP_E_ARG;
+    st = cdsp__frame_edges(img, cam, p, &ws->frame, &n, &sigma, &min_step, &flags);
+    if (st == CDSP_OK)
+        st = cdsp__pair_score_all(cam, radius, ws->frame.edge, n, ws->frame.label, p, min_step, NULL,
+                                  rng, &ws->pairs);
+    if (st == CDSP_OK)
+        st = solve_all(cam, radius, ws->frame.edge, n, ws->frame.label, &ws->pairs, p, min_step, img,
+                       &ws->frame.profile, trk, out, cap, n_out);
+    else if (trk)
+        track_update(trk, cam, out, 0); /* no pipe this frame: every track ages */
+    for (i = 0; i < *n_out; i++) {
+        out[i].flags |= flags;
+        out[i].noise = sigma;
+        out[i].min_step = min_step;
+    }
+    return st;
+}
+
+cdsp_status cdsp_points_solve_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                  size_t n, const cdsp_params *p, cdsp_tracker *trk,
+                                  cdsp_points_all_ws *ws, cdsp_rng *rng, cdsp_result *out,
+                                  size_t cap, size_t *n_out)
+{
+    cdsp_status st;
+    if (!cam || !p || !ws || !rng || !out || !n_out || cap == 0 || (!pts && n))
+        return CDSP_E_ARG;
+    *n_out = 0;
+    st = cdsp__solve_args_check(cam, radius, p);
+    if (st == CDSP_OK)
+        st = tracker_check(trk);
+    if (st != CDSP_OK)
+        return st;
+    if (n > CDSP_MAX_POINTS)
+        return CDSP_E_CAPACITY;
+    if (!cdsp__points_finite(pts, n))
+        return CDSP_E_NONFINITE;
+    st = cdsp__pair_score_all(cam, radius, pts, n, ws->points.label, p, R(0), NULL, rng, &ws->pairs);
+    if (st == CDSP_OK)
+        return solve_all(cam, radius, pts, n, ws->points.label, &ws->pairs, p, R(0), NULL, NULL, trk,
+                         out, cap, n_out);
+    if (trk)
+        track_update(trk, cam, out, 0);
+    return st;
+}
+
+/* Two passes (mean, then the spread about it): a spread a millionth of
+ * the spacing survives in float, where sum(d^2)/n - mean^2 would not. */
+static cdsp_real spacing_at(const cdsp_result *a, const cdsp_result *b, int k, int n)
+{
+    cdsp_real t = ((cdsp_real)k + R(0.5)) / (cdsp_real)n, X[3];
+    int i;
+    for (i = 0; i < 3; i++)
+        X[i] = a->segment[0][i] + t * (a->segment[1][i] - a->segment[0][i]);
+    return cdsp_result_point_distance(b, X);
+}
+
+cdsp_status cdsp_result_axis_spacing(const cdsp_result *a, const cdsp_result *b, int n,
+                                     cdsp_real *mean, cdsp_real *spread)
+{
+    cdsp_real sum = R(0), m;
+    int k;
+    if (!a || !b || !mean || !spread || n < 1)
+        return CDSP_E_ARG;
+    if (!v3_finite(a->segment[0]) || !v3_finite(a->segment[1]) || !v3_finite(b->point) ||
+        !v3_finite(b->direction) || !(v3_norm(b->direction) > R(0)))
+        return CDSP_E_NONFINITE;
+    for (k = 0; k < n; k++)
+        sum += spacing_at(a, b, k, n);
+    m = sum / (cdsp_real)n;
+    sum = R(0);
+    for (k = 0; k < n; k++) {
+        cdsp_real e = spacing_at(a, b, k, n) - m;
+        sum += e * e;
+    }
+    *mean = m;
+    *spread = R_SQRT(sum / (cdsp_real)n);
+    return CDSP_OK;
+}

@@ -1,0 +1,280 @@
+/*
+ * bench_frame.c - `make bench-frame` (part of `make bench`): the frame
+ * path's speed against the memory limit (issue 17), one core.
+ *
+ * The frames are the paper's scene at 2448 x 2048, 8 bit (pipe p1 drifting
+ * and turning, as bench_lib's sequence), rendered once and cached raw in
+ * DIR/frames.raw so repeated runs (and callgrind, where rendering would take
+ * minutes) read them back. For each frame it times the full search and the
+ * tracked path (prior: the full search's result on the same frame), medians
+ * over all runs, and prints
+ *   - the bytes of the frame actually read, counted at 4 KiB page
+ *     granularity: the frame is mapped PROT_NONE and each first touch of a
+ *     page (SIGSEGV) is counted and unprotected, one solve per mode; an upper
+ *     bound on the cache lines read (a page is 1.7 rows of this frame);
+ *   - the memory bandwidth measured here: memcpy of a buffer of the frame's
+ *     size (5 MB, beyond this machine's caches... or near them: the ratio
+ *     says what it says, on this machine), and of the bytes read;
+ *   - the ratio of the achieved time to that limit (time / (bytes read /
+ *     bandwidth)).
+ * Modes for counting instructions: `bench_frame DIR full|track|load REPS
+ * [FRAMES]` runs only that path REPS times on each of the first FRAMES
+ * frames (track: after one full search per frame, for its prior; load:
+ * nothing, the baseline of reading the frames), for valgrind
+ * --tool=callgrind --toggle-collect=cdsp_frame_solve here and
+ * tests/aarch64/count.sh under qemu-aarch64.
+ * Figures, not pass/fail; the machine is shared: compare within one run.
+ */
+#define _DEFAULT_SOURCE /* MAP_ANONYMOUS */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
+#include "support.h"
+
+#define NFRAMES 6
+#define W 2448
+#define H 2048
+
+static cdsp_frame_ws ws;
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_d);
+    return n ? v[n / 2] : 0;
+}
+
+/* Frame i of the sequence (bench_lib.c's moving pipe). */
+static int render_frame(const cdsp_camera *cam, int i, unsigned char *dst)
+{
+    cdsp_scene s;
+    cdsp_image img;
+    double P[3], v[3];
+    void *px;
+    sup_paper_pipe(0, P, v);
+    P[0] += 0.8 * i;
+    P[1] -= 0.5 * i;
+    v[1] += 0.004 * i;
+    sup_scene(&s, P, v, 8);
+    s.half_length = 250;
+    s.noise_sigma = (cdsp_real)0.002;
+    px = sup_render(&s, cam, 8, (uint64_t)i, &img);
+    if (!px)
+        return -1;
+    memcpy(dst, px, (size_t)W * H);
+    free(px);
+    return 0;
+}
+
+/* The cached frames, rendered when the cache is missing or short. */
+static int load_frames(const cdsp_camera *cam, const char *dir, unsigned char *frames)
+{
+    char path[4096];
+    size_t sz = (size_t)W * H * NFRAMES;
+    FILE *f;
+    int i;
+    snprintf(path, sizeof path, "%s/frames.raw", dir);
+    f = fopen(path, "rb");
+    if (f) {
+        size_t got = fread(frames, 1, sz, f);
+        fclose(f);
+        if (got == sz)
+            return 0;
+    }
+    fprintf(stderr, "bench_frame: rendering %d frames at %d x %d into %s...\n", NFRAMES, W, H, path);
+    for (i = 0; i < NFRAMES; i++)
+        if (render_frame(cam, i, frames + (size_t)i * W * H) != 0) {
+            fprintf(stderr, "bench_frame: rendering frame %d failed\n", i);
+            return -1;
+        }
+    f = fopen(path, "wb");
+    if (!f || fwrite(frames, 1, sz, f) != sz) {
+        fprintf(stderr, "bench_frame: cannot write %s: %s\n", path, strerror(errno));
+        if (f)
+            fclose(f);
+        return -1;
+    }
+    return fclose(f) == 0 ? 0 : -1;
+}
+
+/* ---- bytes read: first touches of a PROT_NONE mapping ---------------------- */
+
+static unsigned char *trap_base;
+static size_t trap_len, page;
+static volatile sig_atomic_t pages_touched;
+
+static void on_segv(int sig, siginfo_t *si, void *ctx)
+{
+    unsigned char *a = (unsigned char *)si->si_addr;
+    (void)ctx;
+    if (a < trap_base || a >= trap_base + trap_len) {
+        signal(sig, SIG_DFL);
+        raise(sig);
+        return;
+    }
+    a = trap_base + (size_t)(a - trap_base) / page * page;
+    mprotect(a, page, PROT_READ);
+    pages_touched++;
+}
+
+/* Bytes of the frame one call of solve reads, at row granularity: the
+ * frame is laid out one row per page (stride = a whole number of pages),
+ * so a page first touched is a row read; the figure is rows touched times
+ * the row's W bytes. An upper bound: a band search reads only its segment
+ * of each row (a few cache lines), and is counted a whole row here. */
+static size_t bytes_read(const unsigned char *frame, const cdsp_camera *cam, const cdsp_params *prm,
+                         const cdsp_result *prior, size_t *rows)
+{
+    struct sigaction sa, old;
+    cdsp_image img;
+    cdsp_result r;
+    cdsp_rng rng;
+    size_t stride;
+    int y;
+    page = (size_t)sysconf(_SC_PAGESIZE);
+    stride = (W + page - 1) / page * page;
+    trap_len = stride * H;
+    trap_base = mmap(NULL, trap_len, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (trap_base == MAP_FAILED)
+        return 0;
+    for (y = 0; y < H; y++)
+        memcpy(trap_base + (size_t)y * stride, frame + (size_t)y * W, W);
+    mprotect(trap_base, trap_len, PROT_NONE);
+    memset(&sa, 0, sizeof sa);
+    sa.sa_sigaction = on_segv;
+    sa.sa_flags = SA_SIGINFO;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGSEGV, &sa, &old);
+    pages_touched = 0;
+    img.data = trap_base;
+    img.width = W;
+    img.height = H;
+    img.stride = stride;
+    img.bits = 8;
+    cdsp_rng_seed(&rng, 1, 1);
+    cdsp_frame_solve(&img, cam, 8, prm, prior, &ws, &rng, &r);
+    sigaction(SIGSEGV, &old, NULL);
+    munmap(trap_base, trap_len);
+    /* a row of W <= page bytes spans one page, or two when stride > page */
+    *rows = (size_t)pages_touched * page / stride;
+    return *rows * W;
+}
+
+/* Memory bandwidth, bytes/s: the best of several memcpy of n bytes between
+ * two buffers that together exceed the frame (the copy reads n and writes
+ * n; the figure is bytes read per second, which is what the scan does). */
+static double bandwidth(size_t n)
+{
+    unsigned char *a = malloc(n), *b = malloc(n);
+    double best = 1e30;
+    int i;
+    if (!a || !b) {
+        free(a);
+        free(b);
+        return 0;
+    }
+    memset(a, 1, n);
+    memset(b, 2, n);
+    for (i = 0; i < 15; i++) {
+        double t0 = sup_now();
+        memcpy(i & 1 ? a : b, i & 1 ? b : a, n);
+        t0 = sup_now() - t0;
+        best = t0 < best ? t0 : best;
+    }
+    free(a);
+    free(b);
+    return (double)n / best;
+}
+
+int main(int argc, char **argv)
+{
+    const char *dir = argc > 1 ? argv[1] : ".";
+    const char *mode = argc > 2 ? argv[2] : "time";
+    int reps = argc > 3 ? atoi(argv[3]) : 9;
+    int nuse = argc > 4 ? atoi(argv[4]) : NFRAMES;
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng rng;
+    cdsp_result prior[NFRAMES];
+    unsigned char *frames = malloc((size_t)W * H * NFRAMES);
+    double tf[NFRAMES * 64], tt[NFRAMES * 64];
+    int i, k, nf = 0, nt = 0, ok[NFRAMES];
+    if (!frames || reps < 1 || reps > 64 || nuse < 1 || nuse > NFRAMES) {
+        fprintf(stderr, "usage: bench_frame DIR [time|full|track|load] [REPS 1..64] [FRAMES 1..%d]\n",
+                NFRAMES);
+        return 2;
+    }
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_params_default(&prm);
+    if (load_frames(&cam, dir, frames) != 0)
+        return 1;
+    if (strcmp(mode, "load") == 0)
+        return 0;
+    cdsp_rng_seed(&rng, 1, 1);
+    /* priors: the full search on each frame (outside any timing; not in
+     * mode full, so that callgrind's count there is full searches only) */
+    for (i = 0; i < nuse; i++) {
+        ok[i] = 0;
+        if (strcmp(mode, "full") == 0)
+            continue;
+        cdsp_image img = {frames + (size_t)i * W * H, W, H, W, 8};
+        ok[i] = cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &prior[i]) == CDSP_OK;
+    }
+    for (i = 0; i < nuse; i++) {
+        cdsp_image img = {frames + (size_t)i * W * H, W, H, W, 8};
+        for (k = 0; k < reps; k++) {
+            cdsp_result r;
+            double t0;
+            if (strcmp(mode, "track") != 0) {
+                cdsp_rng_seed(&rng, 1, 1);
+                t0 = sup_now();
+                cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r);
+                tf[nf++] = (sup_now() - t0) * 1e3;
+            }
+            if (strcmp(mode, "full") != 0 && ok[i]) {
+                cdsp_rng_seed(&rng, 1, 1);
+                t0 = sup_now();
+                cdsp_frame_solve(&img, &cam, 8, &prm, &prior[i], &ws, &rng, &r);
+                tt[nt++] = (sup_now() - t0) * 1e3;
+            }
+        }
+    }
+    if (strcmp(mode, "time") != 0)
+        return 0;
+    {
+        size_t frame_bytes = (size_t)W * H;
+        size_t rf = 0, rt = 0, bf = bytes_read(frames, &cam, &prm, NULL, &rf);
+        size_t bt = ok[0] ? bytes_read(frames, &cam, &prm, &prior[0], &rt) : 0;
+        double bw = bandwidth(frame_bytes);
+        double mf = median(tf, nf), mt = median(tt, nt);
+        double limf = (double)bf / bw * 1e3, limt = (double)bt / bw * 1e3;
+        printf("frame path, %d x %d 8 bit, %d frames x %d runs, one core (issue 17)\n", W, H,
+               nuse, reps);
+        printf("| %-28s | %-10s | %-22s | %-12s | %-8s |\n", "path", "time", "frame bytes read",
+               "memory limit", "ratio");
+        printf("|%s|%s|%s|%s|%s|\n", "------------------------------", "------------",
+               "------------------------", "--------------", "----------");
+        printf("| %-28s | %7.3f ms | %9zu (%5.1f %%)     | %9.3f ms | %6.1f x |\n",
+               "full search (target <= 1 ms)", mf, bf, 100.0 * (double)bf / (double)frame_bytes, limf,
+               limf > 0 ? mf / limf : 0);
+        printf("| %-28s | %7.3f ms | %9zu (%5.1f %%)     | %9.3f ms | %6.1f x |\n",
+               "tracked (target <= 0.2 ms)", mt, bt, 100.0 * (double)bt / (double)frame_bytes, limt,
+               limt > 0 ? mt / limt : 0);
+        printf("memory bandwidth (memcpy of %zu bytes, best of 15): %.2f GB/s; bytes read counted "
+               "by whole rows (%zu of %d rows full, %zu tracked; an upper bound); "
+               "ratio = time / (bytes read / bandwidth), target <= 3\n",
+               frame_bytes, bw / 1e9, rf, H, rt);
+    }
+    free(frames);
+    return 0;
+}
