@@ -39,7 +39,17 @@ echo "$suites_col" | grep -qw tool && targets="$targets mutant-tool"
 echo "$suites_col" | grep -q 'hostunit:' && targets="$targets mutant-hostunit"
 echo "$suites_col" | grep -q 'daemon:' && targets="$targets mutant-daemon"
 echo "mutants: building the base tree ($base)"
-make -C "$base" --no-print-directory -j"$jobs" $targets >"$out/logs/base-build.log" 2>&1 ||
+# build_targets DIR TARGET...: one make per target, each -j$jobs inside: the
+# mutant-* targets are sub-makes that share prerequisites (libcdsp_host.a),
+# which two sub-makes running at once would both write
+build_targets() {
+    local d=$1 t
+    shift
+    for t in "$@"; do
+        make -C "$d" --no-print-directory -j"$jobs" "$t" || return 1
+    done
+}
+build_targets "$base" $targets >"$out/logs/base-build.log" 2>&1 ||
     die "the base tree does not build; see $out/logs/base-build.log"
 
 lib_tests=$(cd "$base" && ls tests/lib/test_*.c | sed 's|tests/lib/||; s|\.c$||')
@@ -140,7 +150,7 @@ grep -v '^#' "$table" | grep '|' | while IFS='|' read -r id file from to suites 
     done
     btargets=$(echo $btargets | tr ' ' '\n' | sort -u | tr '\n' ' ')
     { echo "mutant $id: $file: '$from' -> '$to'"; echo "$what"; } >"$log"
-    if ! make -C "$dir" --no-print-directory -j"$jobs" $btargets >>"$log" 2>&1; then
+    if ! build_targets "$dir" $btargets >>"$log" 2>&1; then
         echo "BROKEN $id: does not build ($what); see $log"
         echo "broken $id" >>"$out/score"
         rm -rf "$dir"
