@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # tests/run.sh RESULTS NAME CMD...: run one check step, show its output, and
-# append "NAME PASSED FAILED" to RESULTS. cmocka suites report their own
+# append "NAME PASSED FAILED SECONDS" to RESULTS. cmocka suites report their own
 # counts; any other command counts as one test, passed iff it exits 0.
 set -u
 results=$1 name=$2; shift 2
 out=$(mktemp)
+t0=$(date +%s)
 "$@" >"$out" 2>&1
 rc=$?
 cat "$out"
@@ -18,5 +19,5 @@ elif [ $rc -ne 0 ] && [ "$failed" -eq 0 ]; then        # crashed after its summa
     failed=1
 fi
 rm -f "$out"
-echo "$name $passed $failed" >>"$results"
+echo "$name $passed $failed $(( $(date +%s) - t0 ))" >>"$results"
 [ "$failed" -eq 0 ] && [ $rc -eq 0 ]

@@ -9,8 +9,10 @@ p=0 f=0
 if [ -f "$results" ]; then
     echo
     echo "== make check =="
-    while read -r name np nf; do
-        printf '  %-40s %4d passed %4d failed\n' "$name" "$np" "$nf"
+    # The seconds show where make check's time goes (wall clock: an upper
+    # bound on a shared machine, for planning, never asserted).
+    while read -r name np nf secs; do
+        printf '  %-40s %4d passed %4d failed %6ss\n' "$name" "$np" "$nf" "${secs:-?}"
         p=$((p + np)); f=$((f + nf))
     done <"$results"
 fi
