@@ -90,7 +90,7 @@ check-daemon-asan: $(dsan_asan_BIN) $(dsan_E2E_DEPS)
 # before cdspd can reopen them after the unplug, whatever its speed).
 .PHONY: check-daemon-v4l2-asan
 check-daemon-v4l2-asan: $(dsan_asan_BIN) $(daemon_RX) $(daemon_FEED)
-	@CDSPD_TMP=$(daemon_TDIR)/tmp VM_RUNS="GREY-loss" VM_CDSPD_DURATION=60 $(RUN) "daemon-asan/v4l2-vivid-vm" \
+	@CDSPD_TMP=$(daemon_TDIR)/tmp VM_RUNS="GREY-loss" $(RUN) "daemon-asan/v4l2-vivid-vm" \
 	    tests/daemon/vm_v4l2.sh $(dsan_asan_BIN) $(daemon_RX) $(daemon_FEED)
 
 check-daemon-valgrind: $(daemon_BIN) $(daemon_RX)

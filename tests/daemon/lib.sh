@@ -7,7 +7,7 @@ for v in CDSPD CDSPD_RX; do
     [ -x "${!v:-}" ] || { echo "$0: \$$v must name the built program" >&2; exit 2; }
 done
 mkdir -p "${CDSPD_TMP:-/tmp}" || exit 2
-work=$(mktemp -d "${CDSPD_TMP:-/tmp}/$(basename "$0" .sh).XXXXXX") || exit 2
+mkdir -p "${CDSPD_TMP:-/tmp}" && work=$(mktemp -d "${CDSPD_TMP:-/tmp}/$(basename "$0" .sh).XXXXXX") || exit 2
 CALIB=daemon/demo-camera.yaml
 pids=()
 

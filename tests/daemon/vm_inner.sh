@@ -48,8 +48,24 @@ setup_vivid || fail "vivid setup"
 start_feed
 cat /tmp/feed.out
 
+# the receiver's pose count so far (its --progress line), 0 before the first
+poses_so_far() {
+    sed -n 's/.* poses \([0-9]*\) .*/\1/p' /tmp/rx.progress 2>/dev/null | grep . || echo 0
+}
+# wait_poses N: until the receiver has N poses (a hang bound of 120 s)
+wait_poses() {
+    i=0
+    until [ "$(poses_so_far)" -ge "$1" ]; do
+        i=$((i + 1)); [ $i -le 1200 ] || return 1
+        sleep 0.1
+    done
+}
+
+# cdspd is stopped (SIGTERM) once the receiver has what it checks, not after
+# a fixed time (a fixed 25 s ran out mid-test at a load of 7): the --duration
+# values here and below only bound a hang, inside run-in-vm.sh's timeout.
 rxargs="--min-poses 20 --min-slots 4"
-dur=10
+dur=${3:-600}
 idle=8
 if [ "$mode" = loss ]; then
     # cdspd is stopped (no datagrams) while vivid is set up again after the
@@ -57,34 +73,33 @@ if [ "$mode" = loss ]; then
     # is ended once cdspd has exited (SIGTERM: it then judges what it got)
     idle=300
     rxargs="$rxargs --min-bad 1 --min-reconnects 1 --expect-status source-down --resume-within 120"
-    dur=${3:-25}   # longer for a sanitizer build (vm_v4l2.sh's VM_CDSPD_DURATION)
 fi
 cdspd_rx --port-file /tmp/port --progress /tmp/rx.progress --truth sim-any --calib $cam $sets \
-    --duration 300 --idle $idle $rxargs \
+    --duration 900 --idle $idle $rxargs \
     >/tmp/rx.out 2>&1 &
 rx=$!
 i=0
-until [ -s /tmp/port ]; do i=$((i + 1)); [ $i -le 100 ] || fail "cdspd_rx did not start"; sleep 0.1; done
+until [ -s /tmp/port ]; do i=$((i + 1)); [ $i -le 600 ] || fail "cdspd_rx did not start"; sleep 0.1; done
 
 cdspd --source "v4l2:$CDSP_VIVID_CAP" --calib $cam --radius 10 --dest 127.0.0.1:$(cat /tmp/port) \
     --set v4l2.format="$fourcc" --set stats_interval=0 --set retry_min=0.5 --set retry_max=1 \
     --set status_interval=0.2 \
     --duration $dur 2>/tmp/cdspd.log &
 d=$!
-wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: open" 300 || fail "cdspd did not open the device"
+wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: open" 1200 || fail "cdspd did not open the device"
 if [ "$mode" = loss ]; then
     sleep 4
     # vivid flags the next buffer of whichever of its nodes comes first,
     # the output node's included: inject until the capture side got one
     i=0
     until grep -q "flagged as corrupted" /tmp/cdspd.log; do
-        i=$((i + 1)); [ $i -le 20 ] || fail "no corrupted frame reached cdspd"
+        i=$((i + 1)); [ $i -le 120 ] || fail "no corrupted frame reached cdspd"
         v4l2-ctl -d "$CDSP_VIVID_CAP" -c inject_v4l2_buf_flag_error=1 || fail "cannot inject a bad frame"
         sleep 0.5
     done
     sleep 1
     v4l2-ctl -d "$CDSP_VIVID_CAP" -c disconnect=1 || fail "cannot disconnect vivid"
-    wait_for /tmp/cdspd.log " lost: " 100 || fail "cdspd did not notice the unplugged device"
+    wait_for /tmp/cdspd.log " lost: " 1200 || fail "cdspd did not notice the unplugged device"
     grep " lost: " /tmp/cdspd.log
     # The output node went too: the feed stops; start it again. vivid comes
     # back only once every handle is closed, and then with its input reset:
@@ -95,10 +110,10 @@ if [ "$mode" = loss ]; then
     # set up (a few v4l2-ctl calls: well inside the receiver's --idle), and
     # may then reopen before the feed streams (vivid's black test pattern:
     # no-pipe statuses until the fed frames come round).
-    wait_for /tmp/cdspd.log "cannot open $CDSP_VIVID_CAP" 300 || fail "cdspd did not retry the device"
+    wait_for /tmp/cdspd.log "cannot open $CDSP_VIVID_CAP" 1200 || fail "cdspd did not retry the device"
     # its retries fail while the feed holds the output node: wait until the
     # receiver has the source-down status it must see, then stop cdspd
-    wait_for /tmp/rx.progress "source-down [1-9]" 300 || fail "no source-down status reached the receiver"
+    wait_for /tmp/rx.progress "source-down [1-9]" 1200 || fail "no source-down status reached the receiver"
     # cdspd must reopen the capture node only once the feed streams again
     # (a capture started before the output streams stays on vivid's own
     # pattern): stopped until then, however long the feed takes to start
@@ -108,15 +123,23 @@ if [ "$mode" = loss ]; then
     # v4l2-ctl calls may find no device yet, so try again for a while
     i=0
     until setup_vivid; do
-        i=$((i + 1)); [ $i -le 60 ] || break
+        i=$((i + 1)); [ $i -le 240 ] || break
         sleep 0.5
     done
-    [ $i -le 60 ]; setup_rc=$?
+    [ $i -le 240 ]; setup_rc=$?
     [ $setup_rc -eq 0 ] && start_feed
     kill -CONT $d
     [ $setup_rc -eq 0 ] || fail "vivid setup after the disconnect"
-    wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: reopened" 300 || fail "cdspd did not reopen the device"
+    wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: reopened" 1200 || fail "cdspd did not reopen the device"
+    # poses must resume: 20 more than the receiver had at the reopen
+    wait_poses $(($(poses_so_far) + 20))
+else
+    # 40 poses: every one of the 6 simulated positions (each held for 6
+    # frames) seen, where the receiver checks 20 poses and 4 positions
+    wait_poses 40
 fi
+# (a shortfall is the receiver's to report: it judges what it got)
+kill -TERM $d 2>/dev/null
 wait $d
 rc=$?
 cat /tmp/cdspd.log

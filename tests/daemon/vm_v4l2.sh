@@ -6,12 +6,13 @@
 # runs inside the VM (tests/daemon/vm_inner.sh) and prints PASS/FAIL on the
 # console. Exit status 0 when both pass. VM_RUNS chooses the runs
 # (default "GREY-loss YUYV-plain"; daemon/sanitize.mk runs GREY-loss with
-# the ASan build, with VM_CDSPD_DURATION=60: cdspd's run in the "loss"
-# mode, 25 s by default).
+# the ASan build). VM_CDSPD_DURATION: cdspd's --duration in the VM, only a
+# hang bound (600 s by default): it is stopped once the receiver has its
+# poses.
 set -u
 cdspd=$1 rx=$2 feed=$3
 shift 3
-work=$(mktemp -d "${CDSPD_TMP:-/tmp}/vm_v4l2.XXXXXX") || exit 2
+mkdir -p "${CDSPD_TMP:-/tmp}" && work=$(mktemp -d "${CDSPD_TMP:-/tmp}/vm_v4l2.XXXXXX") || exit 2
 trap 'rm -rf "$work"' EXIT
 cp "$(dirname "$0")/cam320.yaml" "$work/cam.yaml"
 rc=0
