@@ -30,7 +30,7 @@
 #define CDSPD_VERSION "0.1.0"
 
 enum {
-    EXIT_OK = 0,        /* stopped by SIGTERM/SIGINT, --duration, or the end of a file source */
+    EXIT_OK = 0,        /* stopped by SIGTERM/SIGINT, --duration, --frames, or the end of a file source */
     EXIT_RUNTIME = 1,   /* out of memory, no socket, a thread that would not start */
     EXIT_CONFIG = 2,    /* usage or configuration error (also --check-config) */
     EXIT_SOURCE = 3     /* the source could not be opened within open_timeout */
@@ -62,7 +62,7 @@ static void *signal_thread(void *arg)
 /* ------------------------------------------------------------------------
  * Command line.
  * ---------------------------------------------------------------------- */
-enum { OPT_CALIB = 256, OPT_DURATION, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION, OPT_LIST,
+enum { OPT_CALIB = 256, OPT_DURATION, OPT_FRAMES, OPT_CHECK, OPT_HELP_KEYS, OPT_VERSION, OPT_LIST,
        OPT_MAVLINK };
 
 static const cdsp_host_option option_table[] = {
@@ -79,6 +79,9 @@ static const cdsp_host_option option_table[] = {
      "docs/mavlink.md)"},
     {{"duration", required_argument, NULL, OPT_DURATION}, "SECONDS",
      "stop after this long, counted from the source's opening (key duration)"},
+    {{"frames", required_argument, NULL, OPT_FRAMES}, "N",
+     "stop once N frames have been processed (key frames): a run of a known length however "
+     "fast the machine"},
     {{"record", required_argument, NULL, 'o'}, "DIR",
      "save every record_every-th frame, its result and the calibration there (key record; "
      "-o is the output directory, as in cdsp_tool)"},
@@ -101,7 +104,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: cdspd [--config FILE] --source SRC --calib CAM.yaml --radius R\n"
             "             --dest HOST:PORT [--dest HOST:PORT ...] [--format binary|json]\n"
-            "             [--mavlink URL ...] [--duration SECONDS] [-o|--record DIR]\n"
+            "             [--mavlink URL ...] [--duration SECONDS] [--frames N] [-o|--record DIR]\n"
             "             [-k|--set KEY=VALUE] [-v|-q]\n"
             "Capture frames, solve the pipe's axis in each (libcdsp %d.%d.%d), stream the poses "
             "over UDP.\n\n",
@@ -172,6 +175,7 @@ static int load_config(const cli *o, cdspd_config *c, char *err, size_t errlen)
         case 'r': key = "radius"; break;
         case 'f': key = "format"; break;
         case OPT_DURATION: key = "duration"; break;
+        case OPT_FRAMES: key = "frames"; break;
         case 'o':
             if (strchr(optarg, '=')) { /* -o KEY=VALUE was --set before 0.2: say so, do it */
                 fprintf(stderr, "cdspd: warning: -o %s: -o is --record DIR now (as cdsp_tool's "
@@ -444,7 +448,12 @@ int main(int argc, char **argv)
             break;
         }
         if (st == CDSPD_PIPE_ENDED) {
-            LOG_I(MAIN, "the source has ended: stopping");
+            cdspd_counts k;
+            cdspd_stats_get(stats, &k);
+            if (cfg->frames > 0 && k.processed >= (uint64_t)cfg->frames)
+                LOG_I(MAIN, "--frames %d reached: stopping", cfg->frames);
+            else
+                LOG_I(MAIN, "the source has ended: stopping");
             break;
         }
         if (st == CDSPD_PIPE_RUNNING && !ready) {

@@ -76,6 +76,9 @@ static const key_def keys[] = {
      "datagram format: binary (docs/protocol.md) or json (one JSON object) (--format)"},
     {"duration", K_REAL, O(duration), 0, 1e9, NULL, "0",
      "stop after this many seconds, 0 = run until stopped (--duration)"},
+    {"frames", K_INT, O(frames), 0, 2e9, NULL, "0",
+     "stop once this many frames have been processed, 0 = no limit (--frames); with duration, "
+     "whichever comes first"},
     {"record", K_STR, O(record), 0, 0, NULL, "",
      "directory to save every record_every-th frame and its result in, empty = off (--record)"},
     {"record_every", K_INT, O(record_every), 1, 1e9, NULL, "25",

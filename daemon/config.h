@@ -46,6 +46,7 @@ typedef struct {
     cdspd_dest dest[CDSPD_MAX_DEST];
     int format;                    /* cdspd_format */
     double duration;               /* seconds, 0 = until stopped */
+    int frames;                    /* stop once this many were processed, 0 = no limit */
     char record[CDSPD_STR];        /* directory, "" = off */
     int record_every;
     int log_level;                 /* log.level, the default of every category */

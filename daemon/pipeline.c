@@ -59,7 +59,9 @@ struct cdspd_pipeline {
 static void set_state(cdspd_pipeline *p, cdspd_pipe_state s)
 {
     pthread_mutex_lock(&p->mu);
-    if (p->state != CDSPD_PIPE_FAILED)
+    /* both are final: a reopening source must not turn an ended stream
+     * (--frames reached, processing stopped) back into a running one */
+    if (p->state != CDSPD_PIPE_FAILED && p->state != CDSPD_PIPE_ENDED)
         p->state = s;
     pthread_mutex_unlock(&p->mu);
 }
@@ -386,6 +388,16 @@ static void *proc_main(void *arg)
                   (unsigned long)rec.seq, (unsigned long long)rec.frame_id,
                   cdspd_status_token(rec.status), rec.proc_us, rec.latency_us);
         processed++;
+        if (c->frames > 0) {
+            /* --frames: exactly that many processed (counted over reloads,
+             * like --duration), then the stream ends as a file source's does */
+            cdspd_counts k;
+            cdspd_stats_get(p->stats, &k);
+            if (k.processed >= (uint64_t)c->frames) {
+                set_state(p, CDSPD_PIPE_ENDED);
+                break;
+            }
+        }
     }
     free(buf);
     return NULL;

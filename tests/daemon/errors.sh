@@ -118,6 +118,16 @@ if [ -x "${NOTIFY_RX:-}" ] && "$CDSPD" --version | grep -q '^sd_notify: yes'; th
       "$(grep -m1 -n " STOPPING=1" "$work/notify.out" | cut -d: -f1)" ] || fail "READY after STOPPING"
 fi
 
+echo "--- --frames: a run of a known length"
+# exactly 12 frames processed (the processing thread ends the stream after
+# the 12th, whatever the machine's speed), then exit status 0
+start_cdspd df "${base[@]}" --set sim.rate=50 --set stats_interval=0 --frames 12 --duration 120
+wait_for "$df_pid" 150 || fail "cdspd --frames: exit status $?"
+grep -q -- "--frames 12 reached: stopping" "$work/df.log" || fail "cdspd --frames: no stop message"
+nproc=$(sed -n 's/.*final: .*processed \([0-9]*\) .*/\1/p' "$work/df.log")
+[ "${nproc:-0}" -eq 12 ] || fail "cdspd --frames 12 processed '$nproc' frames"
+echo "--frames 12: $nproc frames processed"
+
 echo "--- signals: SIGHUP with a broken file keeps running; a good one is applied"
 cat >"$work/run.yaml" <<YAML
 source: sim

@@ -53,10 +53,13 @@ finish() {
         fail "$missing poses without a LANDING_TARGET, cdspd replaced $replaced, held back $limited"
 }
 
+# Runs 1-3 stop after 100 processed frames (4 s at 25 fps on an idle
+# machine, longer on a loaded one, never fewer frames); --duration only
+# bounds a hang.
 echo "--- 1. udpout, default mount"
 start_mrx r1 --min-targets 10
 start_cdspd d1 "${common[@]}" --mavlink udpout://127.0.0.1:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
-    --duration 4
+    --frames 100 --duration 120
 finish r1 d1
 grep -q "sending MAVLink (system 1, component 191) to udpout://127.0.0.1:$MAV_PORT" "$work/d1.log" ||
     fail "no log line naming the link"
@@ -70,13 +73,13 @@ mhost=localhost
 getent ahosts localhost 2>/dev/null | head -n1 | grep -q '^127\.0\.0\.1 ' || mhost=127.0.0.1
 start_cdspd d2 "${common[@]}" --mavlink udpout://$mhost:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
     --set "mount=[down-right, 50, -20, 100]" --set mavlink_system_id=7 \
-    --set mavlink_component_id=42 --set mavlink_rate=10 --duration 4
+    --set mavlink_component_id=42 --set mavlink_rate=10 --frames 100 --duration 120
 finish r2 d2
 
 echo "--- 3. udpout, mount [10, -60, 30, 5, 0, -40], angles only (mavlink_position false)"
 start_mrx r3 --min-targets 10 --mount 10,-60,30,5,0,-40 --no-position
 start_cdspd d3 "${common[@]}" --mavlink udpout://127.0.0.1:$MAV_PORT --dest 127.0.0.1:$JSON_PORT \
-    --set "mount=[10, -60, 30, 5, 0, -40]" --set mavlink_position=false --duration 4
+    --set "mount=[10, -60, 30, 5, 0, -40]" --set mavlink_position=false --frames 100 --duration 120
 finish r3 d3
 
 echo "--- 4. serial through a pseudo-terminal that vanishes and comes back"

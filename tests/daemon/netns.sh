@@ -41,8 +41,9 @@ cat "$work/rx1.out"
 
 echo "--- broadcast and multicast"
 start_rx rx2 --bind 0.0.0.0:0 --duration 30 --idle 2 --min-poses 20
-start_cdspd d2 "${sim[@]}" --dest 127.255.255.255:$RX_PORT --duration 1.5
-wait_for "$d2_pid" 30 || fail "cdspd (broadcast) exit status $?"
+# 75 frames (1.5 s at 50 fps idle; never fewer on a loaded machine)
+start_cdspd d2 "${sim[@]}" --dest 127.255.255.255:$RX_PORT --frames 75 --duration 60
+wait_for "$d2_pid" 90 || fail "cdspd (broadcast) exit status $?"
 wait_for "$rx2_pid" 10 || fail "broadcast"
 cat "$work/rx2.out"
 port=$(( 40000 + RANDOM % 20000 ))
