@@ -414,19 +414,32 @@ void tool_help(const tool_doc *doc, const tool_opt *opts)
     fprintf(f, "EXIT STATUS\n%s", doc->exit_status);
 }
 
+/* ---- growing arrays ------------------------------------------------------- */
+
+void *tool_grow(void *p, size_t *cap, size_t n, size_t elem, size_t first)
+{
+    size_t c;
+    void *np;
+    if (n < *cap)
+        return p;
+    c = *cap ? 2 * *cap : first;
+    if (c < *cap || c > (size_t)-1 / elem) /* the doubling or the bytes overflow */
+        return NULL;
+    np = realloc(p, c * elem);
+    if (np)
+        *cap = c;
+    return np;
+}
+
 /* ---- frame lists ------------------------------------------------------------ */
 
 static int frames_push(tool_frames *f, const char *path)
 {
     char *copy;
-    if (f->n == f->cap) {
-        size_t cap = f->cap ? f->cap * 2 : 64;
-        char **np = realloc(f->path, cap * sizeof *np);
-        if (!np)
-            return -1;
-        f->path = np;
-        f->cap = cap;
-    }
+    char **np = tool_grow(f->path, &f->cap, f->n, sizeof *np, 64);
+    if (!np)
+        return -1;
+    f->path = np;
     copy = malloc(strlen(path) + 1);
     if (!copy)
         return -1;

@@ -62,14 +62,10 @@ static const char export_exit[] =
 
 static int add_part(parts *ps, const double a[3], const double b[3], double r, int camera)
 {
-    if (ps->n == ps->cap) {
-        size_t cap = ps->cap ? 2 * ps->cap : 16;
-        part *np = realloc(ps->p, cap * sizeof *np);
-        if (!np)
-            return -1;
-        ps->p = np;
-        ps->cap = cap;
-    }
+    part *np = tool_grow(ps->p, &ps->cap, ps->n, sizeof *np, 16);
+    if (!np)
+        return -1;
+    ps->p = np;
     memcpy(ps->p[ps->n].a, a, sizeof ps->p[0].a);
     memcpy(ps->p[ps->n].b, b, sizeof ps->p[0].b);
     ps->p[ps->n].r = r;

@@ -142,6 +142,12 @@ double tool_line_distance(const double X[3], const double q[3], const double v[3
 double tool_segment_rmse(const double a[3], const double b[3], const double q[3],
                          const double v[3], int samples);
 
+/* Room for element n of the array p (capacity *cap elements of elem bytes;
+ * NULL and 0 at first): p itself while n < *cap, else p reallocated to
+ * twice the capacity (first elements the first time) and *cap updated;
+ * NULL when out of memory, p then still valid and *cap unchanged. */
+void *tool_grow(void *p, size_t *cap, size_t n, size_t elem, size_t first);
+
 /* ------------------------------------------------------------------------
  * JSON records read back (tool_common.c), the one reader of export, plot
  * and compare: the file, its JSON Lines (or, where asked, one whole JSON

@@ -18,14 +18,10 @@
 
 static int push(tool_records *rs, tool_record **r)
 {
-    if (rs->n == rs->cap) {
-        size_t cap = rs->cap ? 2 * rs->cap : 256;
-        tool_record *nr = realloc(rs->r, cap * sizeof *nr);
-        if (!nr)
-            return -1;
-        rs->r = nr;
-        rs->cap = cap;
-    }
+    tool_record *nr = tool_grow(rs->r, &rs->cap, rs->n, sizeof *nr, 256);
+    if (!nr)
+        return -1;
+    rs->r = nr;
     *r = &rs->r[rs->n++];
     memset(*r, 0, sizeof **r);
     (*r)->t_us = (*r)->distance = (*r)->sigma_distance = (*r)->confidence = NAN;
