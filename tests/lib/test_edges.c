@@ -302,7 +302,7 @@ static void test_roi_capacity(void **state)
     assert_true(same_as_rows(ref, nref, edges, n));
     ep.roi.w = ep.roi.h = 0;
     /* 240 row points do not fit in 10: the rows are read at a coarser step,
-     * 128 px (64 has 8 rows, 16 points): rows 1 + 64 + 128 k, 4 rows of
+     * 128 px (64 gives 7 rows, 14 points): rows 1 + 64 + 128 k, 4 rows of
      * both contours, 8 points */
     assert_int_equal(cdsp_edges_detect(&img, &ep, edges, 10, &n), CDSP_E_CAPACITY);
     assert_int_equal(n, 8);
