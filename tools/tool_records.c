@@ -66,9 +66,10 @@ static int from_json(json_object *o, size_t line, void *ctx, const char **why)
         *why = "out of memory";
         return TOOL_JSONL_BAD;
     }
-    *why = "no \"status\"";
-    if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string))
+    if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string)) {
+        *why = "no \"status\"";
         return TOOL_JSONL_NOT_RECORD;
+    }
     status = json_object_get_string(st);
     /* the frame's file when the record names one (solve: "file"), else
      * its number ("frame") */
@@ -87,10 +88,11 @@ static int from_json(json_object *o, size_t line, void *ctx, const char **why)
                  json_object_object_get_ex(o, "error", &e) ? json_object_get_string(e) : status);
         return TOOL_JSONL_OK;
     }
-    *why = "an \"ok\" record without point, direction and distance";
     if (tool_json_vec(o, "point", r->point, 3) || tool_json_vec(o, "direction", r->direction, 3) ||
-        tool_json_num(o, "distance", &r->distance))
+        tool_json_num(o, "distance", &r->distance)) {
+        *why = "an \"ok\" record without point, direction and distance";
         return TOOL_JSONL_NOT_RECORD;
+    }
     r->ok = 1;
     if (json_object_object_get_ex(o, "sigma", &sig)) {
         if (tool_json_vec(sig, "point", r->sigma_point, 3))
