@@ -1,14 +1,16 @@
 /*
  * tool_common.c - what every subcommand of cdsp_tool shares: the option
  * table (parsing, range checks and the OPTIONS section of --help from the
- * same place), frame lists, progress on a terminal, and the geometry of the
- * paper's simulated scene.
+ * same place), frame lists, progress on a terminal, the geometry of the
+ * paper's simulated scene, and the reading of JSON records (export, plot,
+ * compare).
  */
 #define _POSIX_C_SOURCE 200809L
 #include "tool_internal.h"
 
 #include <dirent.h>
 #include <errno.h>
+#include <json-c/json.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -412,19 +414,32 @@ void tool_help(const tool_doc *doc, const tool_opt *opts)
     fprintf(f, "EXIT STATUS\n%s", doc->exit_status);
 }
 
+/* ---- growing arrays ------------------------------------------------------- */
+
+void *tool_grow(void *p, size_t *cap, size_t n, size_t elem, size_t first)
+{
+    size_t c;
+    void *np;
+    if (n < *cap)
+        return p;
+    c = *cap ? 2 * *cap : first;
+    if (c < *cap || c > (size_t)-1 / elem) /* the doubling or the bytes overflow */
+        return NULL;
+    np = realloc(p, c * elem);
+    if (np)
+        *cap = c;
+    return np;
+}
+
 /* ---- frame lists ------------------------------------------------------------ */
 
 static int frames_push(tool_frames *f, const char *path)
 {
     char *copy;
-    if (f->n == f->cap) {
-        size_t cap = f->cap ? f->cap * 2 : 64;
-        char **np = realloc(f->path, cap * sizeof *np);
-        if (!np)
-            return -1;
-        f->path = np;
-        f->cap = cap;
-    }
+    char **np = tool_grow(f->path, &f->cap, f->n, sizeof *np, 64);
+    if (!np)
+        return -1;
+    f->path = np;
     copy = malloc(strlen(path) + 1);
     if (!copy)
         return -1;
@@ -611,4 +626,142 @@ double tool_segment_rmse(const double a[3], const double b[3], const double q[3]
         sum += d * d;
     }
     return samples > 0 ? sqrt(sum / samples) : NAN;
+}
+
+/* ---- JSON records read back ----------------------------------------------- */
+
+/* Records files up to 1 GiB (a day of 30 Hz records is about 100 MiB). */
+#define TOOL_INPUT_MAX_BYTES ((size_t)1 << 30)
+
+int tool_read_input(const char *cmd, const char *path, void **buf, size_t *len,
+                    const char **name)
+{
+    cdsp_host_err err;
+    int std_in = strcmp(path, "-") == 0;
+    *name = std_in ? "(stdin)" : path;
+    if (cdsp_host_read_file(std_in ? "/dev/stdin" : path, TOOL_INPUT_MAX_BYTES, buf, len, &err) != 0)
+        return tool_usage_error(cmd, "%s", err.msg);
+    return 0;
+}
+
+static int json_number(json_object *e, double *v)
+{
+    if (!json_object_is_type(e, json_type_double) && !json_object_is_type(e, json_type_int))
+        return -1;
+    *v = json_object_get_double(e);
+    return isfinite(*v) ? 0 : -1;
+}
+
+int tool_json_num(json_object *o, const char *key, double *v)
+{
+    json_object *e;
+    if (!o || !json_object_object_get_ex(o, key, &e))
+        return -1;
+    return json_number(e, v);
+}
+
+int tool_json_array(json_object *a, double *v, int n)
+{
+    int i;
+    if (!a || !json_object_is_type(a, json_type_array) || (int)json_object_array_length(a) != n)
+        return -1;
+    for (i = 0; i < n; i++)
+        if (json_number(json_object_array_get_idx(a, (size_t)i), &v[i]) != 0)
+            return -1;
+    return 0;
+}
+
+int tool_json_vec(json_object *o, const char *key, double *v, int n)
+{
+    json_object *a;
+    if (!o || !json_object_object_get_ex(o, key, &a))
+        return -1;
+    return tool_json_array(a, v, n);
+}
+
+#define NOT_A_RECORD "not a cdsp_tool JSON record"
+
+/* The message of a refused record (line 0: the whole document). */
+static int refused(const char *cmd, const char *name, size_t line, int kind, const char *why)
+{
+    if (kind == TOOL_JSONL_NOT_RECORD)
+        return tool_usage_error(cmd, "%s: " NOT_A_RECORD " (line %zu): %s", name, line ? line : 1,
+                                why);
+    if (line)
+        return tool_usage_error(cmd, "%s:%zu: %s", name, line, why);
+    return tool_usage_error(cmd, "%s: %s", name, why);
+}
+
+/* The whole text one JSON object, nothing but white space after it: that
+ * object (the caller's to put), else NULL. */
+static json_object *whole_document(json_tokener *tok, const char *text, size_t len)
+{
+    json_object *o = json_tokener_parse_ex(tok, text, (int)(len < 0x7fffffff ? len : 0));
+    if (o && json_tokener_get_error(tok) == json_tokener_success &&
+        json_object_is_type(o, json_type_object)) {
+        size_t end = (size_t)json_tokener_get_parse_end(tok);
+        end += strspn(text + end, " \t\r\n");
+        if (end == len)
+            return o;
+    }
+    if (o)
+        json_object_put(o);
+    json_tokener_reset(tok);
+    return NULL;
+}
+
+int tool_jsonl_read(const char *cmd, const char *name, char *text, size_t len,
+                    const tool_jsonl *how, void *ctx)
+{
+    json_tokener *tok = json_tokener_new();
+    char *line, *next;
+    size_t lineno = 0;
+    const char *why = "";
+    int kind;
+    if (!tok)
+        return tool_usage_error(cmd, "out of memory");
+    if (how->whole_document) {
+        json_object *o = whole_document(tok, text, len);
+        if (o) {
+            kind = how->record(o, 0, ctx, &why);
+            json_object_put(o);
+            json_tokener_free(tok);
+            return kind ? refused(cmd, name, 0, kind, why) : 0;
+        }
+    }
+    for (line = text; line && *line; line = next) {
+        json_object *o;
+        next = strchr(line, '\n');
+        if (next)
+            *next++ = 0;
+        lineno++;
+        if (strspn(line, " \t\r") == strlen(line))
+            continue;
+        json_tokener_reset(tok);
+        o = json_tokener_parse_ex(tok, line, (int)strlen(line));
+        if (!o || json_tokener_get_error(tok) != json_tokener_success ||
+            !json_object_is_type(o, json_type_object)) {
+            enum json_tokener_error e = json_tokener_get_error(tok);
+            /* what the line is instead, in words: JSON cut short (json-c
+             * says "continue"), a CSV header or row, another JSON value */
+            const char *msg = e == json_tokener_continue ? "the JSON text ends mid-value"
+                              : e != json_tokener_success && how->csv_hint && strchr(line, ',') &&
+                                        line[strspn(line, " \t")] != '{'
+                                  ? how->csv_hint
+                              : e != json_tokener_success ? json_tokener_error_desc(e)
+                                                          : "a JSON value that is not an object";
+            if (o)
+                json_object_put(o);
+            json_tokener_free(tok);
+            return refused(cmd, name, lineno, TOOL_JSONL_NOT_RECORD, msg);
+        }
+        kind = how->record(o, lineno, ctx, &why);
+        json_object_put(o);
+        if (kind) {
+            json_tokener_free(tok);
+            return refused(cmd, name, lineno, kind, why);
+        }
+    }
+    json_tokener_free(tok);
+    return 0;
 }

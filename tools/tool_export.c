@@ -62,55 +62,16 @@ static const char export_exit[] =
 
 static int add_part(parts *ps, const double a[3], const double b[3], double r, int camera)
 {
-    if (ps->n == ps->cap) {
-        size_t cap = ps->cap ? 2 * ps->cap : 16;
-        part *np = realloc(ps->p, cap * sizeof *np);
-        if (!np)
-            return -1;
-        ps->p = np;
-        ps->cap = cap;
-    }
+    part *np = tool_grow(ps->p, &ps->cap, ps->n, sizeof *np, 16);
+    if (!np)
+        return -1;
+    ps->p = np;
     memcpy(ps->p[ps->n].a, a, sizeof ps->p[0].a);
     memcpy(ps->p[ps->n].b, b, sizeof ps->p[0].b);
     ps->p[ps->n].r = r;
     ps->p[ps->n].camera = camera;
     ps->n++;
     return 0;
-}
-
-/* An array of n finite numbers. */
-static int array_vec(json_object *a, double *v, int n)
-{
-    int i;
-    if (!json_object_is_type(a, json_type_array) || (int)json_object_array_length(a) != n)
-        return -1;
-    for (i = 0; i < n; i++) {
-        json_object *e = json_object_array_get_idx(a, (size_t)i);
-        if (!json_object_is_type(e, json_type_double) && !json_object_is_type(e, json_type_int))
-            return -1;
-        v[i] = json_object_get_double(e);
-        if (!isfinite(v[i]))
-            return -1;
-    }
-    return 0;
-}
-
-static int get_vec(json_object *o, const char *key, double *v, int n)
-{
-    json_object *a;
-    if (!json_object_object_get_ex(o, key, &a))
-        return -1;
-    return array_vec(a, v, n);
-}
-
-static int get_num(json_object *o, const char *key, double *v)
-{
-    json_object *e;
-    if (!json_object_object_get_ex(o, key, &e) ||
-        (!json_object_is_type(e, json_type_double) && !json_object_is_type(e, json_type_int)))
-        return -1;
-    *v = json_object_get_double(e);
-    return isfinite(*v) ? 0 : -1;
 }
 
 /* A segment from a point, a direction and a length, centred. */
@@ -123,10 +84,6 @@ static void centred(const double p[3], const double d[3], double len, double a[3
         b[i] = p[i] + 0.5 * len * d[i] / n;
     }
 }
-
-/* The complaint about input that is not what solve writes at all; the
- * caller adds the line number. */
-#define NOT_A_RECORD "not a cdsp_tool JSON record"
 
 /* Coordinates and radii the mesh takes, unit of the radius: beyond them a
  * vertex (an end +- r along two unit vectors) or a difference of two ends
@@ -167,7 +124,7 @@ static int nonzero(const double d[3])
 static int from_pose(json_object *o, double r, const export_opts *E, parts *ps, const char **why)
 {
     double seg[2][3], point[3], dir[3], len;
-    if (get_vec(o, "point", point, 3) || get_vec(o, "direction", dir, 3)) {
+    if (tool_json_vec(o, "point", point, 3) || tool_json_vec(o, "direction", dir, 3)) {
         *why = "\"point\" or \"direction\" missing or not three numbers";
         return -1;
     }
@@ -175,8 +132,8 @@ static int from_pose(json_object *o, double r, const export_opts *E, parts *ps, 
         json_object *sg;
         if (!json_object_object_get_ex(o, "segment", &sg) ||
             !json_object_is_type(sg, json_type_array) || json_object_array_length(sg) != 2 ||
-            array_vec(json_object_array_get_idx(sg, 0), seg[0], 3) != 0 ||
-            array_vec(json_object_array_get_idx(sg, 1), seg[1], 3) != 0) {
+            tool_json_array(json_object_array_get_idx(sg, 0), seg[0], 3) != 0 ||
+            tool_json_array(json_object_array_get_idx(sg, 1), seg[1], 3) != 0) {
             *why = "\"segment\" is not two points";
             return -1;
         }
@@ -201,19 +158,20 @@ static int from_pose(json_object *o, double r, const export_opts *E, parts *ps, 
 
 /* One solve record; the pipes added (every entry of "pipes" when the
  * record has it, from solve --all or cdspd multi_pipe; else the record's
- * own pose), 0 for an error record, -1 malformed. */
+ * own pose), 0 for an error record, -1 malformed, -2 not a record at all
+ * (no "status"). */
 static int from_record(json_object *o, const export_opts *E, parts *ps, const char **why)
 {
     json_object *st, *pipes;
     double r = E->radius;
     size_t i, n;
     if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string)) {
-        *why = NOT_A_RECORD " (no \"status\")";
-        return -1;
+        *why = "no \"status\"";
+        return -2;
     }
     if (strcmp(json_object_get_string(st), "ok") != 0)
         return 0;
-    if (!(r > 0) && get_num(o, "radius", &r) != 0) {
+    if (!(r > 0) && tool_json_num(o, "radius", &r) != 0) {
         *why = "no \"radius\" (give --radius)";
         return -1;
     }
@@ -243,7 +201,7 @@ static int from_truth(json_object *o, const export_opts *E, parts *ps, const cha
     double r = E->radius;
     size_t i, n;
     int added = 0;
-    if (!(r > 0) && get_num(o, "radius", &r) != 0) {
+    if (!(r > 0) && tool_json_num(o, "radius", &r) != 0) {
         *why = "no \"radius\"";
         return -1;
     }
@@ -256,8 +214,8 @@ static int from_truth(json_object *o, const export_opts *E, parts *ps, const cha
     for (i = 0; i < n; i++) {
         json_object *f = json_object_array_get_idx(frames, i);
         double p[3], d[3], half, a[3], b[3];
-        if (get_vec(f, "axis_point", p, 3) || get_vec(f, "axis_dir", d, 3) ||
-            get_num(f, "half_length", &half)) {
+        if (tool_json_vec(f, "axis_point", p, 3) || tool_json_vec(f, "axis_dir", d, 3) ||
+            tool_json_num(f, "half_length", &half)) {
             *why = "a frame without axis_point, axis_dir, half_length";
             return -1;
         }
@@ -277,99 +235,46 @@ static int from_truth(json_object *o, const export_opts *E, parts *ps, const cha
     return added;
 }
 
+/* What export reads: each line of solve's JSON Lines (from_record), or a
+ * file that is one JSON document: sim's truth.json (it has "frames") or a
+ * single record, pretty-printed or not. */
+typedef struct {
+    const export_opts *E;
+    parts *ps;
+    int pipes;
+} export_input;
+
+static int export_record(json_object *o, size_t line, void *ctx, const char **why)
+{
+    export_input *in = ctx;
+    int k = line == 0 && json_object_object_get_ex(o, "frames", NULL)
+                ? from_truth(o, in->E, in->ps, why)
+                : from_record(o, in->E, in->ps, why);
+    if (k < 0)
+        return k == -2 ? TOOL_JSONL_NOT_RECORD : TOOL_JSONL_BAD;
+    in->pipes += k;
+    return TOOL_JSONL_OK;
+}
+
+static const tool_jsonl export_jsonl = {
+    export_record, 1, "it looks like CSV; export reads JSON Lines (solve without --csv)"};
+
 static int read_input(const char *path, const export_opts *E, parts *ps, int *pipes)
 {
     void *buf;
-    size_t len, lineno = 0;
-    cdsp_host_err err;
-    char *text, *line, *next;
-    json_tokener *tok;
-    const char *name = strcmp(path, "-") == 0 ? "(stdin)" : path;
-    if (strcmp(path, "-") == 0)
-        path = "/dev/stdin";
-    if (cdsp_host_read_file(path, (size_t)1 << 30, &buf, &len, &err) != 0)
-        return tool_usage_error("export", "%s", err.msg);
-    text = buf;
-    tok = json_tokener_new();
-    if (!tok) {
-        free(buf);
-        return tool_usage_error("export", "out of memory");
-    }
-    /* a whole-file document (truth.json, or a single pretty-printed record) */
-    {
-        json_object *o = json_tokener_parse_ex(tok, text, (int)(len < 0x7fffffff ? len : 0));
-        if (o && json_tokener_get_error(tok) == json_tokener_success &&
-            json_object_is_type(o, json_type_object)) {
-            size_t end = (size_t)json_tokener_get_parse_end(tok);
-            while (end < len && (text[end] == ' ' || text[end] == '\n' || text[end] == '\r' ||
-                                 text[end] == '\t'))
-                end++;
-            if (end == len) {
-                const char *why = "";
-                int k = json_object_object_get_ex(o, "frames", NULL) ? from_truth(o, E, ps, &why)
-                                                                      : from_record(o, E, ps, &why);
-                json_object_put(o);
-                json_tokener_free(tok);
-                free(buf);
-                if (k < 0 && strncmp(why, NOT_A_RECORD, strlen(NOT_A_RECORD)) == 0)
-                    return tool_usage_error("export", "%s: " NOT_A_RECORD " (line 1)%s", name,
-                                            why + strlen(NOT_A_RECORD));
-                if (k < 0)
-                    return tool_usage_error("export", "%s: %s", name, why);
-                *pipes += k;
-                return 0;
-            }
-        }
-        if (o)
-            json_object_put(o);
-        json_tokener_reset(tok);
-    }
-    /* JSON Lines */
-    for (line = text; line && *line; line = next) {
-        json_object *o;
-        const char *why = "";
-        int k;
-        next = strchr(line, '\n');
-        if (next)
-            *next++ = 0;
-        lineno++;
-        if (strspn(line, " \t\r") == strlen(line))
-            continue;
-        json_tokener_reset(tok);
-        o = json_tokener_parse_ex(tok, line, (int)strlen(line));
-        if (!o || json_tokener_get_error(tok) != json_tokener_success ||
-            !json_object_is_type(o, json_type_object)) {
-            enum json_tokener_error e = json_tokener_get_error(tok);
-            /* what the line is instead, in words: a CSV header or row, JSON
-             * cut short (json-c says "continue"), or another JSON value */
-            const char *msg = e == json_tokener_continue ? "the JSON text ends mid-value"
-                              : e != json_tokener_success && strchr(line, ',') &&
-                                        line[strspn(line, " \t")] != '{'
-                                  ? "it looks like CSV; export reads JSON Lines (solve without --csv)"
-                              : e != json_tokener_success ? json_tokener_error_desc(e)
-                                                          : "a JSON value that is not an object";
-            if (o)
-                json_object_put(o);
-            json_tokener_free(tok);
-            free(buf);
-            return tool_usage_error("export", "%s: " NOT_A_RECORD " (line %zu): %s", name, lineno,
-                                    msg);
-        }
-        k = from_record(o, E, ps, &why);
-        json_object_put(o);
-        if (k < 0) {
-            json_tokener_free(tok);
-            free(buf);
-            if (strncmp(why, NOT_A_RECORD, strlen(NOT_A_RECORD)) == 0)
-                return tool_usage_error("export", "%s: " NOT_A_RECORD " (line %zu)%s", name,
-                                        lineno, why + strlen(NOT_A_RECORD));
-            return tool_usage_error("export", "%s:%zu: %s", name, lineno, why);
-        }
-        *pipes += k;
-    }
-    json_tokener_free(tok);
+    size_t len;
+    const char *name;
+    export_input in;
+    int rc;
+    if (tool_read_input("export", path, &buf, &len, &name) != 0)
+        return TOOL_EXIT_USAGE;
+    in.E = E;
+    in.ps = ps;
+    in.pipes = 0;
+    rc = tool_jsonl_read("export", name, buf, len, &export_jsonl, &in);
     free(buf);
-    return 0;
+    *pipes += in.pipes;
+    return rc;
 }
 
 /* ---- mesh --------------------------------------------------------------------- */

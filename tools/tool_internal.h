@@ -142,6 +142,58 @@ double tool_line_distance(const double X[3], const double q[3], const double v[3
 double tool_segment_rmse(const double a[3], const double b[3], const double q[3],
                          const double v[3], int samples);
 
+/* Room for element n of the array p (capacity *cap elements of elem bytes;
+ * NULL and 0 at first): p itself while n < *cap, else p reallocated to
+ * twice the capacity (first elements the first time) and *cap updated;
+ * NULL when out of memory, p then still valid and *cap unchanged. */
+void *tool_grow(void *p, size_t *cap, size_t n, size_t elem, size_t first);
+
+/* ------------------------------------------------------------------------
+ * JSON records read back (tool_common.c), the one reader of export, plot
+ * and compare: the file, its JSON Lines (or, where asked, one whole JSON
+ * document), the numbers and vectors of a record's fields.
+ * ---------------------------------------------------------------------- */
+struct json_object;
+
+/* Whole FILE ("-": standard input) into *buf (malloc'd, NUL appended), at
+ * most 1 GiB (a day of 30 Hz records is about 100 MiB); *name is what
+ * messages call it ("(stdin)" for "-"). 0, or TOOL_EXIT_USAGE after a
+ * message. */
+int tool_read_input(const char *cmd, const char *path, void **buf, size_t *len,
+                    const char **name);
+
+/* A finite number (JSON int or double) at key of object o / an array of
+ * exactly n finite numbers, a itself or at key of o. 0, else -1 (absent,
+ * another type, another length, not finite; o or a NULL: absent). */
+int tool_json_num(struct json_object *o, const char *key, double *v);
+int tool_json_array(struct json_object *a, double *v, int n);
+int tool_json_vec(struct json_object *o, const char *key, double *v, int n);
+
+/* What a record callback returns: taken, or why not (a static string in
+ * *why): NOT_RECORD says "FILE: not a cdsp_tool JSON record (line N): why"
+ * (the object is no record at all), BAD "FILE:N: why" (a record with a
+ * field the command cannot use). */
+enum { TOOL_JSONL_OK = 0, TOOL_JSONL_NOT_RECORD = 1, TOOL_JSONL_BAD = 2 };
+
+/* How a command reads its JSON: the callback gets each object and its
+ * line (0: the whole file as one document). The differences between the
+ * commands are these fields, not copies of the loop. */
+typedef struct {
+    int (*record)(struct json_object *o, size_t line, void *ctx, const char **why);
+    int whole_document; /* a file that is one JSON object (truth.json, a
+                           pretty-printed record) is one record, line 0 */
+    const char *csv_hint; /* said of a line that looks like CSV (a comma,
+                             no '{' first); NULL: the command reads CSV
+                             elsewhere, nothing to hint */
+} tool_jsonl;
+
+/* Every non-blank line of text (len bytes, NUL-terminated, modified) as a
+ * JSON object handed to how->record, in order, stopping at the first that
+ * is not one or is refused. 0, or TOOL_EXIT_USAGE after the message naming
+ * `name` and the line. */
+int tool_jsonl_read(const char *cmd, const char *name, char *text, size_t len,
+                    const tool_jsonl *how, void *ctx);
+
 /* ------------------------------------------------------------------------
  * Records read back (tool_records.c): solve's JSON Lines or CSV, cdspd's
  * JSON, for plot and compare; sim's truth.json.

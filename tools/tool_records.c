@@ -16,19 +16,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Records files up to 1 GiB (a day of 30 Hz records is about 100 MiB). */
-#define RECORDS_MAX_BYTES ((size_t)1 << 30)
-
 static int push(tool_records *rs, tool_record **r)
 {
-    if (rs->n == rs->cap) {
-        size_t cap = rs->cap ? 2 * rs->cap : 256;
-        tool_record *nr = realloc(rs->r, cap * sizeof *nr);
-        if (!nr)
-            return -1;
-        rs->r = nr;
-        rs->cap = cap;
-    }
+    tool_record *nr = tool_grow(rs->r, &rs->cap, rs->n, sizeof *nr, 256);
+    if (!nr)
+        return -1;
+    rs->r = nr;
     *r = &rs->r[rs->n++];
     memset(*r, 0, sizeof **r);
     (*r)->t_us = (*r)->distance = (*r)->sigma_distance = (*r)->confidence = NAN;
@@ -58,134 +51,69 @@ static char *dup_str(const char *s)
     return d;
 }
 
-/* ---- JSON -------------------------------------------------------------------- */
+/* ---- JSON (the lines read by tool_jsonl_read, tool_common.c) ------------------ */
 
-static int jnum(json_object *o, const char *key, double *v)
+/* One record object; TOOL_JSONL_OK, or NOT_RECORD with the reason it is
+ * not one. */
+static int from_json(json_object *o, size_t line, void *ctx, const char **why)
 {
-    json_object *e;
-    if (!o || !json_object_object_get_ex(o, key, &e) ||
-        (!json_object_is_type(e, json_type_double) && !json_object_is_type(e, json_type_int)))
-        return -1;
-    *v = json_object_get_double(e);
-    return isfinite(*v) ? 0 : -1;
-}
-
-static int jvec(json_object *o, const char *key, double *v, int n)
-{
-    json_object *a;
-    int i;
-    if (!o || !json_object_object_get_ex(o, key, &a) || !json_object_is_type(a, json_type_array) ||
-        (int)json_object_array_length(a) != n)
-        return -1;
-    for (i = 0; i < n; i++) {
-        json_object *e = json_object_array_get_idx(a, (size_t)i);
-        if (!json_object_is_type(e, json_type_double) && !json_object_is_type(e, json_type_int))
-            return -1;
-        v[i] = json_object_get_double(e);
-        if (!isfinite(v[i]))
-            return -1;
-    }
-    return 0;
-}
-
-/* One record object; NULL or the reason it is not one. */
-static const char *from_json(json_object *o, tool_record *r)
-{
+    tool_records *rs = ctx;
+    tool_record *r;
     json_object *st, *fr, *sig, *seg;
     const char *status;
-    if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string))
-        return "no \"status\"";
+    (void)line;
+    if (push(rs, &r) != 0) {
+        *why = "out of memory";
+        return TOOL_JSONL_BAD;
+    }
+    if (!json_object_object_get_ex(o, "status", &st) || !json_object_is_type(st, json_type_string)) {
+        *why = "no \"status\"";
+        return TOOL_JSONL_NOT_RECORD;
+    }
     status = json_object_get_string(st);
     /* the frame's file when the record names one (solve: "file"), else
      * its number ("frame") */
     if (json_object_object_get_ex(o, "file", &fr) || json_object_object_get_ex(o, "frame", &fr)) {
         r->frame = dup_str(json_object_get_string(fr));
-        if (!r->frame)
-            return "out of memory";
+        if (!r->frame) {
+            *why = "out of memory";
+            return TOOL_JSONL_BAD;
+        }
     }
-    if (jnum(o, "t_camera_us", &r->t_us) != 0 && jnum(o, "t_host_us", &r->t_us) != 0)
+    if (tool_json_num(o, "t_camera_us", &r->t_us) != 0 && tool_json_num(o, "t_host_us", &r->t_us) != 0)
         r->t_us = NAN;
     if (strcmp(status, "ok") != 0) {
         json_object *e;
         snprintf(r->error, sizeof r->error, "%s",
                  json_object_object_get_ex(o, "error", &e) ? json_object_get_string(e) : status);
-        return NULL;
+        return TOOL_JSONL_OK;
     }
-    if (jvec(o, "point", r->point, 3) || jvec(o, "direction", r->direction, 3) ||
-        jnum(o, "distance", &r->distance))
-        return "an \"ok\" record without point, direction and distance";
+    if (tool_json_vec(o, "point", r->point, 3) || tool_json_vec(o, "direction", r->direction, 3) ||
+        tool_json_num(o, "distance", &r->distance)) {
+        *why = "an \"ok\" record without point, direction and distance";
+        return TOOL_JSONL_NOT_RECORD;
+    }
     r->ok = 1;
     if (json_object_object_get_ex(o, "sigma", &sig)) {
-        if (jvec(sig, "point", r->sigma_point, 3))
+        if (tool_json_vec(sig, "point", r->sigma_point, 3))
             r->sigma_point[0] = r->sigma_point[1] = r->sigma_point[2] = NAN;
-        if (jvec(sig, "direction", r->sigma_direction, 3))
+        if (tool_json_vec(sig, "direction", r->sigma_direction, 3))
             r->sigma_direction[0] = r->sigma_direction[1] = r->sigma_direction[2] = NAN;
-        if (jnum(sig, "distance", &r->sigma_distance))
+        if (tool_json_num(sig, "distance", &r->sigma_distance))
             r->sigma_distance = NAN;
     }
     if (json_object_object_get_ex(o, "segment", &seg) && json_object_is_type(seg, json_type_array) &&
-        json_object_array_length(seg) == 2) {
-        json_object *pair = json_object_new_object();
-        if (pair) {
-            json_object_object_add(pair, "a", json_object_get(json_object_array_get_idx(seg, 0)));
-            json_object_object_add(pair, "b", json_object_get(json_object_array_get_idx(seg, 1)));
-            r->have_segment = jvec(pair, "a", r->segment[0], 3) == 0 &&
-                              jvec(pair, "b", r->segment[1], 3) == 0;
-            json_object_put(pair);
-        }
-    }
-    if (jnum(o, "confidence", &r->confidence))
+        json_object_array_length(seg) == 2)
+        r->have_segment = tool_json_array(json_object_array_get_idx(seg, 0), r->segment[0], 3) == 0 &&
+                          tool_json_array(json_object_array_get_idx(seg, 1), r->segment[1], 3) == 0;
+    if (tool_json_num(o, "confidence", &r->confidence))
         r->confidence = NAN;
-    return NULL;
+    return TOOL_JSONL_OK;
 }
 
-static int read_jsonl(const char *cmd, const char *name, char *text, tool_records *rs)
-{
-    json_tokener *tok = json_tokener_new();
-    char *line, *next;
-    size_t lineno = 0;
-    if (!tok)
-        return tool_usage_error(cmd, "out of memory");
-    for (line = text; line && *line; line = next) {
-        json_object *o;
-        tool_record *r;
-        const char *why;
-        next = strchr(line, '\n');
-        if (next)
-            *next++ = 0;
-        lineno++;
-        if (strspn(line, " \t\r") == strlen(line))
-            continue;
-        json_tokener_reset(tok);
-        o = json_tokener_parse_ex(tok, line, (int)strlen(line));
-        if (!o || json_tokener_get_error(tok) != json_tokener_success ||
-            !json_object_is_type(o, json_type_object)) {
-            enum json_tokener_error e = json_tokener_get_error(tok);
-            if (o)
-                json_object_put(o);
-            json_tokener_free(tok);
-            return tool_usage_error(cmd, "%s: not a cdsp_tool JSON record (line %zu): %s", name,
-                                    lineno,
-                                    e == json_tokener_continue ? "the JSON text ends mid-value"
-                                    : e != json_tokener_success ? json_tokener_error_desc(e)
-                                                                : "not a JSON object");
-        }
-        if (push(rs, &r) != 0) {
-            json_object_put(o);
-            json_tokener_free(tok);
-            return tool_usage_error(cmd, "out of memory");
-        }
-        why = from_json(o, r);
-        json_object_put(o);
-        if (why) {
-            json_tokener_free(tok);
-            return tool_usage_error(cmd, "%s: not a cdsp_tool JSON record (line %zu): %s", name,
-                                    lineno, why);
-        }
-    }
-    json_tokener_free(tok);
-    return 0;
-}
+/* plot and compare: JSON Lines only (a pretty-printed record is not what
+ * solve or cdspd write), CSV read by read_csv below, so no CSV hint. */
+static const tool_jsonl records_jsonl = {from_json, 0, NULL};
 
 /* ---- CSV ------------------------------------------------------------------------ */
 
@@ -364,19 +292,17 @@ int tool_records_read(const char *cmd, const char *path, tool_records *rs)
 {
     void *buf;
     size_t len;
-    cdsp_host_err err;
-    const char *name = strcmp(path, "-") == 0 ? "(stdin)" : path;
+    const char *name;
     char *text;
     size_t lead;
     int rc;
     memset(rs, 0, sizeof *rs);
-    if (cdsp_host_read_file(strcmp(path, "-") == 0 ? "/dev/stdin" : path, RECORDS_MAX_BYTES, &buf,
-                            &len, &err) != 0)
-        return tool_usage_error(cmd, "%s", err.msg);
+    if (tool_read_input(cmd, path, &buf, &len, &name) != 0)
+        return TOOL_EXIT_USAGE;
     text = buf;
     lead = strspn(text, " \t\r\n");
     if (text[lead] == '{')
-        rc = read_jsonl(cmd, name, text, rs);
+        rc = tool_jsonl_read(cmd, name, text, len, &records_jsonl, rs);
     else if (strncmp(text + lead, "frame,", 6) == 0 || strstr(text, ",status,"))
         rc = read_csv(cmd, name, text, len, rs);
     else if (lead == len)
@@ -406,11 +332,11 @@ int tool_truth_read(const char *cmd, const char *path, tool_truth *t)
 {
     void *buf;
     size_t len, i;
-    cdsp_host_err err;
+    const char *what;
     json_object *o, *frames;
     memset(t, 0, sizeof *t);
-    if (cdsp_host_read_file(path, RECORDS_MAX_BYTES, &buf, &len, &err) != 0)
-        return tool_usage_error(cmd, "%s", err.msg);
+    if (tool_read_input(cmd, path, &buf, &len, &what) != 0)
+        return TOOL_EXIT_USAGE;
     o = json_tokener_parse(buf);
     free(buf);
     if (!o || !json_object_object_get_ex(o, "frames", &frames) ||
@@ -418,9 +344,9 @@ int tool_truth_read(const char *cmd, const char *path, tool_truth *t)
         if (o)
             json_object_put(o);
         return tool_usage_error(cmd, "%s: not a truth.json of cdsp_tool sim (no \"frames\" list)",
-                                path);
+                                what);
     }
-    if (jnum(o, "radius", &t->radius))
+    if (tool_json_num(o, "radius", &t->radius))
         t->radius = NAN;
     t->n = json_object_array_length(frames);
     t->f = calloc(t->n ? t->n : 1, sizeof *t->f);
@@ -437,14 +363,14 @@ int tool_truth_read(const char *cmd, const char *path, tool_truth *t)
              json_object_object_get_ex(f, "frame", &name)) &&
             json_object_is_type(name, json_type_string))
             tf->frame = dup_str(json_object_get_string(name));
-        if (jvec(f, "point", tf->point, 3) || jvec(f, "direction", tf->direction, 3) ||
-            jnum(f, "distance", &tf->distance)) {
+        if (tool_json_vec(f, "point", tf->point, 3) || tool_json_vec(f, "direction", tf->direction, 3) ||
+            tool_json_num(f, "distance", &tf->distance)) {
             json_object_put(o);
             tool_truth_free(t);
             return tool_usage_error(cmd, "%s: frame %zu of \"frames\" has no point, direction "
-                                    "and distance", path, i);
+                                    "and distance", what, i);
         }
-        if (jnum(f, "half_length", &tf->half_length))
+        if (tool_json_num(f, "half_length", &tf->half_length))
             tf->half_length = 0;
     }
     json_object_put(o);

@@ -150,13 +150,16 @@ grep -v '^#' "$table" | grep '|' | while IFS='|' read -r id file from to suites 
     done
     btargets=$(echo $btargets | tr ' ' '\n' | sort -u | tr '\n' ' ')
     { echo "mutant $id: $file: '$from' -> '$to'"; echo "$what"; } >"$log"
-    if ! build_targets "$dir" $btargets >>"$log" 2>&1; then
+    # (stdin from /dev/null: the loop reads the table from stdin, and a
+    # suite that reads its own, cdsp_tool's "-" inputs, would take the
+    # rows left)
+    if ! build_targets "$dir" $btargets >>"$log" 2>&1 </dev/null; then
         echo "BROKEN $id: does not build ($what); see $log"
         echo "broken $id" >>"$out/score"
         rm -rf "$dir"
         continue
     fi
-    run_suites "$dir" "$log" $suites
+    run_suites "$dir" "$log" $suites </dev/null
     case $? in
     0) echo "missed  $id${tab}$file: $what"; echo "missed $id" >>"$out/score" ;;
     1) echo "caught  $id${tab}by $failed${tab}$file: $what"; echo "caught $id" >>"$out/score" ;;
