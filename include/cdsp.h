@@ -539,6 +539,10 @@ typedef struct {
                                which the detector handles exactly */
     int saturated;          /* 1: part of the profile sits at full scale */
     uint32_t rows;          /* scanlines accumulated */
+    cdsp_real shadow;       /* the limb in shadow: the pipe side is flat
+                               (ambient light only) from the silhouette to
+                               this distance, px (the terminator); 0: lit
+                               up to the limb */
 } cdsp_profile;
 
 /*
