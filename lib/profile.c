@@ -333,9 +333,9 @@ static cdsp_real fit_pipe(const cdsp_profile_ws *ws, const cdsp_real *ub, const 
  * background D + E x, the pipe side (fit_pipe) with its terminator. A
  * shadowed limb is the unclipped model's misfit (its chi-square reached
  * 0.6-1.2 on the paper's and the rack's scenes, with offsets of 0.2 px
- * and more); the terminator is searched on a 1/4 px grid over the zone
- * (whole zone with search = 1, else +-1 px about the last one) and kept
- * when it is significant: F = (RSS_0 - RSS_t) / (RSS_t / dof) > 10, as
+ * and more); the terminator is searched on a 1 px grid over the zone
+ * (search = 1; else refined about the last one) and kept when it is
+ * significant: F = (RSS_0 - RSS_t) / (RSS_t / dof) > 10, as
  * the limb term's test in model_solve. */
 static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *mb, cdsp_real d,
                      cdsp_real z, cdsp_real W, cdsp_real s2, int search, sides *m)
@@ -373,34 +373,64 @@ static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_
     bestSt = R(0);
     if ((!search && !(m->St > R(0))) || npp < 8) /* a terminator wants 8 bins at least */
         return fit_pipe(ws, ub, mb, d, z, W, s2, R(0), m) >= R(0);
-    lo = search ? z : m->St - R(1);
-    hi = search ? W - R(1.5) : m->St + R(1);
-    if (lo < z)
-        lo = z;
-    if (hi > W - R(1.5))
-        hi = W - R(1.5); /* 6 bins beyond it at least */
-    for (t = lo; t <= hi; t += R(1) / R(BPP)) {
-        cdsp_real r = fit_pipe(ws, ub, mb, d, z, W, s2, t, &trial);
-        if (r >= R(0) && r < best) {
-            best = r;
-            bestSt = t;
+    lo = z;
+    hi = W - R(1.5); /* 6 bins beyond it at least */
+    if (search) {
+        /* the whole zone on a 1 px grid first */
+        for (t = lo; t <= hi; t += R(1)) {
+            cdsp_real r = fit_pipe(ws, ub, mb, d, z, W, s2, t, &trial);
+            if (r >= R(0) && r < best) {
+                best = r;
+                bestSt = t;
+            }
+        }
+    } else {
+        best = fit_pipe(ws, ub, mb, d, z, W, s2, m->St, &trial);
+        bestSt = m->St;
+        if (best < R(0)) {
+            best = rss0;
+            bestSt = R(0);
         }
     }
     if (bestSt > R(0)) {
-        /* between the grid's points: the vertex of the parabola through
-         * the RSS at bestSt and 1/4 px either side (the level of the
-         * shadow, A, follows the terminator through the continuity there:
-         * on the rendered limbs a 0.05 px error in St moved the
-         * silhouette by 0.01 px) */
-        cdsp_real h = R(1) / R(BPP), rl = fit_pipe(ws, ub, mb, d, z, W, s2, bestSt - h, &trial),
-                  rr = fit_pipe(ws, ub, mb, d, z, W, s2, bestSt + h, &trial), den = rl - R(2) * best + rr;
-        if (rl >= R(0) && rr >= R(0) && den > R(0)) {
-            cdsp_real st = bestSt + h * (rl - rr) / (R(2) * den), r;
-            r = fit_pipe(ws, ub, mb, d, z, W, s2, st, &trial);
-            if (r >= R(0) && r < best) {
-                best = r;
-                bestSt = st;
+        /* between the grid's points: golden-section search of the RSS on
+         * bestSt +- 1 px after the grid, +- 1/4 px about the last
+         * iteration's terminator, to 0.01 px (the level of the shadow, A,
+         * follows the terminator through the continuity there: on the
+         * rendered limbs a 0.05 px error in St moved the silhouette by
+         * 0.01 px; parabolic steps went astray on the binned RSS) */
+        const cdsp_real g = R(0.3819660112501051);
+        cdsp_real xa = bestSt - (search ? R(1) : R(0.25)), xd = bestSt + (search ? R(1) : R(0.25)), x1, x2, f1, f2;
+        if (xa < lo)
+            xa = lo;
+        if (xd > hi)
+            xd = hi;
+        x1 = xa + g * (xd - xa);
+        x2 = xd - g * (xd - xa);
+        f1 = fit_pipe(ws, ub, mb, d, z, W, s2, x1, &trial);
+        f2 = fit_pipe(ws, ub, mb, d, z, W, s2, x2, &trial);
+        while (xd - xa > R(0.01) && f1 >= R(0) && f2 >= R(0)) {
+            if (f1 < f2) {
+                xd = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = xa + g * (xd - xa);
+                f1 = fit_pipe(ws, ub, mb, d, z, W, s2, x1, &trial);
+            } else {
+                xa = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = xd - g * (xd - xa);
+                f2 = fit_pipe(ws, ub, mb, d, z, W, s2, x2, &trial);
             }
+        }
+        if (f1 >= R(0) && f1 < best) {
+            best = f1;
+            bestSt = x1;
+        }
+        if (f2 >= R(0) && f2 < best) {
+            best = f2;
+            bestSt = x2;
         }
     }
     if (!(bestSt > R(0) && rss0 - best > R(10) * best / (cdsp_real)(npp - 4)))

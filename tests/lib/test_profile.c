@@ -149,11 +149,18 @@ static void test_lambertian_limb(void **state)
  * rack's light (l_n -0.65, l_v 0.62: phi_t 46.4 degrees), pipe 250 on 60
  * (100 gray levels of contrast in the shadow), noise-free 16 bit, limb
  * radii 40 and 50 px (terminator 12.4, 15.5 px). Measured: offset within
- * 5.6e-4 px of the silhouette, terminator within 0.022 px, double and
- * float; tolerances 1.5e-3 px (2.7x) and 0.05 px (2.3x). */
+ * 5e-5 px of the silhouette in double, 3.2e-4 px in float (the RSS of
+ * the terminator's search is flat to float's precision near its
+ * minimum), terminator within 0.006 px (float 0.009); tolerances 1.5e-4
+ * and 1e-3 px (3x), 0.03 px. */
 static void test_shadowed_limb(void **state)
 {
     static const double radii[] = {40, 50}, angles[] = {0.7, 22.5};
+#ifdef CDSP_SINGLE
+    const double tol = 1e-3;
+#else
+    const double tol = 1.5e-4;
+#endif
     size_t r, a;
     (void)state;
     for (r = 0; r < 2; r++)
@@ -175,9 +182,9 @@ static void test_shadowed_limb(void **state)
                 print_message("radius %g angle %g: offset %.5f (want -0.4) shadow %.3f (want %.3f) chi2 %.4f\n",
                               radii[r], angles[a], (double)pr.offset, (double)pr.shadow, want_st,
                               (double)pr.fit_chi2);
-            if (fabs((double)pr.offset + 0.4) > 1.5e-3)
+            if (fabs((double)pr.offset + 0.4) > tol)
                 fail_msg("radius %g angle %g: offset %.5f, want -0.4", radii[r], angles[a], (double)pr.offset);
-            if (fabs((double)pr.shadow - want_st) > 0.05)
+            if (fabs((double)pr.shadow - want_st) > 0.03)
                 fail_msg("radius %g angle %g: shadow %.3f, want %.3f", radii[r], angles[a], (double)pr.shadow,
                          want_st);
         }
