@@ -31,16 +31,21 @@
  *     int_a^b O du = int_a^b S du + (s2 / 2) (S'(b) - S'(a))         (1)
  * (the second term is what K carries over the window's ends where S has a
  * slope; O(K's fourth moment x S''') neglected). With the sides fitted to
- * the bins outside the blur zone (|u - d| >= z = 3 sqrt(s2) + 1), (1) is
+ * the bins outside the blur zone (|u - d| >= z = 3.5 sqrt(s2) + 1.5), (1) is
  * one equation in d: Newton, from the line (d = 0). The blur itself comes
- * from the first moment, int (u - d)(O - S) du = -J s2 / 2 for a jump J at
- * d (exact for a step; the sides' curvature adds a little, which only
- * widens z). Fit, solve, measure the blur, adapt z and W, repeat.
+ * from the first moment over the blur zone, int (u - d)(O - S) du =
+ * -J s2 / 2 for a jump J at d (exact for a step; the limb's curvature is
+ * accounted for in model_solve). Fit, solve, measure the blur, adapt z
+ * and W, repeat.
  *
- * Limits (measured in make bench's accuracy study): a limb in shadow
- * (Lambertian term clipped to 0 near the limb: a kink in P) and a specular
- * stripe or a saturation plateau inside the fit zone break the side model;
- * the window must stay inside the pipe (0.9 of its half-width is used).
+ * A limb in shadow (light from behind it) is flat up to the terminator
+ * St and lit beyond: P = A + B (s - St)_+ + C (sq(s) - sq(St))_+, St
+ * searched (fit_sides); the window then ends before the kink.
+ *
+ * Limits (measured in make bench's accuracy study): a shadow ending inside
+ * the blur zone, a specular stripe or a saturation plateau inside the fit
+ * zone break the side model; the window must stay inside the pipe (0.9 of
+ * its half-width is used).
  */
 #include "internal.h"
 
