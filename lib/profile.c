@@ -509,8 +509,15 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
          * blur's box, the safe side: the iteration below narrows the blur
          * zone from there). The wide start (sigma = half / 6) stays when
          * that is wider. */
-        cdsp_real peak = R(0), xl = R(0), xr = R(0), pu = R(0), pv = R(0), ppos = R(0);
-        int prev = -1, pk = -1, k;
+        cdsp_real peak = R(0), xl = R(0), xr = R(0), pu = R(0), pv = R(0), ppos = R(0), sgn = R(0);
+        int prev = -1, pk = -1, k, have_l = 0, have_r = 0;
+        /* the step's sign from either side of the line (within 3 px): a
+         * limb's shading can slope the other way, and more steeply, next
+         * to a dark pipe's silhouette (a 15 px motion blur's first blur
+         * came out 1.5 px from that slope's peak, and the fit diverged) */
+        for (b = 0; b < NB; b++)
+            if (ws->count[b] && R_FABS(ub[b]) >= R(0.5) && R_FABS(ub[b]) <= R(3))
+                sgn += ub[b] > R(0) ? mb[b] : -mb[b];
         for (k = 0; k < 2; k++)
             for (b = 0, prev = -1; b < NB; b++) {
                 cdsp_real dv, xm;
@@ -524,21 +531,25 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
                 }
                 dv = (mb[b] - pv) / (ub[b] - pu);
                 xm = (ub[b] + pu) / R(2);
-                if (k == 0 && R_FABS(xm) < half / R(2) && R_FABS(dv) > R_FABS(peak)) {
+                if (k == 0 && R_FABS(xm) < half / R(2) && dv * sgn > R(0) && R_FABS(dv) > R_FABS(peak)) {
                     peak = dv;
                     ppos = xm;
                     pk = b;
                 }
                 /* k = 1: the half-peak crossings nearest the peak */
-                if (k == 1 && xm < ppos && dv * peak < peak * peak / R(2))
+                if (k == 1 && xm < ppos && dv * peak < peak * peak / R(2)) {
                     xl = xm;
-                if (k == 1 && xm > ppos && dv * peak < peak * peak / R(2) && !(xr > ppos))
+                    have_l = 1;
+                }
+                if (k == 1 && xm > ppos && dv * peak < peak * peak / R(2) && !have_r) {
                     xr = xm;
+                    have_r = 1;
+                }
                 prev = b;
                 pu = ub[b];
                 pv = mb[b];
             }
-        if (pk >= 0 && xr > ppos && xl < ppos) {
+        if (pk >= 0 && have_l && have_r) {
             cdsp_real v = (xr - xl) / R(2.355);
             v *= v;
             if (v < R(1) / R(12))
