@@ -636,7 +636,9 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
             break;
         }
     }
-    (void)ok; /* the last iterate stands: at most 1e-3 px from converged in the study */
+    (void)ok; /* the last iterate stands: at most 1e-3 px from converged in the study
+                 (faint 8-bit edges whose rounds do not settle are caught by
+                 cdsp_profile_applies's bound on the move) */
     /* noise: per-pixel variance from the sides' bins, then that of the
      * trapezoid sum (weights ~ bin spacing) */
     for (b = 0; b < NB; b++) {
@@ -728,6 +730,13 @@ int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp, 
 {
     if (!pr || !pp || !(pr->fit_chi2 <= pp->max_fit_chi2) || pr->saturated)
         return 0; /* the model does not fit: a shadowed limb, a highlight, a plateau */
+    /* a move no blur explains: the detector's line is off by at most ~0.7
+     * blur sigma on a shaded limb (0.3-0.5 px at 0.76 px) and ~1 sigma under
+     * a motion blur wider than its window (4.2 px at 4.4 px); the model
+     * moved faint 8-bit lines by 1.4-10 px where its rounds had not
+     * settled (make bench's accuracy study) */
+    if (!(R_FABS(pr->offset) <= R(2) * pr->blur + R(0.5)))
+        return 0;
     /* a straight pipe side (or one flat in the limb's shadow over the
      * detector's window and its margin, h + 1) and a blur the detector's
      * window spans: the partial-area estimate is exact there and less
