@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <math.h>
+#include <string.h>
 #include <cmocka.h>
 #include "support.h"
 
@@ -190,6 +191,43 @@ static void test_shadowed_limb(void **state)
         }
 }
 
+/* cdsp_profile_applies's rules, on made-up fits (h = 4: the detector's
+ * window spans a blur up to (h + 1/2) / 4.66 = 0.966 px). */
+static void test_applies(void **state)
+{
+    static const struct {
+        double offset, blur, chi2, shadow;
+        int flat, saturated, want;
+    } rows[] = {
+        {0.30, 0.76, 0.01, 0, 0, 0, 1},  /* a shaded limb: moved */
+        {0.30, 0.76, 0.50, 0, 0, 0, 0},  /* does not fit */
+        {0.30, 0.76, 0.01, 0, 0, 1, 0},  /* a saturation plateau */
+        {0.01, 0.90, 0.01, 0, 1, 0, 0},  /* flat, a blur the window spans */
+        {0.01, 1.00, 0.01, 0, 1, 0, 1},  /* flat, a blur it does not */
+        {0.01, 0.85, 0.01, 15, 0, 0, 0}, /* flat in shadow over the window */
+        {0.01, 0.85, 0.01, 4, 0, 0, 1},  /* a shadow shorter than h + 1 */
+        {2.10, 0.76, 0.01, 0, 0, 0, 0},  /* a move no blur explains (> 2.02 px) */
+        {1.90, 0.76, 0.01, 0, 0, 0, 1},  /* one it does */
+        {4.20, 4.40, 0.01, 0, 1, 0, 1},  /* a 15 px motion blur's 4.2 px */
+    };
+    cdsp_profile_params pp;
+    size_t r;
+    (void)state;
+    cdsp_profile_params_default(&pp);
+    for (r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        cdsp_profile pr;
+        memset(&pr, 0, sizeof pr);
+        pr.offset = (cdsp_real)rows[r].offset;
+        pr.blur = (cdsp_real)rows[r].blur;
+        pr.fit_chi2 = (cdsp_real)rows[r].chi2;
+        pr.shadow = (cdsp_real)rows[r].shadow;
+        pr.flat = rows[r].flat;
+        pr.saturated = rows[r].saturated;
+        if (cdsp_profile_applies(&pr, &pp, 4) != rows[r].want)
+            fail_msg("row %zu: applies %d, want %d", r, !rows[r].want, rows[r].want);
+    }
+}
+
 /* Noise: the reported sigma_offset against the scatter over seeds. 8 bit,
  * 2 gray levels of noise, contrast 100, 80 scanlines. sigma_offset covers
  * only the window integral's noise; the sides' fits extrapolated to the
@@ -325,6 +363,7 @@ int main(void)
         cmocka_unit_test(test_flat_exact),
         cmocka_unit_test(test_lambertian_limb),
         cmocka_unit_test(test_shadowed_limb),
+        cmocka_unit_test(test_applies),
         cmocka_unit_test(test_noise),
         cmocka_unit_test(test_errors),
         cmocka_unit_test(test_frame_path),
