@@ -518,8 +518,11 @@ typedef struct {
                                     detector's line (a limb in shadow, a
                                     highlight, a plateau). Default 0.25:
                                     on the paper's rendered scene good
-                                    contours give 0.01-0.03, shadowed limbs
-                                    0.6-0.8 */
+                                    contours give 0.01-0.03; the rack's
+                                    low-contrast limbs in shadow (25 gray
+                                    levels, make bench-rack) 0.4-0.9 even
+                                    modelled, and keep the detector's line,
+                                    exact on a flat shadow */
 } cdsp_profile_params;
 
 void cdsp_profile_params_default(cdsp_profile_params *p);
@@ -539,6 +542,10 @@ typedef struct {
                                which the detector handles exactly */
     int saturated;          /* 1: part of the profile sits at full scale */
     uint32_t rows;          /* scanlines accumulated */
+    cdsp_real shadow;       /* the limb in shadow: the pipe side is flat
+                               (ambient light only) from the silhouette to
+                               this distance, px (the terminator); 0: lit
+                               up to the limb */
 } cdsp_profile;
 
 /*
@@ -557,9 +564,10 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3],
                              cdsp_profile *out);
 
 /* Whether the frame path moves a contour by pr->offset: 1 when the model
- * fits (fit_chi2 <= pp->max_fit_chi2, not saturated) and is needed (a limb term, or a
- * blur wider than the detector's window of half-width detector_half_window);
- * 0 keeps the detector's line. */
+ * fits (fit_chi2 <= pp->max_fit_chi2, not saturated) and is needed (a limb
+ * term not in shadow over the detector's window, or a blur the window of
+ * half-width h = detector_half_window does not span: sigma > (h + 1/2) /
+ * 4.66, docs/method.md §2a); 0 keeps the detector's line. */
 int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp,
                          int detector_half_window);
 
