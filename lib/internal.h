@@ -152,6 +152,17 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cd
                               const cdsp_pair_eval *c, const cdsp_params *p, const cdsp_image *img,
                               cdsp_profile_ws *pws, cdsp_result *out);
 cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known);
+/* Which of the pair tests (lib/pair.c, docs/method.md §4) lines i and j of
+ * set fail (no prior): CDSP__PAIR_PASSED, a CDSP__PAIR_* code, -1 for bad
+ * indices. For diagnosis (tests/bench/bench_detect.c). */
+enum {
+    CDSP__PAIR_PASSED, CDSP__PAIR_ANGLE, CDSP__PAIR_STAIRCASE, CDSP__PAIR_POLARITY, CDSP__PAIR_CLOSE,
+    CDSP__PAIR_OVERLAP, CDSP__PAIR_MEET, CDSP__PAIR_AXIS, CDSP__PAIR_RANGE, CDSP__PAIR_WIDTH,
+    CDSP__PAIR_SUPPORT, CDSP__PAIR_SPLIT, CDSP__PAIR_NTESTS
+};
+int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
+                   const uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                   const cdsp_pair_set *set, int i, int j);
 /* Every coordinate and gradient of the n points is finite. */
 int cdsp__points_finite(const cdsp_edge *e, size_t n);
 /* frame.c: a full search's edge points (undistorted) in ws->edge, *n of

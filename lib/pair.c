@@ -170,9 +170,10 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
 }
 
 /* Score a candidate pair (include/cdsp.h, "The pair score"); 0 when it is
- * not a pipe contour. Fills c->p_in, support and contrast. */
+ * not a pipe contour, with *why the test that failed (CDSP__PAIR_*,
+ * internal.h). Fills c->p_in, support and contrast. */
 static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_line *B,
-                            uint32_t maskA, uint32_t maskB, pair_choice *c)
+                            uint32_t maskA, uint32_t maskB, pair_choice *c, int *why)
 {
     const cdsp_camera *cam = sc->cam;
     cdsp_real radius = sc->radius, *p_in = c->p_in;
@@ -186,19 +187,19 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
 
     /* (i), (ii): opposite polarity within the contour angle */
     if (!(dotn < -R_COS(p->max_contour_angle_deg * R_PI / R(180))))
-        return R(0);
+        return (*why = CDSP__PAIR_ANGLE, R(0));
     /* stripe, not staircase: both normals point inward, or both outward */
     sa = A->l[0] * w0 + A->l[1] * w1;
     sb = -(B->l[0] * w0 + B->l[1] * w1);
     if ((sa > R(0)) != (sb > R(0)))
-        return R(0);
+        return (*why = CDSP__PAIR_STAIRCASE, R(0));
     if (p->polarity > 0 && !(sa > R(0)))
-        return R(0);
+        return (*why = CDSP__PAIR_POLARITY, R(0));
     if (p->polarity < 0 && !(sa < R(0)))
-        return R(0);
+        return (*why = CDSP__PAIR_POLARITY, R(0));
     /* the two contours of a pipe are at least a couple of pixels apart */
     if (R_FABS(sa) < R(2) || R_FABS(sb) < R(2))
-        return R(0);
+        return (*why = CDSP__PAIR_CLOSE, R(0));
     /* (iii) overlap along the pipe */
     extent_on(A, d, o, &loA, &hiA);
     extent_on(B, d, o, &loB, &hiB);
@@ -207,7 +208,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     ov = hi - lo;
     shorter = (hiA - loA) < (hiB - loB) ? (hiA - loA) : (hiB - loB);
     if (!(shorter > R(0)) || ov < p->min_overlap * shorter)
-        return R(0);
+        return (*why = CDSP__PAIR_OVERLAP, R(0));
     /* (iv) where do the lines meet? */
     v3_cross(A->l, B->l, X);
     if (R_FABS(X[2]) > R(0)) {
@@ -215,7 +216,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
         cdsp_real ti = ix * d[0] + iy * d[1];
         cdsp_real ulo = loA < loB ? loA : loB, uhi = hiA > hiB ? hiA : hiB;
         if (ti >= ulo && ti <= uhi)
-            return R(0);
+            return (*why = CDSP__PAIR_MEET, R(0));
     }
     /* p_in: halfway between the lines at the middle of the overlap */
     tmid = (lo + hi) / R(2);
@@ -227,23 +228,23 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     p_in[1] = q[1] - R(0.5) * dq * B->l[1];
     /* (v) the closed form and the distance range */
     if (cdsp__axis_core(cam, A->l, B->l, p_in, radius, &tmp) != CDSP_OK)
-        return R(0);
+        return (*why = CDSP__PAIR_AXIS, R(0));
     if (p->min_distance > R(0) && tmp.distance < p->min_distance)
-        return R(0);
+        return (*why = CDSP__PAIR_RANGE, R(0));
     if (p->max_distance > R(0) && tmp.distance > p->max_distance)
-        return R(0);
+        return (*why = CDSP__PAIR_RANGE, R(0));
     /* (vi) the band's width at the middle of the overlap */
     width = R_FABS(dq);
     if (width < sc->min_band_px)
-        return R(0);
+        return (*why = CDSP__PAIR_WIDTH, R(0));
     /* (vii) support spread along the common stretch */
     qA = spread_on(A, maskA, d, o, lo, hi);
     qB = spread_on(B, maskB, d, o, lo, hi);
     if (qA < p->min_support || qB < p->min_support)
-        return R(0);
+        return (*why = CDSP__PAIR_SUPPORT, R(0));
     /* (viii) one object between the contours, not two and a gap */
     if (band_split(sc, A, B, p_in, d, o, lo, hi, R_COS(p->max_contour_angle_deg * R_PI / R(180))))
-        return R(0);
+        return (*why = CDSP__PAIR_SPLIT, R(0));
 
     /* inliers on the common stretch: each line's count scaled by the
      * fraction of its extent that overlaps */
@@ -273,6 +274,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
         if (R_FINITE(e))
             S *= R(1) + R(2) * R_EXP(R(-0.5) * e * e);
     }
+    *why = CDSP__PAIR_PASSED;
     c->support = nA * qA < nB * qB ? nA * qA : nB * qB;
     c->contrast = cA < cB ? cA : cB;
     return S;
@@ -430,6 +432,20 @@ static cdsp_real evidence(const pair_choice *c, int contrast_known)
     return e;
 }
 
+static void score_init(score_ctx *sc, const cdsp_camera *cam, cdsp_real radius, const cdsp_params *p,
+                       cdsp_real min_step, const cdsp_result *prior, const cdsp_line *lines, int nlines)
+{
+    sc->cam = cam;
+    sc->radius = radius;
+    sc->p = &p->pair;
+    sc->min_band_px = R(2) * (cdsp_real)p->edge.half_window + R(1);
+    sc->step_ref = min_step > R(0) ? min_step : R(1);
+    sc->prior = prior && v3_finite(prior->lines[0]) && v3_finite(prior->lines[1]) ? prior : NULL;
+    sc->band_px = p->track_band_px;
+    sc->lines = lines;
+    sc->nlines = nlines;
+}
+
 cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                                  size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                  const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set)
@@ -452,25 +468,36 @@ cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const
     if (nlines < 2)
         return CDSP_E_NO_PIPE;
     support_masks(pts, n, label, lines, nlines, mask);
-    sc.cam = cam;
-    sc.radius = radius;
-    sc.p = &p->pair;
-    sc.min_band_px = R(2) * (cdsp_real)p->edge.half_window + R(1);
-    sc.step_ref = min_step > R(0) ? min_step : R(1);
-    sc.prior = prior && v3_finite(prior->lines[0]) && v3_finite(prior->lines[1]) ? prior : NULL;
-    sc.band_px = p->track_band_px;
-    sc.lines = lines;
-    sc.nlines = nlines;
+    score_init(&sc, cam, radius, p, min_step, prior, lines, nlines);
     for (i = 0; i < nlines; i++)
         for (j = i + 1; j < nlines; j++) {
             pair_choice c;
+            int why;
             c.i = i;
             c.j = j;
-            c.score = pair_score(&sc, &lines[i], &lines[j], mask[i], mask[j], &c);
+            c.score = pair_score(&sc, &lines[i], &lines[j], mask[i], mask[j], &c, &why);
             if (c.score > R(0))
                 keep_pair(set->pair, &set->npairs, &c);
         }
     return set->npairs ? CDSP_OK : CDSP_E_NO_PIPE;
+}
+
+int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
+                   const uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                   const cdsp_pair_set *set, int i, int j)
+{
+    uint32_t mask[CDSP_MAX_LINES];
+    score_ctx sc;
+    pair_choice c;
+    int why = CDSP__PAIR_PASSED;
+    if (i < 0 || j < 0 || i >= set->nlines || j >= set->nlines || i == j)
+        return -1;
+    support_masks(pts, n, label, set->lines, set->nlines, mask);
+    score_init(&sc, cam, radius, p, min_step, NULL, set->lines, set->nlines);
+    c.i = i < j ? i : j;
+    c.j = i < j ? j : i;
+    (void)pair_score(&sc, &set->lines[c.i], &set->lines[c.j], mask[c.i], mask[c.j], &c, &why);
+    return why;
 }
 
 cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known)

@@ -31,6 +31,7 @@
 #include <string.h>
 #include <math.h>
 #include "support.h"
+#include "../../lib/internal.h" /* BENCH_DETECT_WHY: the pair tests' verdicts */
 
 static cdsp_frame_ws ws;
 
@@ -447,6 +448,108 @@ static void explain(const frame_spec *f, cdsp_status st, const cdsp_result *r, c
 #endif
 }
 
+
+/* BENCH_DETECT_WHY: why a positive frame failed, by cause. The whole frame
+ * is read (coarse pass off) and its candidate lines found again; each true
+ * contour is matched to a found line (within 2 degrees, its centroid within
+ * 2.5 px of the true line). Causes: "acc" (the pose's lines are the true
+ * contours: an accuracy miss, not a detection one), "rank" (the true pair is
+ * a candidate, not the first), "test:N" (both contours found, the pair
+ * rejected by pair test N, CDSP__PAIR_*), "unranked" (scored, passed over),
+ * "line" (a contour not among the lines; the edge points on it printed). */
+static int line_match(const double t[3], const cdsp_real l[3])
+{
+    double dot = t[0] * (double)l[0] + t[1] * (double)l[1];
+    return fabs(dot) >= cos(2 * SUP_PI / 180);
+}
+
+static int same_line(const double t[3], const cdsp_line *ln)
+{
+    double d = t[0] * (double)ln->centroid[0] + t[1] * (double)ln->centroid[1] + t[2];
+    return line_match(t, ln->l) && fabs(d) <= 2.5;
+}
+
+static int result_matches(double t[2][3], const cdsp_real (*l)[3], const cdsp_real p_in[2])
+{
+    int k, m, hit = 0;
+    for (k = 0; k < 2; k++)
+        for (m = 0; m < 2; m++) {
+            /* the result's lines have no centroid: compare at p_in's foot */
+            double a = (double)l[m][0], b = (double)l[m][1], c = (double)l[m][2];
+            double s = a * (double)p_in[0] + b * (double)p_in[1] + c, x = (double)p_in[0] - s * a,
+                   y = (double)p_in[1] - s * b;
+            if (line_match(t[k], l[m]) && fabs(t[k][0] * x + t[k][1] * y + t[k][2]) <= 2.5)
+                hit |= 1 << k;
+        }
+    return hit == 3;
+}
+
+static cdsp_frame_ws dws;
+
+static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cdsp_params *prm, cdsp_status st,
+                     const cdsp_result *r, const cdsp_frame_ws *w)
+{
+    double t[2][3], pin[2];
+    cdsp_params p = *prm;
+    cdsp_pair_set set;
+    cdsp_real sigma, step;
+    uint32_t flags;
+    size_t n = 0, e;
+    cdsp_rng rng;
+    int k, m, li[2] = {-1, -1}, near[2] = {0, 0};
+    unsigned c;
+    if (!sup_contour_lines(&f->cam, f->P, f->v, f->radius, t, pin))
+        return;
+    fprintf(stderr, "W %d cues %03x %dx%d %s: ", i, f->cues, f->cam.width, f->cam.height,
+            st == CDSP_OK ? "wrong" : cdsp_status_token(st));
+    if (st == CDSP_OK && result_matches(t, r->lines, w->cand[0].p_in)) {
+        fprintf(stderr, "acc\n");
+        return;
+    }
+    for (c = 1; st == CDSP_OK && c < r->n_candidates && c < CDSP_MAX_CANDIDATES; c++)
+        if (result_matches(t, w->cand[c].lines, w->cand[c].p_in)) {
+            fprintf(stderr, "rank %u (score %.1f vs %.1f)\n", c, (double)w->cand[c].score,
+                    (double)w->cand[0].score);
+            return;
+        }
+    p.edge.coarse = 0;
+    if (cdsp__frame_edges(img, &f->cam, &p, &dws, &n, &sigma, &step, &flags) != CDSP_OK) {
+        fprintf(stderr, "edges failed\n");
+        return;
+    }
+    cdsp_rng_seed(&rng, (uint64_t)i, 3);
+    (void)cdsp__pair_score_all(&f->cam, (cdsp_real)f->radius, dws.edge, n, dws.label, &p, step, NULL, &rng,
+                               &set);
+    for (e = 0; e < n; e++)
+        for (k = 0; k < 2; k++) {
+            double d = t[k][0] * (double)dws.edge[e].x + t[k][1] * (double)dws.edge[e].y + t[k][2];
+            double g = hypot((double)dws.edge[e].gx, (double)dws.edge[e].gy);
+            if (fabs(d) <= 1.0 && fabs(t[k][0] * (double)dws.edge[e].gx + t[k][1] * (double)dws.edge[e].gy) >= 0.94 * g)
+                near[k]++;
+        }
+    for (k = 0; k < 2; k++)
+        for (m = 0; m < set.nlines; m++)
+            if (same_line(t[k], &set.lines[m]) && (li[k] < 0 || set.lines[m].count > set.lines[li[k]].count))
+                li[k] = m;
+    if (li[0] < 0 || li[1] < 0) {
+        fprintf(stderr, "line (lines %d%s, edges %zu, on contours %d %d, found %d %d)\n", set.nlines,
+                set.capped ? " capped" : "", n, near[0], near[1], li[0] >= 0 ? (int)set.lines[li[0]].count : -1,
+                li[1] >= 0 ? (int)set.lines[li[1]].count : -1);
+        return;
+    }
+    k = cdsp__pair_why(&f->cam, (cdsp_real)f->radius, dws.edge, n, dws.label, &p, step, &set, li[0], li[1]);
+    if (k != CDSP__PAIR_PASSED) {
+        fprintf(stderr, "test:%d (inliers %u %u, on contours %d %d)\n", k, (unsigned)set.lines[li[0]].count,
+                (unsigned)set.lines[li[1]].count, near[0], near[1]);
+        return;
+    }
+    for (m = 0; m < set.npairs; m++)
+        if ((set.pair[m].i == li[0] && set.pair[m].j == li[1]) || (set.pair[m].i == li[1] && set.pair[m].j == li[0]))
+            break;
+    fprintf(stderr, "unranked (pair %d of %d, score %.1f vs best %.1f)\n", m, set.npairs,
+            m < set.npairs ? (double)set.pair[m].score : 0.0, set.npairs ? (double)set.pair[0].score : 0.0);
+}
+
 /* sup_render, or with BENCH_DETECT_CACHE=dir the frame saved there by an
  * earlier run with the same arguments (raw pixels; rendering is most of the
  * run time, so detection changes can be compared quickly). */
@@ -566,6 +669,8 @@ int main(int argc, char **argv)
             continue; /* BENCH_DETECT_ONLY=i: that frame alone, with details */
         if (getenv("BENCH_DETECT_FROM") && i < atoi(getenv("BENCH_DETECT_FROM")))
             continue; /* BENCH_DETECT_FROM=i: skip the frames before i (to fill a cache in parallel) */
+        if (getenv("BENCH_DETECT_TO") && i >= atoi(getenv("BENCH_DETECT_TO")))
+            continue; /* BENCH_DETECT_TO=i: stop before frame i */
         px = cached_render(&f, (uint64_t)i + 1000 * seed, i, &img);
         if (!px) {
             fprintf(stderr, "bench_detect: frame %d did not render\n", i);
@@ -609,6 +714,8 @@ int main(int argc, char **argv)
 #endif
         if (getenv("BENCH_DETECT_ONLY"))
             explain(&f, st, &r, &ws);
+        if (getenv("BENCH_DETECT_WHY") && pos && !(st == CDSP_OK && right(&f, &r)))
+            diagnose(i, &f, &img, &prm, st, &r, &ws);
         prm.pair.min_distance = (cdsp_real)f.range[0];
         prm.pair.max_distance = (cdsp_real)f.range[1];
         cdsp_rng_seed(&rng, (uint64_t)i, 3);
