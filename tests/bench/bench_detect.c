@@ -546,8 +546,17 @@ static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cd
     for (m = 0; m < set.npairs; m++)
         if ((set.pair[m].i == li[0] && set.pair[m].j == li[1]) || (set.pair[m].i == li[1] && set.pair[m].j == li[0]))
             break;
-    fprintf(stderr, "unranked (pair %d of %d, score %.1f vs best %.1f)\n", m, set.npairs,
-            m < set.npairs ? (double)set.pair[m].score : 0.0, set.npairs ? (double)set.pair[0].score : 0.0);
+    fprintf(stderr, "unranked (pair %d of %d, score %.1f vs best %.1f) truth %d-%d:", m, set.npairs,
+            m < set.npairs ? (double)set.pair[m].score : 0.0, set.npairs ? (double)set.pair[0].score : 0.0, li[0],
+            li[1]);
+    for (m = 0; m < set.npairs && m < 6; m++) {
+        const cdsp_pair_eval *q = &set.pair[m];
+        const cdsp_line *A = &set.lines[q->i];
+        fprintf(stderr, " %d-%d %.0f (w %.0f n %u %u)", q->i, q->j, (double)q->score,
+                2 * fabs((double)(A->l[0] * q->p_in[0] + A->l[1] * q->p_in[1] + A->l[2])), (unsigned)A->count,
+                (unsigned)set.lines[q->j].count);
+    }
+    fprintf(stderr, "\n");
 }
 
 /* sup_render, or with BENCH_DETECT_CACHE=dir the frame saved there by an
