@@ -598,6 +598,13 @@ typedef struct {
     cdsp_real lines[2][3];
     cdsp_real p_in[2];
     cdsp_real score, confidence;
+    /* the evidence behind them ("The pair score"): min over both contours
+     * of inliers on the common stretch x spread, and of edge step over the
+     * frame's threshold (1 on the points path); band width at p_in, px;
+     * sine of the angle between the contours; the band's shading across
+     * (frame path: median range of the interior over the step threshold;
+     * -1 when not measured) */
+    cdsp_real support, contrast, width, sin_angle, shade;
     uint8_t label[2];
 } cdsp_candidate;
 
@@ -712,6 +719,9 @@ typedef struct {
     cdsp_real p_in[2];      /* a pixel between the lines */
     cdsp_real support;      /* min over both contours of inliers on the overlap x spread */
     cdsp_real contrast;     /* min over both contours of step / threshold */
+    cdsp_real width;        /* band width at p_in, px */
+    cdsp_real sin_angle;    /* sine of the angle between the contours */
+    cdsp_real shade;        /* the band's shading (cdsp_candidate) */
 } cdsp_pair_eval;
 
 /* Candidate lines and their scored pairs (scratch; contents undefined

@@ -160,6 +160,13 @@ enum {
     CDSP__PAIR_OVERLAP, CDSP__PAIR_MEET, CDSP__PAIR_AXIS, CDSP__PAIR_RANGE, CDSP__PAIR_WIDTH,
     CDSP__PAIR_SUPPORT, CDSP__PAIR_SPLIT, CDSP__PAIR_GAP, CDSP__PAIR_NTESTS
 };
+/* The confidence model (lib/pair.c): features of candidate k among the nc
+ * ranked ones, and the confidence they give. */
+#define CDSP__CONF_NX 9
+void cdsp__pair_features(const cdsp_candidate *cand, uint32_t nc, uint32_t k, int ranged,
+                         int contrast_known, cdsp_real x[CDSP__CONF_NX]);
+cdsp_real cdsp__pair_confidence(const cdsp_candidate *cand, uint32_t nc, uint32_t k, int ranged,
+                                int contrast_known);
 int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
                    const uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                    const cdsp_pair_set *set, int i, int j);

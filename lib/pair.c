@@ -41,6 +41,8 @@ typedef cdsp_pair_eval pair_choice;
  * an alternative weaker than PAIR_KEEP others). */
 #define PAIR_KEEP CDSP_MAX_PAIRS
 #define SUPPORT_BINS 32
+/* the confidence model's weights (fitted; see conf_w) */
+#define CONF_W R(-8.084), R(1.202), R(-0.325), R(1.237), R(0.8379), R(-1.218), R(0.2589), R(-11.91), R(0.2171)
 
 /* Occupancy of SUPPORT_BINS equal bins over each line's [t_min, t_max]:
  * bit b set when an inlier falls in bin b. One pass over the labels. */
@@ -122,6 +124,7 @@ typedef struct {
     const cdsp_result *prior;
     cdsp_real band_px;     /* track_band_px */
     const cdsp_line *lines; /* all candidate lines, for the band's interior */
+    const cdsp_image *img;  /* the frame (band profile), NULL on the points path */
     int nlines;
 } score_ctx;
 
@@ -143,8 +146,10 @@ typedef struct {
  * angle, off-centre specular stripes and the shading ramp of a pipe lit
  * from one side, each consistent with one object.) */
 #define SPLIT_DEG 6
+
+
 #ifndef STRONGK
-#define STRONGK 1.0
+#define STRONGK 0.75
 #endif
 static int along_band(const cdsp_line *K, const cdsp_line *L, const cdsp_real d[2], const cdsp_real o[2],
                       cdsp_real lo, cdsp_real hi, cdsp_real cos_split, cdsp_real dist[2]);
@@ -246,6 +251,64 @@ static int edge_of_neighbour(const score_ctx *sc, const cdsp_line *A, const cdsp
             return 1;
     }
     return 0;
+}
+
+/* The band's shading: at SHADE_AT positions evenly along the common
+ * stretch, the range (max - min) of SHADE_N frame samples across the band's
+ * interior (clear of both edge windows), over the edge step threshold; the
+ * median over the positions (a bar in front covers a few). A lit cylinder
+ * is shaded across (Lambert: the level follows the cosine of the surface
+ * normal to the light), a bar's face or the background between two objects
+ * is flat or textured only, so this is a feature of the confidence model
+ * (a pipe lit evenly is flat too: the feature lowers the confidence, it
+ * rejects nothing). The lines are undistorted: samples are distorted back
+ * into the frame and read at the nearest pixel. -1 when not measured. */
+#define SHADE_AT 8
+#define SHADE_N 9
+static cdsp_real band_shade(const score_ctx *sc, const cdsp_line *A, const cdsp_line *B, cdsp_real lo,
+                            cdsp_real hi, cdsp_real width)
+{
+    cdsp_real range[SHADE_AT], clear = (sc->min_band_px + R(2)) / R(2);
+    int s, u, m = 0;
+    if (!sc->img || width < R(2) * clear + R(2))
+        return R(-1);
+    for (s = 0; s < SHADE_AT; s++) {
+        cdsp_real t = lo + (hi - lo) * ((cdsp_real)s + R(0.5)) / (cdsp_real)SHADE_AT, q[2], dq, mn = R_MAX,
+                  mx = -R_MAX;
+        int got = 0;
+        q[0] = A->centroid[0] + t * A->dir[0];
+        q[1] = A->centroid[1] + t * A->dir[1];
+        dq = B->l[0] * q[0] + B->l[1] * q[1] + B->l[2];
+        for (u = 0; u < SHADE_N; u++) {
+            cdsp_real f = (clear + (width - R(2) * clear) * (cdsp_real)u / (cdsp_real)(SHADE_N - 1)) / width;
+            cdsp_real und[2], dis[2];
+            int x, y, v;
+            und[0] = q[0] - f * dq * B->l[0];
+            und[1] = q[1] - f * dq * B->l[1];
+            if (cdsp_camera_distort(sc->cam, und, dis) != CDSP_OK)
+                continue;
+            x = (int)R_FLOOR(dis[0] + R(0.5));
+            y = (int)R_FLOOR(dis[1] + R(0.5));
+            if (!(dis[0] > R(-0.5)) || !(dis[1] > R(-0.5)) || x >= sc->img->width || y >= sc->img->height)
+                continue;
+            v = img_px(sc->img, x, y);
+            mn = (cdsp_real)v < mn ? (cdsp_real)v : mn;
+            mx = (cdsp_real)v > mx ? (cdsp_real)v : mx;
+            got++;
+        }
+        if (got >= SHADE_N / 2)
+            range[m++] = (mx - mn) / sc->step_ref;
+    }
+    if (m == 0)
+        return R(-1);
+    /* median by insertion sort (m <= SHADE_AT) */
+    for (s = 1; s < m; s++) {
+        cdsp_real v = range[s];
+        for (u = s; u > 0 && range[u - 1] > v; u--)
+            range[u] = range[u - 1];
+        range[u] = v;
+    }
+    return m % 2 ? range[m / 2] : (range[m / 2 - 1] + range[m / 2]) / R(2);
 }
 
 /* Score a candidate pair (include/cdsp.h, "The pair score"); 0 when it is
@@ -361,6 +424,9 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     *why = CDSP__PAIR_PASSED;
     c->support = nA * qA < nB * qB ? nA * qA : nB * qB;
     c->contrast = cA < cB ? cA : cB;
+    c->width = width;
+    c->shade = band_shade(sc, A, B, lo, hi, width);
+    c->sin_angle = R_SQRT(dotn * dotn < R(1) ? R(1) - dotn * dotn : R(0));
     return S;
 }
 
@@ -528,11 +594,13 @@ static void score_init(score_ctx *sc, const cdsp_camera *cam, cdsp_real radius, 
     sc->band_px = p->track_band_px;
     sc->lines = lines;
     sc->nlines = nlines;
+    sc->img = NULL;
 }
 
-cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                                 size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
-                                 const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set)
+static cdsp_status score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
+                             uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                             const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
+                             cdsp_pair_set *set)
 {
     uint32_t mask[CDSP_MAX_LINES];
     cdsp_line *lines = set->lines;
@@ -553,6 +621,7 @@ cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const
         return CDSP_E_NO_PIPE;
     support_masks(pts, n, label, lines, nlines, mask);
     score_init(&sc, cam, radius, p, min_step, prior, lines, nlines);
+    sc.img = min_step > R(0) ? img : NULL;
     for (i = 0; i < nlines; i++)
         for (j = i + 1; j < nlines; j++) {
             pair_choice c;
@@ -564,6 +633,13 @@ cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const
                 keep_pair(set->pair, &set->npairs, &c);
         }
     return set->npairs ? CDSP_OK : CDSP_E_NO_PIPE;
+}
+
+cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                 size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                                 const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set)
+{
+    return score_all(cam, radius, pts, n, label, p, min_step, prior, rng, NULL, set);
 }
 
 int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
@@ -582,6 +658,50 @@ int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pt
     c.j = i < j ? j : i;
     (void)pair_score(&sc, &set->lines[c.i], &set->lines[c.j], mask[c.i], mask[c.j], &c, &why);
     return why;
+}
+
+/* The confidence model (include/cdsp.h, "The pair score"; docs/method.md
+ * §4): a logistic regression P(right) = 1 / (1 + exp(-w . x)) on the
+ * features x of cdsp__pair_features, fitted on bench-detect's seed-1 frames
+ * (tests/bench/bench_detect.c, BENCH_DETECT_FEATURES) and validated on its
+ * seed-2 frames. */
+static const cdsp_real conf_w[CDSP__CONF_NX] = {CONF_W};
+
+void cdsp__pair_features(const cdsp_candidate *cand, uint32_t nc, uint32_t k, int ranged,
+                         int contrast_known, cdsp_real x[CDSP__CONF_NX])
+{
+    const cdsp_candidate *c = &cand[k];
+    cdsp_real rival = R(0), ct = contrast_known ? c->contrast : R(4);
+    uint32_t i;
+    for (i = 0; i < nc; i++)
+        if (i != k && cand[i].score > rival)
+            rival = cand[i].score;
+    x[0] = R(1);
+    x[1] = R_LOG(R(1) + c->support);
+    x[2] = R_LOG(ct > R(0.25) ? ct : R(0.25));
+    x[3] = R_LOG(c->width > R(1) ? c->width : R(1));
+    x[4] = c->score > R(0) ? R(1) - (rival < c->score ? rival / c->score : R(1)) : R(0);
+    x[5] = R_LOG((cdsp_real)nc);
+    x[6] = ranged ? R(1) : R(0);
+    x[7] = c->sin_angle;
+    /* shading, over the step threshold; unmeasured: a flat band's */
+    x[8] = c->shade >= R(0) ? R_LOG(R(0.1) + c->shade) : R_LOG(R(0.1));
+}
+
+cdsp_real cdsp__pair_confidence(const cdsp_candidate *cand, uint32_t nc, uint32_t k, int ranged,
+                                int contrast_known)
+{
+    cdsp_real x[CDSP__CONF_NX], z = R(0);
+    int i;
+    cdsp__pair_features(cand, nc, k, ranged, contrast_known, x);
+    for (i = 0; i < CDSP__CONF_NX; i++)
+        z += conf_w[i] * x[i];
+    /* the logistic, kept off exp's overflow (|z| > 40: 0 or 1 to 4e-18) */
+    if (z > R(40))
+        return R(1);
+    if (z < R(-40))
+        return R(0);
+    return R(1) / (R(1) + R_EXP(-z));
 }
 
 cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known)
@@ -658,8 +778,9 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
     cdsp_result r;
     cdsp_status st;
     cdsp_real conf;
+    int ranged = p->pair.min_distance > R(0) || p->pair.max_distance > R(0);
 
-    st = cdsp__pair_score_all(cam, radius, pts, n, label, p, min_step, prior, rng, &set);
+    st = score_all(cam, radius, pts, n, label, p, min_step, prior, rng, img, &set);
     if (st != CDSP_OK)
         return st;
     nlines = set.nlines;
@@ -693,7 +814,11 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         const pair_choice *c = &chosen[i];
         int k;
         cand[i].score = c->score;
-        cand[i].confidence = evidence(c, min_step > R(0));
+        cand[i].support = c->support;
+        cand[i].contrast = min_step > R(0) ? c->contrast : R(1);
+        cand[i].width = c->width;
+        cand[i].sin_angle = c->sin_angle;
+        cand[i].shade = c->shade;
         for (k = 0; k < 3; k++) {
             cand[i].lines[0][k] = lines[c->i].l[k];
             cand[i].lines[1][k] = lines[c->j].l[k];
@@ -703,13 +828,10 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         cand[i].label[0] = (uint8_t)(c->i + 1);
         cand[i].label[1] = (uint8_t)(c->j + 1);
     }
-    /* the first: how much it dominates the runner-up, and among how many
-     * plausible bands it was chosen (measured on bench-detect: with one
-     * candidate 77 % of poses were right, with two or more 20-30 %) */
-    if (nc > 1) {
-        cdsp_real ratio = chosen[1].score / chosen[0].score;
-        cand[0].confidence *= (R(1) - ratio * ratio) / (cdsp_real)nc;
-    }
+    /* each candidate's confidence as if it were the one returned (its
+     * rival: the best other candidate) */
+    for (i = 0; i < nc; i++)
+        cand[i].confidence = cdsp__pair_confidence(cand, (uint32_t)nc, (uint32_t)i, ranged, min_step > R(0));
     conf = cand[0].confidence;
     st = cdsp__pair_result(cam, radius, pts, n, label, &set, &chosen[0], p, img, pws, &r);
     if (st != CDSP_OK)

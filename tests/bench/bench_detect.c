@@ -486,6 +486,11 @@ static int result_matches(double t[2][3], const cdsp_real (*l)[3], const cdsp_re
 
 static cdsp_frame_ws dws;
 
+static double cand_width(const cdsp_candidate *c)
+{
+    return 2 * fabs((double)(c->lines[0][0] * c->p_in[0] + c->lines[0][1] * c->p_in[1] + c->lines[0][2]));
+}
+
 static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cdsp_params *prm, cdsp_status st,
                      const cdsp_result *r, const cdsp_frame_ws *w)
 {
@@ -508,8 +513,9 @@ static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cd
     }
     for (c = 1; st == CDSP_OK && c < r->n_candidates && c < CDSP_MAX_CANDIDATES; c++)
         if (result_matches(t, w->cand[c].lines, w->cand[c].p_in)) {
-            fprintf(stderr, "rank %u (score %.1f vs %.1f)\n", c, (double)w->cand[c].score,
-                    (double)w->cand[0].score);
+            fprintf(stderr, "rank %u (score %.1f vs %.1f, width %.0f vs %.0f, conf %.2f vs %.2f)\n", c,
+                    (double)w->cand[c].score, (double)w->cand[0].score, cand_width(&w->cand[c]),
+                    cand_width(&w->cand[0]), (double)w->cand[c].confidence, (double)w->cand[0].confidence);
             return;
         }
     p.edge.coarse = 0;
@@ -556,6 +562,23 @@ static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cd
                 2 * fabs((double)(A->l[0] * q->p_in[0] + A->l[1] * q->p_in[1] + A->l[2])), (unsigned)A->count,
                 (unsigned)set.lines[q->j].count);
     }
+    fprintf(stderr, "\n");
+}
+
+/* BENCH_DETECT_FEATURES: per reported pose, "F frame ranged right x..." with
+ * the confidence model's features (lib/pair.c) of the pose returned, to fit
+ * the model on one seed and validate it on another. */
+static void features(int i, int ranged, const frame_spec *f, int pos, cdsp_status st, const cdsp_result *r,
+                     const cdsp_frame_ws *w)
+{
+    cdsp_real x[CDSP__CONF_NX];
+    int k;
+    if (st != CDSP_OK)
+        return;
+    cdsp__pair_features(w->cand, r->n_candidates, 0, ranged, r->min_step > 0, x);
+    fprintf(stderr, "F %d %d %d", i, ranged, pos && right(f, r));
+    for (k = 0; k < CDSP__CONF_NX; k++)
+        fprintf(stderr, " %.6g", (double)x[k]);
     fprintf(stderr, "\n");
 }
 
@@ -721,6 +744,8 @@ int main(int argc, char **argv)
                     st == CDSP_OK ? (double)r.confidence : -1.0, st == CDSP_OK ? (unsigned)r.n_candidates : 0u,
                     st == CDSP_OK ? (double)r.score : 0.0);
 #endif
+        if (getenv("BENCH_DETECT_FEATURES"))
+            features(i, 0, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_ONLY"))
             explain(&f, st, &r, &ws);
         if (getenv("BENCH_DETECT_WHY") && pos && !(st == CDSP_OK && right(&f, &r)))
@@ -735,6 +760,8 @@ int main(int argc, char **argv)
             return 1;
         }
         record(&ranged, &f, pos, st, &r);
+        if (getenv("BENCH_DETECT_FEATURES"))
+            features(i, 1, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_ONLY"))
             explain(&f, st, &r, &ws);
         if (getenv("BENCH_DETECT_VERBOSE"))
