@@ -146,6 +146,7 @@ typedef struct {
  * angle, off-centre specular stripes and the shading ramp of a pipe lit
  * from one side, each consistent with one object.) */
 #define SPLIT_DEG 6
+#define SHK 1
 
 
 #ifndef STRONGK
@@ -426,6 +427,10 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     c->contrast = cA < cB ? cA : cB;
     c->width = width;
     c->shade = band_shade(sc, A, B, lo, hi, width);
+#ifdef SHK
+    if (c->shade > R(0))
+        S *= R(1) + (c->shade < R(4) ? c->shade : R(4)) / R(SHK);
+#endif
     c->sin_angle = R_SQRT(dotn * dotn < R(1) ? R(1) - dotn * dotn : R(0));
     return S;
 }
