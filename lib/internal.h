@@ -147,6 +147,12 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
 cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                                  size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                  const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set);
+/* cdsp__pair_score_all with the frame (img, or NULL): the frame path's
+ * scores, which weigh the band's shading read from the frame. */
+cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                   size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                                   const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
+                                   cdsp_pair_set *set);
 cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                               size_t n, const uint8_t *label, cdsp_pair_set *set,
                               const cdsp_pair_eval *c, const cdsp_params *p, const cdsp_image *img,
@@ -169,7 +175,7 @@ cdsp_real cdsp__pair_confidence(const cdsp_candidate *cand, uint32_t nc, uint32_
                                 int contrast_known);
 int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
                    const uint8_t *label, const cdsp_params *p, cdsp_real min_step,
-                   const cdsp_pair_set *set, int i, int j);
+                   const cdsp_image *img, const cdsp_pair_set *set, int i, int j);
 /* Every coordinate and gradient of the n points is finite. */
 int cdsp__points_finite(const cdsp_edge *e, size_t n);
 /* frame.c: a full search's edge points (undistorted) in ws->edge, *n of

@@ -614,10 +614,10 @@ static void score_init(score_ctx *sc, const cdsp_camera *cam, cdsp_real radius, 
     sc->img = NULL;
 }
 
-static cdsp_status score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
-                             uint8_t *label, const cdsp_params *p, cdsp_real min_step,
-                             const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
-                             cdsp_pair_set *set)
+cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                   size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                                   const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
+                                   cdsp_pair_set *set)
 {
     uint32_t mask[CDSP_MAX_LINES];
     cdsp_line *lines = set->lines;
@@ -656,12 +656,12 @@ cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const
                                  size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                  const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set)
 {
-    return score_all(cam, radius, pts, n, label, p, min_step, prior, rng, NULL, set);
+    return cdsp__pair_score_frame(cam, radius, pts, n, label, p, min_step, prior, rng, NULL, set);
 }
 
 int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
                    const uint8_t *label, const cdsp_params *p, cdsp_real min_step,
-                   const cdsp_pair_set *set, int i, int j)
+                   const cdsp_image *img, const cdsp_pair_set *set, int i, int j)
 {
     uint32_t mask[CDSP_MAX_LINES];
     score_ctx sc;
@@ -671,6 +671,7 @@ int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pt
         return -1;
     support_masks(pts, n, label, set->lines, set->nlines, mask);
     score_init(&sc, cam, radius, p, min_step, NULL, set->lines, set->nlines);
+    sc.img = min_step > R(0) ? img : NULL;
     c.i = i < j ? i : j;
     c.j = i < j ? j : i;
     (void)pair_score(&sc, &set->lines[c.i], &set->lines[c.j], mask[c.i], mask[c.j], &c, &why);
@@ -797,7 +798,7 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
     cdsp_real conf;
     int ranged = p->pair.min_distance > R(0) || p->pair.max_distance > R(0);
 
-    st = score_all(cam, radius, pts, n, label, p, min_step, prior, rng, img, &set);
+    st = cdsp__pair_score_frame(cam, radius, pts, n, label, p, min_step, prior, rng, img, &set);
     if (st != CDSP_OK)
         return st;
     nlines = set.nlines;

@@ -524,8 +524,8 @@ static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cd
         return;
     }
     cdsp_rng_seed(&rng, (uint64_t)i, 3);
-    (void)cdsp__pair_score_all(&f->cam, (cdsp_real)f->radius, dws.edge, n, dws.label, &p, step, NULL, &rng,
-                               &set);
+    (void)cdsp__pair_score_frame(&f->cam, (cdsp_real)f->radius, dws.edge, n, dws.label, &p, step, NULL, &rng,
+                                 img, &set);
     for (e = 0; e < n; e++)
         for (k = 0; k < 2; k++) {
             double d = t[k][0] * (double)dws.edge[e].x + t[k][1] * (double)dws.edge[e].y + t[k][2];
@@ -543,7 +543,7 @@ static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cd
                 li[1] >= 0 ? (int)set.lines[li[1]].count : -1);
         return;
     }
-    k = cdsp__pair_why(&f->cam, (cdsp_real)f->radius, dws.edge, n, dws.label, &p, step, &set, li[0], li[1]);
+    k = cdsp__pair_why(&f->cam, (cdsp_real)f->radius, dws.edge, n, dws.label, &p, step, img, &set, li[0], li[1]);
     if (k != CDSP__PAIR_PASSED) {
         fprintf(stderr, "test:%d (inliers %u %u, on contours %d %d)\n", k, (unsigned)set.lines[li[0]].count,
                 (unsigned)set.lines[li[1]].count, near[0], near[1]);
