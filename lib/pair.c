@@ -276,7 +276,7 @@ static cdsp_real band_shade(const score_ctx *sc, const cdsp_line *A, const cdsp_
         return R(-1);
     for (s = 0; s < SHADE_AT; s++) {
         cdsp_real t = lo + (hi - lo) * ((cdsp_real)s + R(0.5)) / (cdsp_real)SHADE_AT, q[2], dq, mn = R_MAX,
-                  mx = -R_MAX;
+                  mx = -R_MAX, jump = R(0), prev = R(0);
         int got = 0;
         q[0] = A->centroid[0] + t * A->dir[0];
         q[1] = A->centroid[1] + t * A->dir[1];
@@ -294,12 +294,15 @@ static cdsp_real band_shade(const score_ctx *sc, const cdsp_line *A, const cdsp_
             if (!(dis[0] > R(-0.5)) || !(dis[1] > R(-0.5)) || x >= sc->img->width || y >= sc->img->height)
                 continue;
             v = img_px(sc->img, x, y);
+            if (got > 0 && R_FABS((cdsp_real)v - prev) > jump)
+                jump = R_FABS((cdsp_real)v - prev);
+            prev = (cdsp_real)v;
             mn = (cdsp_real)v < mn ? (cdsp_real)v : mn;
             mx = (cdsp_real)v > mx ? (cdsp_real)v : mx;
             got++;
         }
         if (got >= SHADE_N / 2)
-            range[m++] = (mx - mn) / sc->step_ref;
+            range[m++] = (mx - mn - jump > R(0) ? mx - mn - jump : R(0)) / sc->step_ref;
     }
     if (m == 0)
         return R(-1);

@@ -558,8 +558,8 @@ static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cd
     for (m = 0; m < set.npairs && m < 6; m++) {
         const cdsp_pair_eval *q = &set.pair[m];
         const cdsp_line *A = &set.lines[q->i];
-        fprintf(stderr, " %d-%d %.0f (w %.0f n %u %u)", q->i, q->j, (double)q->score,
-                2 * fabs((double)(A->l[0] * q->p_in[0] + A->l[1] * q->p_in[1] + A->l[2])), (unsigned)A->count,
+        fprintf(stderr, " %d-%d %.0f (w %.0f s %.1f n %u %u)", q->i, q->j, (double)q->score,
+                2 * fabs((double)(A->l[0] * q->p_in[0] + A->l[1] * q->p_in[1] + A->l[2])), (double)q->shade, (unsigned)A->count,
                 (unsigned)set.lines[q->j].count);
     }
     fprintf(stderr, "\n");
