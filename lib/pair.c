@@ -162,12 +162,14 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
     cdsp_real sa = A->l[0] * p_in[0] + A->l[1] * p_in[1] + A->l[2];
     cdsp_real sb = B->l[0] * p_in[0] + B->l[1] * p_in[1] + B->l[2];
     cdsp_real cos_split = R_COS(R(SPLIT_DEG) * R_PI / R(180));
-    cdsp_real first_rev = R_MAX, last_cont = -R_MAX;
+    cdsp_real weak = A->strength < B->strength ? A->strength : B->strength;
+    cdsp_real at[CDSP_MAX_LINES], first_rev = R_MAX, last_cont = -R_MAX;
+    uint8_t cont[CDSP_MAX_LINES], near_a[CDSP_MAX_LINES], strong[CDSP_MAX_LINES];
     uint32_t need = (A->count < B->count ? A->count : B->count) / 4u;
-    int k;
-    for (k = 0; k < sc->nlines; k++) {
+    int k, m = 0, i, j;
+    for (k = 0; k < sc->nlines && m < CDSP_MAX_LINES; k++) {
         const cdsp_line *K = &sc->lines[k];
-        cdsp_real da[2], db[2], at;
+        cdsp_real da[2], db[2];
         int e, inside = 1;
         if (K == A || K == B || K->count < need)
             continue;
@@ -181,19 +183,32 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
                 inside = 0;
         if (!inside)
             continue;
-        at = (R_FABS(da[0]) + R_FABS(da[1])) / R(2); /* from A, px */
-        if (K->l[0] * A->l[0] + K->l[1] * A->l[1] > R(0))
-            last_cont = at > last_cont ? at : last_cont;
-        else
-            first_rev = at < first_rev ? at : first_rev;
-        {
-            const cdsp_line *N = R_FABS(da[0] + da[1]) < R_FABS(db[0] + db[1]) ? A : B;
-            cdsp_real weak = A->strength < B->strength ? A->strength : B->strength;
-            if (K->l[0] * N->l[0] + K->l[1] * N->l[1] < R(0) && K->strength >= R(SPLIT_STRONG) * weak)
-                return 1;
-        }
+        at[m] = (R_FABS(da[0]) + R_FABS(da[1])) / R(2); /* from A, px */
+        cont[m] = K->l[0] * A->l[0] + K->l[1] * A->l[1] > R(0);
+        near_a[m] = R_FABS(da[0] + da[1]) < R_FABS(db[0] + db[1]);
+        strong[m] = K->strength >= R(SPLIT_STRONG) * weak;
+        if (strong[m] && cont[m])
+            last_cont = at[m] > last_cont ? at[m] : last_cont;
+        else if (strong[m])
+            first_rev = at[m] < first_rev ? at[m] : first_rev;
+        m++;
     }
-    return first_rev + R(1.5) < last_cont;
+    if (first_rev + R(1.5) < last_cont)
+        return 1; /* not unimodal */
+    /* a strong edge opposing its nearer contour N is N's neighbour's
+     * contour (the band runs on past an object's edge), unless an edge of
+     * N's polarity lies between them: then the two are a stripe inside
+     * (a specular highlight near one side) */
+    for (i = 0; i < m; i++) {
+        int opposes = near_a[i] ? !cont[i] : cont[i], stripe = 0;
+        if (!opposes || !strong[i])
+            continue;
+        for (j = 0; j < m && !stripe; j++)
+            stripe = cont[j] == near_a[i] && (near_a[i] ? at[j] < at[i] : at[j] > at[i]);
+        if (!stripe)
+            return 1;
+    }
+    return 0;
 }
 
 /* K's signed distances from line L at the two ends of K's part of the
