@@ -147,8 +147,8 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
 cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                                  size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                  const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set);
-/* cdsp__pair_score_all with the frame (img, or NULL): the frame path's
- * scores, which weigh the band's shading read from the frame. */
+/* The single path's scores (lib/pair.c): cdsp__pair_score_all's, with the
+ * band's shading read from the frame (img, or NULL) and test (ix), gaps. */
 cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                                    size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                    const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,

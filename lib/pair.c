@@ -125,6 +125,9 @@ typedef struct {
     cdsp_real band_px;     /* track_band_px */
     const cdsp_line *lines; /* all candidate lines, for the band's interior */
     const cdsp_image *img;  /* the frame (band profile), NULL on the points path */
+    int single;             /* the single-pipe path: test (ix), gaps (a rack's
+                               matching, lib/multi.c, tells pipes from gaps
+                               by what the whole rack explains instead) */
     int nlines;
 } score_ctx;
 
@@ -195,6 +198,8 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
     }
     if (first_rev + R(1.5) < last_cont)
         return 1; /* not unimodal */
+    if (first_rev < R_MAX && last_cont > -R_MAX)
+        return 1; /* strong contours of both polarities inside: an object within */
     /* a strong edge opposing its nearer contour N is N's neighbour's
      * contour (the band runs on past an object's edge), unless an edge of
      * N's polarity lies between them: then the two are a stripe inside
@@ -408,7 +413,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     if (band_split(sc, A, B, p_in, d, o, lo, hi))
         return (*why = CDSP__PAIR_SPLIT, R(0));
     /* (ix) an object, not the gap between two */
-    if (edge_of_neighbour(sc, A, B, A, p_in, d, o, lo, hi, width) &&
+    if (sc->single && edge_of_neighbour(sc, A, B, A, p_in, d, o, lo, hi, width) &&
         edge_of_neighbour(sc, A, B, B, p_in, d, o, lo, hi, width))
         return (*why = CDSP__PAIR_GAP, R(0));
 
@@ -425,14 +430,18 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
          * clear, and a bar darker than the pipe is not more of a pipe for
          * it (bench-detect, found without a range: 75.0 % uncapped, 78.3 %
          * capped at 2, 76.3 % at 4) */
-        cdsp_real ka = cA < R(CONTRAST_CLEAR) ? cA : R(CONTRAST_CLEAR);
-        cdsp_real kb = cB < R(CONTRAST_CLEAR) ? cB : R(CONTRAST_CLEAR);
+        cdsp_real ka = !sc->single || cA < R(CONTRAST_CLEAR) ? cA : R(CONTRAST_CLEAR);
+        cdsp_real kb = !sc->single || cB < R(CONTRAST_CLEAR) ? cB : R(CONTRAST_CLEAR);
         S = nA * ka * qA < nB * kb * qB ? nA * ka * qA : nB * kb * qB;
     }
     /* the largest band: a pipe is what the camera is pointed at, clutter
      * bars beside it are narrower (bench-detect: 49.3 -> 55.3 % found
-     * without a range, before the gap test (ix) made it safe) */
-    S *= width / sc->min_band_px;
+     * without a range, before the gap test (ix) made it safe). The
+     * single path only, like the contrast cap and the shading below: the
+     * rack's matching (lib/multi.c) orders equal pipes and their gaps by
+     * the plain evidence (issue 13's score, which its tests are built on) */
+    if (sc->single)
+        S *= width / sc->min_band_px;
     if (sc->prior) {
         /* offset of both contours (at the overlap's middle) from the nearer
          * of the prior's contours, in band widths */
@@ -459,7 +468,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     c->shade = band_shade(sc, A, B, lo, hi, width);
     /* a shaded band is a lit cylinder, a flat one may be a bar's face:
      * the shading (band_shade) weighs up to 4 thresholds' worth */
-    if (c->shade > R(0))
+    if (sc->single && c->shade > R(0))
         S *= R(1) + (c->shade < R(4) ? c->shade : R(4));
     c->sin_angle = R_SQRT(dotn * dotn < R(1) ? R(1) - dotn * dotn : R(0));
     return S;
@@ -630,12 +639,13 @@ static void score_init(score_ctx *sc, const cdsp_camera *cam, cdsp_real radius, 
     sc->lines = lines;
     sc->nlines = nlines;
     sc->img = NULL;
+    sc->single = 1;
 }
 
-cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                                   size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
-                                   const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
-                                   cdsp_pair_set *set)
+static cdsp_status score_pairs(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
+                               uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                               const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
+                               int single, cdsp_pair_set *set)
 {
     uint32_t mask[CDSP_MAX_LINES];
     cdsp_line *lines = set->lines;
@@ -657,6 +667,7 @@ cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, con
     support_masks(pts, n, label, lines, nlines, mask);
     score_init(&sc, cam, radius, p, min_step, prior, lines, nlines);
     sc.img = min_step > R(0) ? img : NULL;
+    sc.single = single;
     for (i = 0; i < nlines; i++)
         for (j = i + 1; j < nlines; j++) {
             pair_choice c;
@@ -674,7 +685,15 @@ cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const
                                  size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                  const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set)
 {
-    return cdsp__pair_score_frame(cam, radius, pts, n, label, p, min_step, prior, rng, NULL, set);
+    return score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, NULL, 0, set);
+}
+
+cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                   size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                                   const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
+                                   cdsp_pair_set *set)
+{
+    return score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, img, 1, set);
 }
 
 int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,

@@ -508,7 +508,13 @@ static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cd
     fprintf(stderr, "W %d cues %03x %dx%d %s: ", i, f->cues, f->cam.width, f->cam.height,
             st == CDSP_OK ? "wrong" : cdsp_status_token(st));
     if (st == CDSP_OK && result_matches(t, r->lines, w->cand[0].p_in)) {
-        fprintf(stderr, "acc\n");
+        double P[3], v[3], e2 = 0;
+        sup_result_pose(r, P, v, NULL);
+        for (k = 0; k < 3; k++)
+            e2 += (P[k] - f->P[k]) * (P[k] - f->P[k]);
+        fprintf(stderr, "acc (position %.1f %% of the distance, direction %.2f deg, inliers %u %u, flags %x)\n",
+                100 * sqrt(e2) / f->dist, sup_axis_angle(v, f->v) * 180 / SUP_PI, (unsigned)r->inliers[0],
+                (unsigned)r->inliers[1], (unsigned)r->flags);
         return;
     }
     for (c = 1; st == CDSP_OK && c < r->n_candidates && c < CDSP_MAX_CANDIDATES; c++)
