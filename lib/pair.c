@@ -469,11 +469,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     c->support = nA * qA < nB * qB ? nA * qA : nB * qB;
     c->contrast = cA < cB ? cA : cB;
     c->width = width;
-    c->shade = band_shade(sc, A, B, lo, hi, width);
-    /* a shaded band is a lit cylinder, a flat one may be a bar's face:
-     * the shading (band_shade) weighs up to 4 thresholds' worth */
-    if (sc->single && c->shade > R(0))
-        S *= R(1) + (c->shade < R(4) ? c->shade : R(4));
+    c->shade = R(-1); /* measured for the candidates only (cdsp__pair_solve) */
     c->sin_angle = R_SQRT(dotn * dotn < R(1) ? R(1) - dotn * dotn : R(0));
     return S;
 }
@@ -877,7 +873,19 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         cand[i].contrast = min_step > R(0) ? c->contrast : R(1);
         cand[i].width = c->width;
         cand[i].sin_angle = c->sin_angle;
-        cand[i].shade = c->shade;
+        cand[i].shade = R(-1);
+        if (img && min_step > R(0)) {
+            score_ctx sc;
+            cdsp_real lo, hi, loA, hiA, loB, hiB;
+            const cdsp_line *A = &lines[c->i], *B = &lines[c->j];
+            score_init(&sc, cam, radius, p, min_step, NULL, lines, nlines);
+            sc.img = img;
+            extent_on(A, A->dir, A->centroid, &loA, &hiA);
+            extent_on(B, A->dir, A->centroid, &loB, &hiB);
+            lo = loA > loB ? loA : loB;
+            hi = hiA < hiB ? hiA : hiB;
+            cand[i].shade = band_shade(&sc, A, B, lo, hi, c->width);
+        }
         for (k = 0; k < 3; k++) {
             cand[i].lines[0][k] = lines[c->i].l[k];
             cand[i].lines[1][k] = lines[c->j].l[k];
