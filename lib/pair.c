@@ -160,7 +160,7 @@ static int along_band(const cdsp_line *K, const cdsp_line *L, const cdsp_real d[
                       cdsp_real lo, cdsp_real hi, cdsp_real cos_split, cdsp_real dist[2]);
 static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *B,
                       const cdsp_real p_in[2], const cdsp_real d[2], const cdsp_real o[2],
-                      cdsp_real lo, cdsp_real hi)
+                      cdsp_real lo, cdsp_real hi, int *ends)
 {
     cdsp_real sa = A->l[0] * p_in[0] + A->l[1] * p_in[1] + A->l[2];
     cdsp_real sb = B->l[0] * p_in[0] + B->l[1] * p_in[1] + B->l[2];
@@ -204,14 +204,18 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
      * contour (the band runs on past an object's edge), unless an edge of
      * N's polarity lies between them: then the two are a stripe inside
      * (a specular highlight near one side) */
+    *ends = 0;
     for (i = 0; i < m; i++) {
         int opposes = near_a[i] ? !cont[i] : cont[i], stripe = 0;
-        if (!opposes || !strong[i])
+        if (!opposes)
             continue;
         for (j = 0; j < m && !stripe; j++)
             stripe = cont[j] == near_a[i] && (near_a[i] ? at[j] < at[i] : at[j] > at[i]);
-        if (!stripe)
+        if (stripe)
+            continue;
+        if (strong[i])
             return 1;
+        *ends |= near_a[i] ? 1 : 2;
     }
     return 0;
 }
@@ -349,6 +353,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     cdsp_real dotn = A->l[0] * B->l[0] + A->l[1] * B->l[1];
     cdsp_real w0 = B->centroid[0] - A->centroid[0], w1 = B->centroid[1] - A->centroid[1];
     cdsp_real sa, sb, loA, hiA, loB, hiB, lo, hi, ov, shorter, X[3], tmid, q[2], dq;
+    int ends;
     cdsp__axis tmp;
     const cdsp_real *o = A->centroid, *d = A->dir;
 
@@ -410,12 +415,17 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     if (qA < p->min_support || qB < p->min_support)
         return (*why = CDSP__PAIR_SUPPORT, R(0));
     /* (viii) one object between the contours, not two and a gap */
-    if (band_split(sc, A, B, p_in, d, o, lo, hi))
+    if (band_split(sc, A, B, p_in, d, o, lo, hi, &ends))
         return (*why = CDSP__PAIR_SPLIT, R(0));
-    /* (ix) an object, not the gap between two */
-    if (sc->single && edge_of_neighbour(sc, A, B, A, p_in, d, o, lo, hi, width) &&
-        edge_of_neighbour(sc, A, B, B, p_in, d, o, lo, hi, width))
-        return (*why = CDSP__PAIR_GAP, R(0));
+    /* (ix) an object, not the gap between two, or an object and the gap
+     * beside it: both contours inner edges of neighbours beyond, or one
+     * such and a weaker edge inside that ends the other side's object */
+    if (sc->single) {
+        int na = edge_of_neighbour(sc, A, B, A, p_in, d, o, lo, hi, width);
+        int nb = edge_of_neighbour(sc, A, B, B, p_in, d, o, lo, hi, width);
+        if ((na && nb) || (nb && (ends & 1)) || (na && (ends & 2)))
+            return (*why = CDSP__PAIR_GAP, R(0));
+    }
 
     /* inliers on the common stretch: each line's count scaled by the
      * fraction of its extent that overlaps */
