@@ -42,7 +42,7 @@ typedef cdsp_pair_eval pair_choice;
 #define PAIR_KEEP CDSP_MAX_PAIRS
 #define SUPPORT_BINS 32
 /* the confidence model's weights (fitted; see conf_w) */
-#define CONF_W R(-8.084), R(1.202), R(-0.325), R(1.237), R(0.8379), R(-1.218), R(0.2589), R(-11.91), R(0.2171)
+#define CONF_W R(-7.221), R(1.186), R(-0.455), R(0.7054), R(2.62), R(0.4048), R(0.569), R(-15.96), R(0.2928)
 
 /* Occupancy of SUPPORT_BINS equal bins over each line's [t_min, t_max]:
  * bit b set when an inlier falls in bin b. One pass over the labels. */
