@@ -16,12 +16,15 @@
  * both positions are biased: a thin bar, not a pipe to measure), (vii) each
  * contour's inliers cover min_support of the common stretch (support all on
  * one short piece is a blob or a clamp, not a contour), (viii) the band
- * holds one object, not two and the gap between them (see band_split). The
- * survivors are
- * scored and ranked as documented in include/cdsp.h ("The pair score"):
- * the evidence of the weaker contour (inliers on the common stretch,
- * contrast over the step threshold, spread of the support) and in tracking
- * the prior; each contour belongs to one candidate.
+ * holds one object, not two and the gap between them (see band_split),
+ * (ix) on the single path, it is an object, not the gap beside one (see
+ * edge_of_neighbour). The survivors are scored and ranked as documented in
+ * include/cdsp.h ("The pair score"): the evidence of the weaker contour
+ * (inliers on the common stretch, contrast over the step threshold up to
+ * CONTRAST_CLEAR, spread of the support) times the band's width squared
+ * (single path), and in tracking the prior; each contour belongs to one
+ * candidate. The confidence is a fitted logistic model of the chosen
+ * band's evidence (cdsp__pair_confidence).
  *
  * Uncertainty: each TLS line has two independent parameters about its
  * centroid, the offset along its normal (variance s^2/N) and the angle
@@ -41,8 +44,6 @@ typedef cdsp_pair_eval pair_choice;
  * an alternative weaker than PAIR_KEEP others). */
 #define PAIR_KEEP CDSP_MAX_PAIRS
 #define SUPPORT_BINS 32
-/* the confidence model's weights (fitted; see conf_w) */
-#define CONF_W R(-7.221), R(1.186), R(-0.455), R(0.7054), R(2.62), R(0.4048), R(0.569), R(-15.96), R(0.2928)
 
 /* Occupancy of SUPPORT_BINS equal bins over each line's [t_min, t_max]:
  * bit b set when an inlier falls in bin b. One pass over the labels. */
@@ -281,8 +282,10 @@ static int edge_of_neighbour(const score_ctx *sc, const cdsp_line *A, const cdsp
 
 /* The band's shading: at SHADE_AT positions evenly along the common
  * stretch, the range (max - min) of SHADE_N frame samples across the band's
- * interior (clear of both edge windows), over the edge step threshold; the
- * median over the positions (a bar in front covers a few). A lit cylinder
+ * interior (clear of both edge windows) less the largest jump between
+ * neighbouring samples (smooth shading, not a bar's edge inside), over the
+ * edge step threshold; the median over the positions (a bar in front covers
+ * a few). A lit cylinder
  * is shaded across (Lambert: the level follows the cosine of the surface
  * normal to the light), a bar's face or the background between two objects
  * is flat or textured only, so this is a feature of the confidence model
@@ -730,7 +733,17 @@ int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pt
  * features x of cdsp__pair_features, fitted on bench-detect's seed-1 frames
  * (tests/bench/bench_detect.c, BENCH_DETECT_FEATURES) and validated on its
  * seed-2 frames. */
-static const cdsp_real conf_w[CDSP__CONF_NX] = {CONF_W};
+static const cdsp_real conf_w[CDSP__CONF_NX] = {
+    R(-7.221), /* 1 */
+    R(1.186),  /* log(1 + support) */
+    R(-0.455), /* log(contrast) */
+    R(0.7054), /* log(width) */
+    R(2.62),   /* margin over the rival */
+    R(0.4048), /* log(candidates) */
+    R(0.569),  /* distance range given */
+    R(-15.96), /* sine of the contours' angle */
+    R(0.2928), /* log(0.1 + shading) */
+};
 
 void cdsp__pair_features(const cdsp_candidate *cand, uint32_t nc, uint32_t k, int ranged,
                          int contrast_known, cdsp_real x[CDSP__CONF_NX])

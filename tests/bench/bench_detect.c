@@ -19,7 +19,8 @@
  * within 5 % of the true distance of the true one and the direction within
  * 2 degrees. Printed: found rate, false-positive rate, the confidence
  * calibration table (fraction right per confidence bin), time per frame.
- * Usage: bench_detect [positives [negatives [seed]]] (default 300 100 1).
+ * Usage: bench_detect [positives [negatives [seed]]] (default 300 100 1);
+ * bench_detect fit TRAIN [VALIDATE]: the confidence model's fit (below).
  * BENCH_DETECT_COARSE=1 (`make check-coarse`, issue 17): each frame is also
  * solved with the coarse pass off (cdsp_edge_params.coarse = 0, the whole
  * frame read); a frame whose pipe the whole-frame search finds and the
@@ -721,6 +722,145 @@ static void print_tally(const char *title, const tally *t)
            t->hi_n ? (double)t->hi_ok / t->hi_n : NAN);
 }
 
+/* `bench_detect fit TRAIN VALIDATE`: fit the confidence model (lib/pair.c,
+ * conf_w) to the "F" lines of BENCH_DETECT_FEATURES=1 runs: a logistic
+ * regression by Newton's method (iteratively reweighted least squares) with
+ * an L2 penalty of 0.01 on every weight but the constant, on TRAIN; prints
+ * the weights and the calibration of both files. */
+#define FIT_MAX 4000
+typedef struct {
+    double x[CDSP__CONF_NX];
+    int y;
+} fit_row;
+
+static int fit_load(const char *path, fit_row *rows, int cap)
+{
+    FILE *fp = fopen(path, "r");
+    char line[1024];
+    int n = 0;
+    if (!fp)
+        return -1;
+    while (n < cap && fgets(line, sizeof line, fp)) {
+        int i, r, y, k, used;
+        char *p = line;
+        if (line[0] != 'F' || sscanf(line, "F %d %d %d%n", &i, &r, &y, &used) != 3)
+            continue;
+        p += used;
+        for (k = 0; k < CDSP__CONF_NX; k++) {
+            if (sscanf(p, "%lf%n", &rows[n].x[k], &used) != 1)
+                break;
+            p += used;
+        }
+        if (k < CDSP__CONF_NX)
+            continue;
+        rows[n++].y = y;
+    }
+    fclose(fp);
+    return n;
+}
+
+static double fit_p(const double *w, const double *x)
+{
+    double z = 0;
+    int k;
+    for (k = 0; k < CDSP__CONF_NX; k++)
+        z += w[k] * x[k];
+    return 1 / (1 + exp(-(z > 40 ? 40 : z < -40 ? -40 : z)));
+}
+
+static void fit_report(const char *what, const fit_row *rows, int n, const double *w)
+{
+    int b, i, hn = 0, hok = 0, cn[NBIN] = {0}, cok[NBIN] = {0}, ok = 0;
+    double cs[NBIN] = {0}, ll = 0, hs = 0;
+    for (i = 0; i < n; i++) {
+        double p = fit_p(w, rows[i].x);
+        b = (int)(p * NBIN);
+        b = b >= NBIN ? NBIN - 1 : b;
+        cn[b]++;
+        cok[b] += rows[i].y;
+        cs[b] += p;
+        ok += rows[i].y;
+        ll -= log(rows[i].y ? fmax(p, 1e-12) : fmax(1 - p, 1e-12));
+        if (p >= 0.9) {
+            hn++;
+            hok += rows[i].y;
+            hs += p;
+        }
+    }
+    printf("%s: %d poses, %d right, log loss %.3f\n", what, n, ok, ll / n);
+    for (b = 0; b < NBIN; b++)
+        if (cn[b])
+            printf("  [%.1f, %.1f%s %5d poses %5d right %.3f (mean confidence %.3f)\n", b / 10.0, (b + 1) / 10.0,
+                   b == NBIN - 1 ? "]" : ")", cn[b], cok[b], (double)cok[b] / cn[b], cs[b] / cn[b]);
+    printf("  >= 0.9      %5d poses %5d right %.4f (mean confidence %.3f)\n", hn, hok, hn ? (double)hok / hn : NAN,
+           hn ? hs / hn : NAN);
+}
+
+static int fit_main(const char *train, const char *validate)
+{
+    static fit_row tr[FIT_MAX], va[FIT_MAX];
+    int nt = fit_load(train, tr, FIT_MAX), nv = validate ? fit_load(validate, va, FIT_MAX) : 0, it, i, j, k;
+    double w[CDSP__CONF_NX] = {0};
+    if (nt <= 0 || nv < 0) {
+        fprintf(stderr, "bench_detect fit: no feature lines in %s%s%s\n", train, validate ? " or " : "",
+                validate ? validate : "");
+        return 1;
+    }
+    for (it = 0; it < 100; it++) {
+        double g[CDSP__CONF_NX] = {0}, A[CDSP__CONF_NX][CDSP__CONF_NX + 1], step = 0;
+        memset(A, 0, sizeof A);
+        for (i = 0; i < nt; i++) {
+            double p = fit_p(w, tr[i].x);
+            for (j = 0; j < CDSP__CONF_NX; j++) {
+                g[j] += (p - tr[i].y) * tr[i].x[j];
+                for (k = 0; k < CDSP__CONF_NX; k++)
+                    A[j][k] += p * (1 - p) * tr[i].x[j] * tr[i].x[k];
+            }
+        }
+        for (j = 0; j < CDSP__CONF_NX; j++) {
+            if (j > 0) {
+                g[j] += 0.01 * w[j];
+                A[j][j] += 0.01;
+            }
+            A[j][j] += 1e-9;
+            A[j][CDSP__CONF_NX] = g[j];
+        }
+        /* Gauss-Jordan with partial pivoting on the 9 x 9 system */
+        for (j = 0; j < CDSP__CONF_NX; j++) {
+            int piv = j;
+            for (k = j + 1; k < CDSP__CONF_NX; k++)
+                if (fabs(A[k][j]) > fabs(A[piv][j]))
+                    piv = k;
+            for (k = 0; k <= CDSP__CONF_NX; k++) {
+                double t = A[j][k];
+                A[j][k] = A[piv][k];
+                A[piv][k] = t;
+            }
+            for (i = 0; i < CDSP__CONF_NX; i++)
+                if (i != j) {
+                    double f = A[i][j] / A[j][j];
+                    for (k = j; k <= CDSP__CONF_NX; k++)
+                        A[i][k] -= f * A[j][k];
+                }
+        }
+        for (j = 0; j < CDSP__CONF_NX; j++) {
+            double d = A[j][CDSP__CONF_NX] / A[j][j];
+            w[j] -= d;
+            step = fmax(step, fabs(d));
+        }
+        if (step < 1e-10)
+            break;
+    }
+    printf("confidence model weights (lib/pair.c, conf_w), %d Newton steps:\n ", it + 1);
+    for (j = 0; j < CDSP__CONF_NX; j++)
+        printf(" %.4g", w[j]);
+    printf("\n");
+    fit_report("train", tr, nt, w);
+    if (validate)
+        fit_report("validate", va, nv, w);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     int npos = argc > 1 ? atoi(argv[1]) : 300, nneg = argc > 2 ? atoi(argv[2]) : 100;
@@ -730,6 +870,8 @@ int main(int argc, char **argv)
     int coarse_check = getenv("BENCH_DETECT_COARSE") != NULL, c_same = 0, c_lost = 0, c_gained = 0, c_n = 0;
     int i, sizes[3] = {640, 1280, 2448}, nt[3] = {0, 0, 0};
     double *tm[3];
+    if (argc > 2 && strcmp(argv[1], "fit") == 0)
+        return fit_main(argv[2], argc > 3 ? argv[3] : NULL);
     memset(&plain, 0, sizeof plain);
     memset(&ranged, 0, sizeof ranged);
     for (i = 0; i < 3; i++)
