@@ -21,6 +21,15 @@
  * calibration table (fraction right per confidence bin), time per frame.
  * Usage: bench_detect [positives [negatives [seed]]] (default 300 100 1);
  * bench_detect fit TRAIN [VALIDATE]: the confidence model's fit (below).
+ * Knobs (environment): BENCH_DETECT_ONLY=i one frame with its candidates;
+ * BENCH_DETECT_FROM / _TO a range of frames; BENCH_DETECT_CACHE=dir the
+ * rendered frames kept (seconds per run instead of minutes);
+ * BENCH_DETECT_WHY=1 each failed positive by cause (diagnose);
+ * BENCH_DETECT_FEATURES=1 the confidence model's features per pose (for
+ * `fit`); BENCH_DETECT_TABLE=1 and _VERBOSE=1 per-frame lines;
+ * BENCH_DETECT_DUMP=dir the frames as PGM; BENCH_DETECT_OLDGEN=1 the
+ * generator before its limb fix (limbs_visible), BENCH_DETECT_LIST_FIXED=1
+ * the frames that fix changes (their cached renders must be made again).
  * BENCH_DETECT_COARSE=1 (`make check-coarse`, issue 17): each frame is also
  * solved with the coarse pass off (cdsp_edge_params.coarse = 0, the whole
  * frame read); a frame whose pipe the whole-frame search finds and the
