@@ -4,17 +4,19 @@
  *
  * Synthetic edge points (the points path, exact lines): contours and
  * interior edges of chosen polarity and strength; the band returned must be
- * the one the cue names (its two lines within 0.1 px of the drawn ones, at
- * the middle of the frame: the points are exact, the TLS fit leaves
- * rounding only).
+ * the one the cue names, its two lines within 1e-3 px of the drawn ones at
+ * row 1000 (the points are exact: the TLS fit leaves rounding, float's
+ * 6e-5 px at column 1000; measured 0 in double and float; any other band
+ * is 10 px or more away).
  * Rendered frames (the frame path): a pipe with a bar crossing in front at
  * an angle, a dark pipe with a specular stripe off its centre, a pipe lit
  * from one side, a longer and narrower high-contrast bar beside the pipe,
  * the background gap between a pipe and a bar; the contours returned must
- * be the pipe's, within 1 px of the true lines at the band's middle (the
- * nearest wrong band's contours are 10 px or more away; measured errors,
- * CDSP_TEST_VERBOSE=1, are below 0.12 px), and the confidence must be
- * in [0, 1].
+ * be the pipe's, within 0.25 px of the true lines at the band's middle
+ * (measured, CDSP_TEST_VERBOSE=1: at most 0.054 px in double, 0.051 px in
+ * float, the edge detector's shading bias and noise; the nearest wrong
+ * band's contours are 10 px or more away), and the confidence must be in
+ * [0, 1].
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -93,7 +95,7 @@ static void points_case_run(const points_case *c)
     if (getenv("CDSP_TEST_VERBOSE"))
         print_message("%s: band %.3f..%.3f (error %.2g px), confidence %.3f\n", c->what, a, b, err,
                       (double)r.confidence);
-    if (err > 0.1)
+    if (err > 1e-3)
         fail_msg("%s: band %.2f..%.2f, want %.0f..%.0f", c->what, a, b, c->want[0], c->want[1]);
     assert_true(r.confidence >= 0 && r.confidence <= 1);
 }
@@ -229,8 +231,8 @@ static void frame_case_run(const frame_case *c)
     if (getenv("CDSP_TEST_VERBOSE"))
         print_message("%s: contours within %.3f px, confidence %.3f, %u candidates\n", c->what, err,
                       (double)r.confidence, (unsigned)r.n_candidates);
-    if (err > 1.0)
-        fail_msg("%s: a contour %.1f px from the pipe's (another band chosen)", c->what, err);
+    if (err > 0.25)
+        fail_msg("%s: a contour %.2f px from the pipe's (another band chosen)", c->what, err);
     assert_true(r.confidence >= 0 && r.confidence <= 1);
 }
 
