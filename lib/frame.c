@@ -197,8 +197,8 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
     cdsp_status st = cdsp_camera_undistort_edges(cam, ws->edge, &n);
     if (st != CDSP_OK)
         return st;
-    return cdsp__pair_solve(cam, radius, ws->edge, n, ws->label, ws->cand, p, min_step, prior,
-                            rng, img, &ws->profile, out);
+    return cdsp__pair_solve_frame(cam, radius, ws->edge, n, ws->label, ws->cand, p, min_step, prior,
+                                  rng, img, &ws->profile, out);
 }
 
 /*

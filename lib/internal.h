@@ -133,13 +133,18 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              cdsp_line *lines, int *nlines, int *capped);
 /* min_step: the edge step threshold the points were detected with (gray
  * levels; 0 when unknown, e.g. the points path): contrast is scored
- * relative to it. cand: CDSP_MAX_CANDIDATES slots for the ranked list.
- * img and pws: the frame and scratch for the edge-profile model (frame
- * path); NULL from the points path, which has no frame. */
+ * relative to it. cand: CDSP_MAX_CANDIDATES slots for the ranked list. */
 cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                              size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
                              cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
-                             const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out);
+                             cdsp_result *out);
+/* The frame path's: the same with test (x) and the bands' shading read from
+ * img, and the edge-profile model with scratch pws (a separate entry point,
+ * so a points-only firmware links without the frame sampling). */
+cdsp_status cdsp__pair_solve_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                   size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
+                                   cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
+                                   const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out);
 /* pair.c, split for the multi-pipe path (lib/multi.c): every candidate
  * line and scored pair (CDSP_E_NO_PIPE when none), one pair's full result
  * (confidence, n_candidates, track_id and the direction's sign are the

@@ -18,7 +18,8 @@
  * one short piece is a blob or a clamp, not a contour), (viii) the band
  * holds one object, not two and the gap between them (see band_split),
  * (ix) on the single path, it is an object, not the gap beside one (see
- * edge_of_neighbour). The survivors are scored and ranked as documented in
+ * edge_of_neighbour), (x) on the frame path, its interior is smooth (see
+ * frame_filter). The survivors are scored and ranked as documented in
  * include/cdsp.h ("The pair score"): the evidence of the weaker contour
  * (inliers on the common stretch, contrast over the step threshold up to
  * CONTRAST_CLEAR, spread of the support) times the band's width squared
@@ -441,20 +442,6 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
         if ((na && nb) || (nb && (ends & 1)) || (na && (ends & 2)))
             return (*why = CDSP__PAIR_GAP, R(0));
     }
-    /* (x) frame path: a smooth interior. At most four steps of two
-     * thresholds between neighbouring samples across the band (band_shade's
-     * 9 samples) at the median position along it (a bar in front covers a
-     * few): a specular stripe's rise and fall, a bar's two edges, texture
-     * pass; more is a grating of edges too many to be lines (the line cap),
-     * not one object. bench-detect, found without a range, seeds 1 / 2:
-     * the same 85.7 % / 86.0 % as without the test (more than two steps of
-     * one threshold: 81.0 / 81.7 %) */
-    if (sc->single && sc->img) {
-        int steps;
-        (void)band_shade(sc, A, B, lo, hi, width, &steps);
-        if (steps > 4)
-            return (*why = CDSP__PAIR_BUSY, R(0));
-    }
 
     /* inliers on the common stretch: each line's count scaled by the
      * fraction of its extent that overlaps */
@@ -508,7 +495,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     c->support = nA * qA < nB * qB ? nA * qA : nB * qB;
     c->contrast = cA < cB ? cA : cB;
     c->width = width;
-    c->shade = R(-1); /* measured for the candidates only (cdsp__pair_solve) */
+    c->shade = R(-1); /* measured on the frame path (frame_filter) */
     c->sin_angle = R_SQRT(dotn * dotn < R(1) ? R(1) - dotn * dotn : R(0));
     return S;
 }
@@ -681,10 +668,50 @@ static void score_init(score_ctx *sc, const cdsp_camera *cam, cdsp_real radius, 
     sc->single = 1;
 }
 
+/* (x) on the frame path: a smooth interior (docs/method.md §4, test 10),
+ * and each surviving pair's shading for the confidence. Applied to the
+ * scored pairs by the frame path only, so a points-only firmware links
+ * without the frame sampling (tests/mcu: the points path's flash budget).
+ * At most four steps of two thresholds between neighbouring samples across
+ * the band (cdsp__pair_band_shade's 9 samples) at the median position
+ * along it (a bar in front covers a few): a specular stripe's rise and
+ * fall, a bar's two edges, texture pass; more is a grating of edges too
+ * many to be lines (the line cap), not one object. bench-detect, found
+ * without a range, seeds 1 / 2: the same 85.7 % / 86.0 % as without the
+ * test (more than two steps of one threshold: 81.0 / 81.7 %). */
+#define BUSY_STEPS 4
+static int pair_busy(const score_ctx *sc, pair_choice *c)
+{
+    const cdsp_line *A = &sc->lines[c->i], *B = &sc->lines[c->j];
+    cdsp_real lo, hi, loA, hiA, loB, hiB;
+    int steps;
+    extent_on(A, A->dir, A->centroid, &loA, &hiA);
+    extent_on(B, A->dir, A->centroid, &loB, &hiB);
+    lo = loA > loB ? loA : loB;
+    hi = hiA < hiB ? hiA : hiB;
+    c->shade = band_shade(sc, A, B, lo, hi, c->width, &steps);
+    return steps > BUSY_STEPS;
+}
+
+static void frame_filter(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                         const cdsp_params *p, cdsp_real min_step, cdsp_pair_set *set)
+{
+    score_ctx sc;
+    int k, m = 0;
+    if (!img || !(min_step > R(0)))
+        return;
+    score_init(&sc, cam, radius, p, min_step, NULL, set->lines, set->nlines);
+    sc.img = img;
+    for (k = 0; k < set->npairs; k++)
+        if (!pair_busy(&sc, &set->pair[k]))
+            set->pair[m++] = set->pair[k];
+    set->npairs = m;
+}
+
 static cdsp_status score_pairs(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
                                uint8_t *label, const cdsp_params *p, cdsp_real min_step,
-                               const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
-                               int single, cdsp_pair_set *set)
+                               const cdsp_result *prior, cdsp_rng *rng, int single,
+                               cdsp_pair_set *set)
 {
     uint32_t mask[CDSP_MAX_LINES];
     cdsp_line *lines = set->lines;
@@ -705,7 +732,6 @@ static cdsp_status score_pairs(const cdsp_camera *cam, cdsp_real radius, const c
         return CDSP_E_NO_PIPE;
     support_masks(pts, n, label, lines, nlines, mask);
     score_init(&sc, cam, radius, p, min_step, prior, lines, nlines);
-    sc.img = min_step > R(0) ? img : NULL;
     sc.single = single;
     for (i = 0; i < nlines; i++)
         for (j = i + 1; j < nlines; j++) {
@@ -724,7 +750,7 @@ cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const
                                  size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                  const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set)
 {
-    return score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, NULL, 0, set);
+    return score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, 0, set);
 }
 
 cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
@@ -732,7 +758,11 @@ cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, con
                                    const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
                                    cdsp_pair_set *set)
 {
-    return score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, img, 1, set);
+    cdsp_status st = score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, 1, set);
+    if (st != CDSP_OK)
+        return st;
+    frame_filter(img, cam, radius, p, min_step, set);
+    return set->npairs ? CDSP_OK : CDSP_E_NO_PIPE;
 }
 
 int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
@@ -750,7 +780,9 @@ int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pt
     sc.img = min_step > R(0) ? img : NULL;
     c.i = i < j ? i : j;
     c.j = i < j ? j : i;
-    (void)pair_score(&sc, &set->lines[c.i], &set->lines[c.j], mask[c.i], mask[c.j], &c, &why);
+    if (pair_score(&sc, &set->lines[c.i], &set->lines[c.j], mask[c.i], mask[c.j], &c, &why) > R(0) &&
+        sc.img && pair_busy(&sc, &c))
+        why = CDSP__PAIR_BUSY;
     return why;
 }
 
@@ -868,14 +900,15 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cd
     return CDSP_OK;
 }
 
-cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                             size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
-                             cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
-                             const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out)
+/* The ranking, the candidates and the pose from the scored pairs (the
+ * common end of the points and the frame path). */
+static cdsp_status choose(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
+                          const uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
+                          cdsp_real min_step, const cdsp_result *prior, const cdsp_image *img,
+                          cdsp_profile_ws *pws, cdsp_pair_set *pset, cdsp_result *out)
 {
-    cdsp_pair_set set;
-    const cdsp_line *lines = set.lines;
-    const pair_choice *list = set.pair;
+    const cdsp_line *lines = pset->lines;
+    const pair_choice *list = pset->pair;
     uint8_t used[CDSP_MAX_LINES], dead[PAIR_KEEP];
     pair_choice chosen[CDSP_MAX_CANDIDATES];
     int nlines, i, np, nc = 0;
@@ -884,11 +917,8 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
     cdsp_real conf;
     int ranged = p->pair.min_distance > R(0) || p->pair.max_distance > R(0);
 
-    st = cdsp__pair_score_frame(cam, radius, pts, n, label, p, min_step, prior, rng, img, &set);
-    if (st != CDSP_OK)
-        return st;
-    nlines = set.nlines;
-    np = set.npairs;
+    nlines = pset->nlines;
+    np = pset->npairs;
     /* Each contour belongs to one candidate: best first, a pair sharing a
      * line with a better one is dropped, and a pair is passed over when its
      * two lines do better with other partners (the gap between two pipes). */
@@ -922,20 +952,7 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         cand[i].contrast = min_step > R(0) ? c->contrast : R(1);
         cand[i].width = c->width;
         cand[i].sin_angle = c->sin_angle;
-        cand[i].shade = R(-1);
-        if (img && min_step > R(0)) {
-            score_ctx sc;
-            cdsp_real lo, hi, loA, hiA, loB, hiB;
-            const cdsp_line *A = &lines[c->i], *B = &lines[c->j];
-            score_init(&sc, cam, radius, p, min_step, NULL, lines, nlines);
-            sc.img = img;
-            extent_on(A, A->dir, A->centroid, &loA, &hiA);
-            extent_on(B, A->dir, A->centroid, &loB, &hiB);
-            lo = loA > loB ? loA : loB;
-            hi = hiA < hiB ? hiA : hiB;
-            int steps;
-            cand[i].shade = band_shade(&sc, A, B, lo, hi, c->width, &steps);
-        }
+        cand[i].shade = c->shade; /* frame_filter's, or -1 */
         for (k = 0; k < 3; k++) {
             cand[i].lines[0][k] = lines[c->i].l[k];
             cand[i].lines[1][k] = lines[c->j].l[k];
@@ -950,7 +967,7 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
     for (i = 0; i < nc; i++)
         cand[i].confidence = cdsp__pair_confidence(cand, (uint32_t)nc, (uint32_t)i, ranged, min_step > R(0));
     conf = cand[0].confidence;
-    st = cdsp__pair_result(cam, radius, pts, n, label, &set, &chosen[0], p, img, pws, &r);
+    st = cdsp__pair_result(cam, radius, pts, n, label, pset, &chosen[0], p, img, pws, &r);
     if (st != CDSP_OK)
         return st;
     if (conf < p->min_confidence)
@@ -961,6 +978,33 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
         cdsp__axis_swap(&r);
     *out = r;
     return CDSP_OK;
+}
+
+cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                             size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
+                             cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
+                             cdsp_result *out)
+{
+    cdsp_pair_set set;
+    cdsp_status st = score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, 1, &set);
+    if (st != CDSP_OK)
+        return st;
+    return choose(cam, radius, pts, n, label, cand, p, min_step, prior, NULL, NULL, &set, out);
+}
+
+cdsp_status cdsp__pair_solve_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                   size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
+                                   cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
+                                   const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out)
+{
+    cdsp_pair_set set;
+    cdsp_status st = score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, 1, &set);
+    if (st != CDSP_OK)
+        return st;
+    frame_filter(img, cam, radius, p, min_step, &set);
+    if (set.npairs == 0)
+        return CDSP_E_NO_PIPE;
+    return choose(cam, radius, pts, n, label, cand, p, min_step, prior, img, pws, &set, out);
 }
 
 int cdsp__points_finite(const cdsp_edge *e, size_t n)
@@ -1022,8 +1066,7 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cd
         return CDSP_E_CAPACITY;
     if (!cdsp__points_finite(pts, n))
         return CDSP_E_NONFINITE;
-    return cdsp__pair_solve(cam, radius, pts, n, ws->label, ws->cand, p, R(0), prior, rng, NULL, NULL,
-                            out);
+    return cdsp__pair_solve(cam, radius, pts, n, ws->label, ws->cand, p, R(0), prior, rng, out);
 }
 
 void cdsp_params_default(cdsp_params *p)
