@@ -9,6 +9,8 @@
 # (vivid's disconnect control: its nodes fail with ENODEV until every file
 # handle is closed, then work again): cdspd reports source-down, reopens
 # the device and poses resume.
+# SECONDS (loss mode, default 25): cdspd's least run time; it is stopped
+# once that has passed and the receiver has its poses after the reopen.
 # Prints PASS or FAIL; exit 0 on PASS.
 fourcc=${1:-GREY}
 mode=${2:-plain}
@@ -57,7 +59,15 @@ if [ "$mode" = loss ]; then
     # is ended once cdspd has exited (SIGTERM: it then judges what it got)
     idle=300
     rxargs="$rxargs --min-bad 1 --min-reconnects 1 --expect-status source-down --resume-within 120"
-    dur=${3:-25}   # longer for a sanitizer build (vm_v4l2.sh's VM_CDSPD_DURATION)
+    # cdspd runs at least SECONDS (25; vm_v4l2.sh's VM_CDSPD_DURATION: 60
+    # for the ASan build) and until the receiver has its poses after the
+    # reopen; then it is stopped (SIGTERM), below. A --duration of SECONDS
+    # instead ran out, on a loaded machine, just as cdspd reopened: no pose
+    # after it, a failure that said nothing about cdspd. Every frame the
+    # old run took is still taken: SECONDS is a lower bound now, the
+    # counts decide. --duration only bounds a hang.
+    min_s=${3:-25}
+    dur=900
 fi
 cdspd_rx --port-file /tmp/port --progress /tmp/rx.progress --truth sim-any --calib $cam $sets \
     --duration 300 --idle $idle $rxargs \
@@ -66,6 +76,7 @@ rx=$!
 i=0
 until [ -s /tmp/port ]; do i=$((i + 1)); [ $i -le 100 ] || fail "cdspd_rx did not start"; sleep 0.1; done
 
+t_start=$(date +%s)   # (loss mode: cdspd's least run time counts from here)
 cdspd --source "v4l2:$CDSP_VIVID_CAP" --calib $cam --radius 10 --dest 127.0.0.1:$(cat /tmp/port) \
     --set v4l2.format="$fourcc" --set stats_interval=0 --set retry_min=0.5 --set retry_max=1 \
     --set status_interval=0.2 \
@@ -116,6 +127,18 @@ if [ "$mode" = loss ]; then
     kill -CONT $d
     [ $setup_rc -eq 0 ] || fail "vivid setup after the disconnect"
     wait_for /tmp/cdspd.log "v4l2:$CDSP_VIVID_CAP: reopened" 300 || fail "cdspd did not reopen the device"
+    # the receiver's counts after the reopen: the daemon's reconnect
+    # counter and 20 more poses (the --min-poses of the plain run) than it
+    # had when cdspd reopened; then cdspd is stopped
+    p0=$(sed -n 's/.* poses \([0-9]*\) .*/\1/p' /tmp/rx.progress)
+    i=0
+    until [ "$(sed -n 's/.* poses \([0-9]*\) .*/\1/p' /tmp/rx.progress)" -ge $((${p0:-0} + 20)) ] 2>/dev/null &&
+          grep -q "reconnects [1-9]" /tmp/rx.progress; do
+        i=$((i + 1)); [ $i -le 3000 ] || fail "no reconnect count and 20 poses after the reopen in 300 s"
+        sleep 0.1
+    done
+    until [ $(( $(date +%s) - t_start )) -ge "$min_s" ]; do sleep 0.5; done
+    kill -TERM $d
 fi
 wait $d
 rc=$?

@@ -6,8 +6,9 @@
 # runs inside the VM (tests/daemon/vm_inner.sh) and prints PASS/FAIL on the
 # console. Exit status 0 when both pass. VM_RUNS chooses the runs
 # (default "GREY-loss YUYV-plain"; daemon/sanitize.mk runs GREY-loss with
-# the ASan build, with VM_CDSPD_DURATION=60: cdspd's run in the "loss"
-# mode, 25 s by default).
+# the ASan build, with VM_CDSPD_DURATION=60: cdspd's least run time in
+# the "loss" mode, 25 s by default; it runs on until the receiver has its
+# poses after the reopen).
 set -u
 cdspd=$1 rx=$2 feed=$3
 shift 3
