@@ -157,10 +157,10 @@ check:
 	@tests/deps.sh ensure all
 	@mkdir -p $(BUILD) && rm -f $(BUILD)/check-results
 	@t0=$$(date +%s); \
-	 $(MAKE) --no-print-directory -k -j$(CHECK_JOBS) check-steps RUN=true; b=$$?; \
+	 $(MAKE) --no-print-directory -k -j$(CHECK_JOBS) check-steps RUN=true; b=$$?; t1=$$(date +%s); \
 	 $(MAKE) --no-print-directory -k -j$$([ $$b -eq 0 ] && echo $(CHECK_JOBS) || echo 1) -Otarget \
 	     check-run; r=$$?; \
-	 tests/summary.sh $(BUILD)/check-results $$(( b != 0 || r != 0 )) $$t0
+	 tests/summary.sh $(BUILD)/check-results $$(( b != 0 || r != 0 )) $$t0 $$t1
 
 # Every step, in registration order (make -k check-steps: one at a time).
 check-steps: $(CHECK_STEPS)
