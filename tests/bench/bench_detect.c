@@ -92,19 +92,9 @@ static void add_bar(cdsp_scene *s, const cdsp_camera *c, double u0, double v0, d
                     double z, double w_px, double level)
 {
     double A[3], B[3];
-    cdsp_clutter *b;
-    int k;
-    if (s->n_clutter >= CDSP_RENDER_MAX_CLUTTER)
-        return;
-    b = &s->clutter[s->n_clutter++];
     at_pixel(c, u0, v0, z, A);
     at_pixel(c, u1, v1, z, B);
-    for (k = 0; k < 3; k++) {
-        b->p0[k] = (cdsp_real)A[k];
-        b->p1[k] = (cdsp_real)B[k];
-    }
-    b->half_width = (cdsp_real)(w_px * z / (2 * (double)c->fx));
-    b->level = (cdsp_real)level;
+    sup_add_bar(s, A, B, w_px * z / (2 * (double)c->fx), level);
 }
 
 /* A bar crossing the frame through a random point at a random angle. */

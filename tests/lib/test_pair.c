@@ -155,18 +155,6 @@ static void test_band_score(void **state)
 #define H 480
 #define F 800.0
 
-static void add_bar(cdsp_scene *s, const double a[3], const double b[3], double half_width, double level)
-{
-    cdsp_clutter *c = &s->clutter[s->n_clutter++];
-    int k;
-    for (k = 0; k < 3; k++) {
-        c->p0[k] = (cdsp_real)a[k];
-        c->p1[k] = (cdsp_real)b[k];
-    }
-    c->half_width = (cdsp_real)half_width;
-    c->level = (cdsp_real)level;
-}
-
 typedef struct {
     const char *what;
     double pipe, bg, ambient, specular; /* levels, ambient light, highlight */
@@ -204,13 +192,13 @@ static void frame_case_run(const frame_case *c)
     }
     if (c->clutter == 1) { /* 30 px wide, crossing at 30 degrees, in front */
         const double a[3] = {-150, -260, 300}, b[3] = {150, 260, 300};
-        add_bar(&s, a, b, 5.6, 0.85);
+        sup_add_bar(&s, a, b, 5.6, 0.85);
     } else if (c->clutter == 2) { /* 16 px wide, across the whole frame, behind, dark */
         const double a[3] = {110, -500, 500}, b[3] = {150, 500, 500};
-        add_bar(&s, a, b, 5, 0.02);
+        sup_add_bar(&s, a, b, 5, 0.02);
     } else if (c->clutter == 3) { /* 24 px wide, parallel, 80 px beside the pipe */
         const double a[3] = {75, -200, 420}, b[3] = {95, 200, 420};
-        add_bar(&s, a, b, 6.3, c->pipe);
+        sup_add_bar(&s, a, b, 6.3, c->pipe);
     }
     buf = sup_render(&s, &cam, 8, 11, &img);
     assert_non_null(buf);
