@@ -417,7 +417,7 @@ int main(int argc, char **argv)
     socklen_t sl;
     static uint8_t buf[65536];
     double t0, t_last = 0, worst_ratio = 0, worst_dir_ratio = 0, t_down = -1, worst_resume = 0;
-    double worst_point_sig = 0, worst_dir_sig = 0;
+    double worst_point_sig = 0, worst_dir_sig = 0, cmp_worst = 0;
     rx_part worst_point = {0, 0, 0}, worst_dir = {0, 0, 0};
     long received = 0, poses = 0, statuses = 0, expect_hits = 0, in_view = 0, in_view_ok = 0;
     long gaps = 0, seq_errors = 0, away_poses = 0, bad_decode = 0, tracked = 0;
@@ -652,6 +652,7 @@ int main(int argc, char **argv)
                     d2 += (r.point[k] - e->point[k]) * (r.point[k] - e->point[k]);
                     s2 += e->sigma_point[k] * e->sigma_point[k];
                 }
+                cmp_worst = fmax(cmp_worst, sqrt(d2) / (6 * sqrt(s2) + 1e-9));
                 if (sqrt(d2) > 6 * sqrt(s2) + 1e-9) {
                     fprintf(stderr, "cdspd_rx: FAIL: replayed frame %llu: P_C %.4f from the recorded "
                             "one (6 sigma: %.4f)\n", (unsigned long long)r.frame_id, sqrt(d2),
@@ -736,8 +737,8 @@ int main(int argc, char **argv)
     if (o.validate)
         printf("cdspd_rx: validated %ld datagrams: %ld invalid\n", received - bad_decode, invalid);
     if (o.compare)
-        printf("cdspd_rx: replay: %ld frames compared with %ld recorded results, %ld differ\n",
-               compared, cmp_n, cmp_fail);
+        printf("cdspd_rx: replay: %ld frames compared with %ld recorded results, %ld differ; worst "
+               "P_C difference %.3g of its tolerance (6 sigma)\n", compared, cmp_n, cmp_fail, cmp_worst);
     if (o.truth == TRUTH_SIM_ANY)
         printf("cdspd_rx: poses %ld, each matching one of the path's; %ld different ones seen\n", poses,
                slots_seen);
