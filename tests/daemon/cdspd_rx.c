@@ -74,6 +74,7 @@ typedef struct {
     long min_reconnects, min_bad, max_dropped;
     double resume_within;       /* after a source-down status: a pose within this many s */
     const char *compare;        /* --record's .jsonl: frame k of a replay = its line k */
+    int compare_exact;          /* --compare-exact: P_C bit for bit, not within 6 sigma */
     const char *progress;       /* rewritten after every datagram: counts so far */
     double camera_clock_us;     /* > 0: t_camera_us - t_host_us must be about this */
     double min_interval_us;     /* > 0: frames' t_camera_us at least this far apart */
@@ -137,6 +138,8 @@ static void usage(FILE *f, int st)
             "  --allow-seq-gaps       do not fail on missing sequence numbers\n"
             "  --compare-jsonl FILE   a replay of --record's frames: frame k must give the\n"
             "                         result of line k (status equal, pose within 6 sigma)\n"
+            "  --compare-exact        ... and P_C equal bit for bit (a replay of every frame:\n"
+            "                         the same frames tracked from the same ones)\n"
             "  --progress FILE        after every datagram, replace FILE by one line of counts\n"
             "                         'received N poses N statuses N source-down N bad N\n"
             "                         reconnects N', for a test that waits for counts, not time\n"
@@ -169,7 +172,7 @@ static double num(const char *opt, const char *s)
 
 static void parse(int argc, char **argv, rx_options *o)
 {
-    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ, MSL, VA, PG, CC, MI, XR };
+    enum { B = 256, PF, TR, CF, ST, CA, CY, DU, ID, CO, MP, MR, ES, ME, MS, XS, MRC, MB, MD, RW, DL, SG, JS, CJ, MSL, VA, PG, CC, MI, XR, CX };
     static const struct option lo[] = {
         {"bind", 1, NULL, B}, {"port-file", 1, NULL, PF}, {"truth", 1, NULL, TR},
         {"config", 1, NULL, CF}, {"set", 1, NULL, ST}, {"calib", 1, NULL, CA},
@@ -180,7 +183,7 @@ static void parse(int argc, char **argv, rx_options *o)
         {"max-dropped", 1, NULL, MD}, {"resume-within", 1, NULL, RW}, {"delta", 1, NULL, DL},
         {"allow-seq-gaps", 0, NULL, SG}, {"compare-jsonl", 1, NULL, CJ}, {"min-slots", 1, NULL, MSL}, {"json", 0, NULL, JS},
         {"validate", 0, NULL, VA}, {"progress", 1, NULL, PG}, {"camera-clock", 1, NULL, CC},
-        {"min-interval", 1, NULL, MI}, {"max-reconnects", 1, NULL, XR}, {"help", 0, NULL, 'h'},
+        {"min-interval", 1, NULL, MI}, {"max-reconnects", 1, NULL, XR}, {"compare-exact", 0, NULL, CX}, {"help", 0, NULL, 'h'},
         {NULL, 0, NULL, 0}};
     int c;
     memset(o, 0, sizeof *o);
@@ -235,6 +238,7 @@ static void parse(int argc, char **argv, rx_options *o)
         case JS: o->json_expected = 1; break;
         case VA: o->validate = 1; break;
         case CJ: o->compare = optarg; break;
+        case CX: o->compare_exact = 1; break;
         case MSL: o->min_slots = (long)num("--min-slots", optarg); break;
         case PG: o->progress = optarg; break;
         case CC: o->camera_clock_us = num("--camera-clock", optarg); break;
@@ -653,7 +657,7 @@ int main(int argc, char **argv)
                     s2 += e->sigma_point[k] * e->sigma_point[k];
                 }
                 cmp_worst = fmax(cmp_worst, sqrt(d2) / (6 * sqrt(s2) + 1e-9));
-                if (sqrt(d2) > 6 * sqrt(s2) + 1e-9) {
+                if (o.compare_exact ? d2 != 0 : sqrt(d2) > 6 * sqrt(s2) + 1e-9) {
                     fprintf(stderr, "cdspd_rx: FAIL: replayed frame %llu: P_C %.4f from the recorded "
                             "one (6 sigma: %.4f)\n", (unsigned long long)r.frame_id, sqrt(d2),
                             6 * sqrt(s2));
