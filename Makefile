@@ -30,7 +30,7 @@ CHECK_STEPS :=
 BENCH_STEPS :=
 
 .DEFAULT_GOAL := all
-.PHONY: all check check-steps bench bench-steps demo deps clean size-m4f
+.PHONY: all check check-steps check-run bench bench-steps demo deps clean size-m4f
 
 # ---------------------------------------------------------------------------
 # libcdsp in several variants: one template, one build directory each.
@@ -135,13 +135,60 @@ all:
 	@$(MAKE) --no-print-directory build-all
 build-all: $(ALL_TARGETS)
 
+# `make check`: every step of CHECK_STEPS, CHECK_JOBS at a time, in two
+# makes (README "Testing"):
+#  1. the steps' prerequisites, all of them, built by one make (-k -j, with
+#     RUN=true: the steps' commands are not run), so that each file is
+#     built once, by one process, however the steps are then scheduled;
+#  2. check-run: the steps themselves, -k -j: every step runs, a failure is
+#     counted and the others go on; -Otarget prints each step's output
+#     whole (tests/run.sh buffers each suite's output too). Steps that must
+#     not overlap are in a lane (CHECK_LANES below): a lane runs its steps
+#     one after the other, in a make of its own (-k -j1), beside the other
+#     lanes and the free steps. CHECK_FIRST starts the long ones first, so
+#     that the short ones fill the other job slot.
+# A step's assertions never depend on the machine's speed (STYLE.md), so
+# they hold with another step on the other core; one core (taskset -c 0:
+# nproc says 1) runs them one at a time, as `make -k check-steps` does.
+# If make 1 failed (a build is broken), make 2 runs -j1: a broken build is
+# then attempted by one process at a time, its errors shown per step.
+CHECK_JOBS ?= $(shell nproc 2>/dev/null || echo 1)
 check:
 	@tests/deps.sh ensure all
 	@mkdir -p $(BUILD) && rm -f $(BUILD)/check-results
-	@$(MAKE) --no-print-directory -k check-steps; \
-	 tests/summary.sh $(BUILD)/check-results $$?
+	@t0=$$(date +%s); \
+	 $(MAKE) --no-print-directory -k -j$(CHECK_JOBS) check-steps RUN=true; b=$$?; t1=$$(date +%s); \
+	 $(MAKE) --no-print-directory -k -j$$([ $$b -eq 0 ] && echo $(CHECK_JOBS) || echo 1) -Otarget \
+	     check-run; r=$$?; \
+	 tests/summary.sh $(BUILD)/check-results $$(( b != 0 || r != 0 )) $$t0 $$t1
 
+# Every step, in registration order (make -k check-steps: one at a time).
 check-steps: $(CHECK_STEPS)
+
+# Lanes: steps that cannot run at the same time as each other, each lane
+# one list CHECK_LANE_<name> (registered where the steps are); a step in no
+# lane is free. gvcp: the fake GigE camera (tests/fakecam) listens on
+# GVCP's fixed port 3956 of 127.0.0.1, one camera per machine; the scripts
+# wait for /tmp/cdsp-fakecam-gvcp.lock, bounded, and would count a long
+# wait as a failure.
+CHECK_LANES := gvcp
+CHECK_LANED := $(foreach l,$(CHECK_LANES),$(CHECK_LANE_$(l)))
+# The long steps and lanes, longest first (per-step seconds of `make
+# check`, tests/summary.sh); the other steps follow in registration order.
+# (measured, one at a time on a loaded machine: aarch64 291 s, the gvcp
+# lane 280, lib-asan 216, daemon-v4l2 170, tool 146, daemon-v4l2-asan
+# 127, daemon-asan 100, coarse 98; the rest 60 s or less each)
+CHECK_FIRST := check-aarch64 check-lane-gvcp check-lib-asan check-daemon-v4l2 check-tool \
+               check-daemon-v4l2-asan check-daemon-asan check-coarse
+CHECK_RUN := $(filter-out $(CHECK_LANED),$(filter $(CHECK_STEPS) $(CHECK_LANES:%=check-lane-%),$(CHECK_FIRST))) \
+             $(filter-out $(CHECK_FIRST) $(CHECK_LANED),$(CHECK_STEPS) $(CHECK_LANES:%=check-lane-%))
+.PHONY: check-run $(CHECK_LANES:%=check-lane-%)
+check-run: $(CHECK_RUN)
+# (a make of its own without the jobserver: its steps one at a time, so
+# MAKEFLAGS without -j and --jobserver-auth; command-line variables kept)
+$(CHECK_LANES:%=check-lane-%): check-lane-%:
+	@MAKEFLAGS="$(filter-out -j% --jobserver%,$(MAKEFLAGS))" \
+	 $(MAKE) --no-print-directory -k -j1 $(filter $(CHECK_STEPS),$(CHECK_LANE_$*))
 
 deps:
 	tests/deps.sh install all

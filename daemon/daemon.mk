@@ -148,6 +148,9 @@ check-daemon-aravis-formats: $(daemon_BIN) $(daemon_RX) $(BUILD)/fakecam/cdsp_fa
 	@$(daemon_ENV) $(RUN) "daemon/aravis-formats" tests/daemon/aravis_formats.sh $(BUILD)/fakecam/cdsp_fakecam
 daemon_CHECKS += check-daemon-aravis-formats
 endif
+# the steps that run the fake GigE camera (its fixed GVCP port: one per
+# machine): one at a time, the Makefile's gvcp lane (ux.sh: --list-cameras)
+CHECK_LANE_gvcp += check-daemon-ux $(filter check-daemon-aravis%,$(daemon_CHECKS))
 
 ifneq ($(filter -DCDSPD_HAVE_V4L2,$(daemon_DEFS)),)
 .PHONY: check-daemon-v4l2

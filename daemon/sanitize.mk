@@ -134,5 +134,8 @@ check-daemon-aravis-tsan: $(dsan_tsan_BIN) $(daemon_RX) $(dsan_FAKECAM)
 	    $(RUN) "daemon-tsan/aravis-fakecam" tests/daemon/aravis_e2e.sh $(dsan_FAKECAM)
 dsan_CHECKS += check-daemon-aravis-asan check-daemon-aravis-tsan
 endif
+# the fake GigE camera's (one per machine): the Makefile's gvcp lane;
+# faults.sh's section 7 runs it on the plain build
+CHECK_LANE_gvcp += check-daemon-faults $(filter check-daemon-aravis-%,$(dsan_CHECKS))
 
 CHECK_STEPS += $(dsan_CHECKS)

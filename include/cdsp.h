@@ -385,10 +385,11 @@ typedef struct {
     cdsp_real edge_offset[2];
     cdsp_real edge_blur[2];
     /* Since issue 10: how sure, and on what evidence. */
-    cdsp_real confidence;    /* in [0, 1]: how likely this is the pipe, from the
-                                pair's evidence and its margin over the best
-                                rival (see "The pair score" below); calibrated
-                                on `make bench-detect`. 0 from cdsp_axis_solve */
+    cdsp_real confidence;    /* in [0, 1]: how likely this is the pipe, a
+                                logistic model of the pair's evidence and its
+                                margin over the best rival (see "The pair
+                                score" below), fitted on `make bench-detect`.
+                                0 from cdsp_axis_solve */
     cdsp_real score;         /* the pair score the pose won with (below) */
     cdsp_real noise;         /* frame path: the frame's measured noise sigma,
                                 gray levels (0 on the points path) */
@@ -416,34 +417,45 @@ typedef struct {
                                     may not have been considered */
 
 /*
- * The pair score (issue 10; lib/pair.c). Every pair of candidate lines that
- * passes the plausibility tests (opposite polarity forming a band, within
- * max_contour_angle, overlapping by min_overlap, not crossing inside their
- * stretch, a band at least as wide as the edge window 2 half_window + 1,
- * each contour's support covering min_support of the overlap, the closed
- * form's distance inside [min_distance, max_distance], no contour of the
- * opposite polarity inside the band: two objects and the gap between them)
- * is scored by its weaker contour
- *   S = min(n1 c1 q1, n2 c2 q2) * T
+ * The pair score (issue 10; lib/pair.c; docs/method.md §4). Every pair of
+ * candidate lines that passes the plausibility tests (opposite polarity
+ * forming a band, within max_contour_angle, overlapping by min_overlap, not
+ * crossing inside their stretch, a band at least as wide as the edge window
+ * 2 half_window + 1, each contour's support covering min_support of the
+ * overlap, the closed form's distance inside [min_distance, max_distance],
+ * one object inside: no strong interior contours of both polarities and no
+ * strong one opposing its nearer contour, and, on the single-pipe path, not
+ * the gap between two objects) is scored by its weaker contour times its
+ * width squared
+ *   S = min(n1 c1 q1, n2 c2 q2) * (w / w0)^2 * T
  * with, per contour k: n_k its inliers on the common stretch, c_k its mean
- * edge step divided by the frame's step threshold (contrast), q_k the
- * fraction of the overlap its inliers cover (spread, not one short piece):
- * the longest, clearest band wins, and a gap borrowing one strong edge of a
- * neighbour does not win on that edge; T, in tracking, 1 + 2 exp(-e^2 / 2)
- * with e the pair's offset from the prior's contours in units of
- * track_band_px (the pipe being followed wins over a newcomer). A contour
- * belongs to one pipe: pairs are taken best first and a pair sharing a line
- * with a better one is dropped; a pair is also passed over when each of its
- * two lines forms a pair at least as good with another line (the gap
- * between two pipes of a rack, each pipe as good as the gap). The
- * survivors, ranked, are the candidates (the workspace's cand[], first =
- * the pose returned; "every pipe in view" can take them all).
- * confidence = E * M, E = (1 - exp(-min(n1 q1, n2 q2) / 25)) * min(1, c / 4)
- * (evidence: supported points and contrast c = min(c1, c2)), M = (1 - (S2 /
- * S1)^2) / N (margin over the best rival candidate S2, among N candidates;
- * M = 1 when there is none). Calibration on `make bench-detect` (issue 10):
- * NOT yet at its target (>= 99 % right among confidence >= 0.9); see the
- * figures it prints. Alternatives' confidences are their evidence E alone.
+ * edge step divided by the frame's step threshold (contrast, counted up to
+ * 2), q_k the fraction of the overlap its inliers cover (spread, not one
+ * short piece); w the band's width at its middle, w0 the edge window: the
+ * largest, clearest band wins (a long thin bar has the length, not the
+ * width), and a gap borrowing one strong edge of a neighbour does not win
+ * on that edge; T, in tracking, 1 + 2 exp(-e^2 / 2) with e the pair's offset
+ * from the prior's contours in units of track_band_px (the pipe being
+ * followed wins over a newcomer). The multi-pipe calls below keep S =
+ * min(n1 c1 q1, n2 c2 q2) * T (their matching tells pipes from gaps). A
+ * contour belongs to one pipe: pairs are taken best first and a pair
+ * sharing a line with a better one is dropped; a pair is also passed over
+ * when each of its two lines forms a pair at least as good with another
+ * line (the gap between two pipes of a rack, each pipe as good as the gap).
+ * The survivors, ranked, are the candidates (the workspace's cand[], first
+ * = the pose returned, each with its evidence; "every pipe in view" can
+ * take them all).
+ * confidence: P(right) of a logistic model, 1 / (1 + exp(-w . x)), on the
+ * candidate's features x: 1, log(1 + support), log(contrast), log(width),
+ * the margin 1 - S2 / S1 over its best rival (1 alone), log(candidates),
+ * whether a distance range was given, the sine of the contours' angle and
+ * log(0.1 + shading) (the band's smooth intensity range across, frame path);
+ * w fitted on `make bench-detect`'s seed-1 frames and validated on seed 2
+ * (docs/method.md §4): calibrated (poses at >= 0.9 are right 95 % of the
+ * time, the bin's mean confidence), but NOT at the issue's target (>= 99 %
+ * right among confidence >= 0.9): flat bars that are plausible pipes of the
+ * radius look like evenly lit pipes. Each candidate's confidence is the
+ * model's as if it were the one returned.
  */
 
 /*
@@ -518,8 +530,11 @@ typedef struct {
                                     detector's line (a limb in shadow, a
                                     highlight, a plateau). Default 0.25:
                                     on the paper's rendered scene good
-                                    contours give 0.01-0.03, shadowed limbs
-                                    0.6-0.8 */
+                                    contours give 0.01-0.03; the rack's
+                                    low-contrast limbs in shadow (25 gray
+                                    levels, make bench-rack) 0.4-0.9 even
+                                    modelled, and keep the detector's line,
+                                    exact on a flat shadow */
 } cdsp_profile_params;
 
 void cdsp_profile_params_default(cdsp_profile_params *p);
@@ -539,6 +554,10 @@ typedef struct {
                                which the detector handles exactly */
     int saturated;          /* 1: part of the profile sits at full scale */
     uint32_t rows;          /* scanlines accumulated */
+    cdsp_real shadow;       /* the limb in shadow: the pipe side is flat
+                               (ambient light only) from the silhouette to
+                               this distance, px (the terminator); 0: lit
+                               up to the limb */
 } cdsp_profile;
 
 /*
@@ -557,9 +576,10 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3],
                              cdsp_profile *out);
 
 /* Whether the frame path moves a contour by pr->offset: 1 when the model
- * fits (fit_chi2 <= pp->max_fit_chi2, not saturated) and is needed (a limb term, or a
- * blur wider than the detector's window of half-width detector_half_window);
- * 0 keeps the detector's line. */
+ * fits (fit_chi2 <= pp->max_fit_chi2, not saturated) and is needed (a limb
+ * term not in shadow over the detector's window, or a blur the window of
+ * half-width h = detector_half_window does not span: sigma > (h + 1/2) /
+ * 4.66, docs/method.md §2a); 0 keeps the detector's line. */
 int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp,
                          int detector_half_window);
 
@@ -598,6 +618,13 @@ typedef struct {
     cdsp_real lines[2][3];
     cdsp_real p_in[2];
     cdsp_real score, confidence;
+    /* the evidence behind them ("The pair score"): min over both contours
+     * of inliers on the common stretch x spread, and of edge step over the
+     * frame's threshold (1 on the points path); band width at p_in, px;
+     * sine of the angle between the contours; the band's shading across
+     * (frame path: median range of the interior over the step threshold;
+     * -1 when not measured) */
+    cdsp_real support, contrast, width, sin_angle, shade;
     uint8_t label[2];
 } cdsp_candidate;
 
@@ -712,6 +739,9 @@ typedef struct {
     cdsp_real p_in[2];      /* a pixel between the lines */
     cdsp_real support;      /* min over both contours of inliers on the overlap x spread */
     cdsp_real contrast;     /* min over both contours of step / threshold */
+    cdsp_real width;        /* band width at p_in, px */
+    cdsp_real sin_angle;    /* sine of the angle between the contours */
+    cdsp_real shade;        /* the band's shading (cdsp_candidate) */
 } cdsp_pair_eval;
 
 /* Candidate lines and their scored pairs (scratch; contents undefined

@@ -124,6 +124,12 @@ void cdsp__axis_swap(cdsp_result *r)
         r->inliers[1] = c;
         r->label[0] = r->label[1];
         r->label[1] = lb;
+        t = r->edge_offset[0];
+        r->edge_offset[0] = r->edge_offset[1];
+        r->edge_offset[1] = t;
+        t = r->edge_blur[0];
+        r->edge_blur[0] = r->edge_blur[1];
+        r->edge_blur[1] = t;
     }
     /* cov(point, direction) changes sign with the direction */
     for (i = 0; i < 3; i++) {

@@ -197,8 +197,8 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
     cdsp_status st = cdsp_camera_undistort_edges(cam, ws->edge, &n);
     if (st != CDSP_OK)
         return st;
-    return cdsp__pair_solve(cam, radius, ws->edge, n, ws->label, ws->cand, p, min_step, prior,
-                            rng, img, &ws->profile, out);
+    return cdsp__pair_solve_frame(cam, radius, ws->edge, n, ws->label, ws->cand, p, min_step, prior,
+                                  rng, img, &ws->profile, out);
 }
 
 /*
@@ -206,10 +206,14 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
  * status and count of the edges detected with them into ws->edge (by
  * cdsp_edges_detect, or by the caller's strips); solved here. With the
  * coarse pass (docs/method.md §2) only the bands around what its coarse
- * lines saw were read; when those edges give no pipe, or one as thinly
- * supported as a failed track, the whole frame is read: a pipe the full
- * search would find is never lost to the bands.
+ * lines saw were read; when those edges give no pipe, one as thinly
+ * supported as a failed track, or one of confidence below COARSE_TRUST,
+ * the whole frame is read: a pipe the full search would find is never lost
+ * to the bands. (The confidence clause came with issue 10's width-weighted
+ * score: on check-coarse's frames two poses from the bands, confidence
+ * 0.05 and 0.20, were another band than the whole frame's right one.)
  */
+#define COARSE_TRUST 0.5
 static cdsp_status full_search(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
                                const cdsp_params *p, const cdsp_result *prior, const cdsp_frame_edges *fe,
                                cdsp_frame_ws *ws, cdsp_rng *rng, cdsp_result *out)
@@ -218,6 +222,11 @@ static cdsp_status full_search(const cdsp_image *img, const cdsp_camera *cam, cd
     cdsp_status st = fe->status;
     size_t n = fe->n;
     uint32_t flags = CDSP_FLAG_FULL_SEARCH;
+    /* the generator's state on entry: the whole-frame read starts from it
+     * again, so it gives exactly what a search with the coarse pass off
+     * gives (the same edges and the same draws), not another RANSAC run's
+     * lines */
+    cdsp_rng rng0 = *rng;
     for (;;) {
         if (st == CDSP_E_CAPACITY)
             flags |= CDSP_FLAG_TRUNCATED;
@@ -225,9 +234,11 @@ static cdsp_status full_search(const cdsp_image *img, const cdsp_camera *cam, cd
             return st;
         st = solve_edges(img, cam, radius, ws, n, p, fe->min_step, prior, rng, out);
         if (edge.coarse >= 2 && (st != CDSP_OK || out->inliers[0] < (uint32_t)p->track_min_inliers ||
-                                 out->inliers[1] < (uint32_t)p->track_min_inliers)) {
+                                 out->inliers[1] < (uint32_t)p->track_min_inliers ||
+                                 out->confidence < R(COARSE_TRUST))) {
             edge.coarse = 0;
             flags &= ~CDSP_FLAG_TRUNCATED;
+            *rng = rng0;
             st = cdsp_edges_detect(img, &edge, ws->edge, CDSP_MAX_EDGES, &n);
             continue;
         }

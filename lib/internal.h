@@ -133,13 +133,18 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              cdsp_line *lines, int *nlines, int *capped);
 /* min_step: the edge step threshold the points were detected with (gray
  * levels; 0 when unknown, e.g. the points path): contrast is scored
- * relative to it. cand: CDSP_MAX_CANDIDATES slots for the ranked list.
- * img and pws: the frame and scratch for the edge-profile model (frame
- * path); NULL from the points path, which has no frame. */
+ * relative to it. cand: CDSP_MAX_CANDIDATES slots for the ranked list. */
 cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                              size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
                              cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
-                             const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out);
+                             cdsp_result *out);
+/* The frame path's: the same with test (x) and the bands' shading read from
+ * img, and the edge-profile model with scratch pws (a separate entry point,
+ * so a points-only firmware links without the frame sampling). */
+cdsp_status cdsp__pair_solve_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                   size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
+                                   cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
+                                   const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out);
 /* pair.c, split for the multi-pipe path (lib/multi.c): every candidate
  * line and scored pair (CDSP_E_NO_PIPE when none), one pair's full result
  * (confidence, n_candidates, track_id and the direction's sign are the
@@ -147,11 +152,35 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
 cdsp_status cdsp__pair_score_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                                  size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                  const cdsp_result *prior, cdsp_rng *rng, cdsp_pair_set *set);
+/* The single path's scores (lib/pair.c): cdsp__pair_score_all's, with the
+ * band's shading read from the frame (img, or NULL) and test (ix), gaps. */
+cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                                   size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                                   const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
+                                   cdsp_pair_set *set);
 cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                               size_t n, const uint8_t *label, cdsp_pair_set *set,
                               const cdsp_pair_eval *c, const cdsp_params *p, const cdsp_image *img,
                               cdsp_profile_ws *pws, cdsp_result *out);
 cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known);
+/* Which of the pair tests (lib/pair.c, docs/method.md §4) lines i and j of
+ * set fail (no prior): CDSP__PAIR_PASSED, a CDSP__PAIR_* code, -1 for bad
+ * indices. For diagnosis (tests/bench/bench_detect.c). */
+enum {
+    CDSP__PAIR_PASSED, CDSP__PAIR_ANGLE, CDSP__PAIR_STAIRCASE, CDSP__PAIR_POLARITY, CDSP__PAIR_CLOSE,
+    CDSP__PAIR_OVERLAP, CDSP__PAIR_MEET, CDSP__PAIR_AXIS, CDSP__PAIR_RANGE, CDSP__PAIR_WIDTH,
+    CDSP__PAIR_SUPPORT, CDSP__PAIR_SPLIT, CDSP__PAIR_GAP, CDSP__PAIR_BUSY, CDSP__PAIR_NTESTS
+};
+/* The confidence model (lib/pair.c): features of candidate k among the nc
+ * ranked ones, and the confidence they give. */
+#define CDSP__CONF_NX 9
+void cdsp__pair_features(const cdsp_candidate *cand, uint32_t nc, uint32_t k, int ranged,
+                         int contrast_known, cdsp_real x[CDSP__CONF_NX]);
+cdsp_real cdsp__pair_confidence(const cdsp_candidate *cand, uint32_t nc, uint32_t k, int ranged,
+                                int contrast_known);
+int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
+                   const uint8_t *label, const cdsp_params *p, cdsp_real min_step,
+                   const cdsp_image *img, const cdsp_pair_set *set, int i, int j);
 /* Every coordinate and gradient of the n points is finite. */
 int cdsp__points_finite(const cdsp_edge *e, size_t n);
 /* frame.c: a full search's edge points (undistorted) in ws->edge, *n of

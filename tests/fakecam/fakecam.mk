@@ -25,3 +25,5 @@ check-fakecam: $(fakecam_BINS)
 
 ALL_TARGETS += $(fakecam_BINS)
 CHECK_STEPS += check-fakecam
+# one fake camera per machine (GVCP's fixed port): the Makefile's gvcp lane
+CHECK_LANE_gvcp += check-fakecam

@@ -270,6 +270,21 @@ void sup_result_pose(const cdsp_result *r, double point[3], double dir[3], doubl
     }
 }
 
+void sup_add_bar(cdsp_scene *s, const double a[3], const double b[3], double half_width, double level)
+{
+    cdsp_clutter *c;
+    int k;
+    if (s->n_clutter >= CDSP_RENDER_MAX_CLUTTER)
+        return;
+    c = &s->clutter[s->n_clutter++];
+    for (k = 0; k < 3; k++) {
+        c->p0[k] = (cdsp_real)a[k];
+        c->p1[k] = (cdsp_real)b[k];
+    }
+    c->half_width = (cdsp_real)half_width;
+    c->level = (cdsp_real)level;
+}
+
 void sup_scene(cdsp_scene *s, const double point[3], const double dir[3], double radius)
 {
     int i;

@@ -78,6 +78,10 @@ void *sup_render(const cdsp_scene *s, const cdsp_camera *cam, int bits, uint64_t
 /* A scene with the pipe (point, dir, radius) and the default look. */
 void sup_scene(cdsp_scene *s, const double point[3], const double dir[3], double radius);
 
+/* Add a clutter bar (a cylinder between camera-frame points a and b, mm)
+ * of half_width (mm) and level (0..1) to s; ignored when s is full. */
+void sup_add_bar(cdsp_scene *s, const double a[3], const double b[3], double half_width, double level);
+
 /* A straight limb of a shaded pipe as an exact small frame, for studies of
  * an edge's profile without the full renderer: the scene depends only on
  * the signed distance u from the silhouette (u > 0 on the pipe), so the

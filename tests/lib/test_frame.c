@@ -280,19 +280,6 @@ static void test_16bit(void **state)
     }
 }
 
-/* A bar as a clutter cylinder between camera-frame points a and b. */
-static void bar(cdsp_scene *s, const double a[3], const double b[3], double half_width, double level)
-{
-    cdsp_clutter *c = &s->clutter[s->n_clutter++];
-    int k;
-    for (k = 0; k < 3; k++) {
-        c->p0[k] = (cdsp_real)a[k];
-        c->p1[k] = (cdsp_real)b[k];
-    }
-    c->half_width = (cdsp_real)half_width;
-    c->level = (cdsp_real)level;
-}
-
 /* Detection cues (issue 10), one frame each: what must be found is found
  * (within check_pose's tolerance: flat light, so noise only), what is not
  * a pipe is not reported. */
@@ -326,17 +313,17 @@ static void detect_cue(const cue_case *c)
     s.noise_sigma = (cdsp_real)c->noise;
     if (c->clutter == 1) { /* a long thin bar (4 px) across the frame, in front */
         const double a[3] = {-250, -120, 300}, b[3] = {250, 140, 300};
-        bar(&s, a, b, 0.75, 0.8);
+        sup_add_bar(&s, a, b, 0.75, 0.8);
     } else if (c->clutter == 2) { /* a parallel pipe beside it, half as long in view */
         const double a[3] = {5 + 30 - 60 * v[0], -60, 400 - 60 * v[2]}, b[3] = {5 + 30 + 60 * v[0], 60, 400 + 60 * v[2]};
-        bar(&s, a, b, 8, 0.3 + c->contrast);
+        sup_add_bar(&s, a, b, 8, 0.3 + c->contrast);
     } else if (c->clutter >= 3) { /* no pipe: it is far out of view */
         const double a[3] = {-250, -120, 300}, b[3] = {250, 140, 300};
         const double a2[3] = {-200, 150, 500}, b2[3] = {200, -150, 500};
         s.axis_point[0] = (cdsp_real)1e6;
-        bar(&s, a, b, 0.75, 0.8);
+        sup_add_bar(&s, a, b, 0.75, 0.8);
         if (c->clutter == 4) {
-            bar(&s, a2, b2, 6, 0.7);
+            sup_add_bar(&s, a2, b2, 6, 0.7);
         }
     }
     buf = sup_render(&s, &cam, c->out_bits, 77, &img);
@@ -411,11 +398,11 @@ static void test_tracking_newcomers(void **state)
         s.ambient = 1;
         if (t >= 3) { /* a nearer, wider pipe slides in from the right */
             const double a[3] = {260 - 20 * t, -200, 380}, b[3] = {260 - 20 * t + 40, 200, 380};
-            bar(&s, a, b, 10, 0.75);
+            sup_add_bar(&s, a, b, 10, 0.75);
         }
         if (t >= 5) { /* and a bar crosses in front */
             const double a[3] = {-200, -60, 250}, b[3] = {200, 40, 250};
-            bar(&s, a, b, 3, 0.6);
+            sup_add_bar(&s, a, b, 3, 0.6);
         }
         st = solve(&s, &cam, 8, (uint64_t)(300 + t), t ? &prev : NULL, &r);
         assert_int_equal(st, CDSP_OK);
