@@ -157,8 +157,10 @@ def tolerances(f, u):
 
 
 def truth_problems(f, u):
-    """Ground-truth check of one ok result; returns messages."""
+    """Ground-truth check of one ok result; returns (messages, the worst
+    error / bound of its components)."""
     out = []
+    worst = 0.0
     tp, tv, tol = f["truth_point"], f["truth_direction"], f["truth_tol"]
     p, v = f["point"], f["direction"]
     sgn = 1.0 if sum(a * b for a, b in zip(v, tv)) >= 0 else -1.0
@@ -167,22 +169,25 @@ def truth_problems(f, u):
         dp = norm([a - b for a, b in zip(p, tp)])
         c = min(1.0, abs(sum(a * b for a, b in zip(v, tv))) / (norm(v) * norm(tv)))
         ang = math.acos(c)
+        worst = max(dp / tol[0], ang / tol[1])
         if not dp <= tol[0]:
             out.append(f"P_C is {dp:.4g} from the truth, bound {tol[0]:.4g}")
         if not ang <= tol[1]:
             out.append(f"direction is {ang:.4g} rad from the truth, bound {tol[1]:.4g}")
-        return out
+        return out, worst
     floor = K_POSE * u * norm(tp)
     for i in range(3):
         lim = N_SIGMA * f["sigma_point"][i] + floor
+        worst = max(worst, abs(p[i] - tp[i]) / lim)
         if not abs(p[i] - tp[i]) <= lim:
             out.append(f"point[{i}] {p[i]:.9g} vs truth {tp[i]:.9g}: off by "
                        f"{abs(p[i] - tp[i]):.3g} > {N_SIGMA:g} sigma + floor = {lim:.3g}")
         lim = N_SIGMA * f["sigma_direction"][i] + K_POSE * u
+        worst = max(worst, abs(vv[i] - tv[i]) / lim)
         if not abs(vv[i] - tv[i]) <= lim:
             out.append(f"direction[{i}] {vv[i]:.9g} vs truth {tv[i]:.9g}: off by "
                        f"{abs(vv[i] - tv[i]):.3g} > {N_SIGMA:g} sigma + floor = {lim:.3g}")
-    return out
+    return out, worst
 
 
 def main(argv):
@@ -217,7 +222,7 @@ def main(argv):
     print(f"{target} vs host, {real}: u = {u:.3g}, pose tolerance {K_POSE:g} u x scale, "
           f"sigma {K_SIGMA:g} u x scale")
     print(f"  {'case':<12} {'status':<11} {'inliers':<11} {'max |mcu-host|/tol':>19}  "
-          f"{'worst field':<16} {'stack B':>7}")
+          f"{'worst field':<16} {'stack B':>7} {'truth err/tol':>13}")
     bad = 0
     for h, m, a, b in zip(hres, mres, hf, mf):
         name = h["name"]
@@ -227,7 +232,7 @@ def main(argv):
                 problems.append(f"{k}: host {h.get(k)}, mcu {m.get(k)}")
         if m.get("status") != m.get("expect"):
             problems.append(f"status {m.get('status')}, expected {m.get('expect')}")
-        worst, wfield = 0.0, "-"
+        worst, wfield, tworst = 0.0, "-", 0.0
         if m.get("status") == "ok" and h.get("status") == "ok":
             tol = tolerances(a, u)
             for k, tl in tol.items():
@@ -239,12 +244,12 @@ def main(argv):
                     if not diff <= t:
                         problems.append(f"{k}[{i}]: host {a[k][i]!r}, mcu {b[k][i]!r}, "
                                         f"|diff| {diff:.3g} > tol {t:.3g}")
-            for msg in truth_problems(b, u):
-                problems.append(f"truth (mcu): {msg}")
-            for msg in truth_problems(a, u):
-                problems.append(f"truth (host): {msg}")
+            for side, res in (("mcu", b), ("host", a)):
+                msgs, tw = truth_problems(res, u)
+                tworst = max(tworst, tw)
+                problems += [f"truth ({side}): {msg}" for msg in msgs]
         print(f"  {name:<12} {m.get('status', '?'):<11} {m.get('inliers', '?'):<11} "
-              f"{worst:>19.3g}  {wfield:<16} {m.get('stack', '?'):>7}")
+              f"{worst:>19.3g}  {wfield:<16} {m.get('stack', '?'):>7} {tworst:>13.3g}")
         for p in problems:
             print(f"    DISAGREE {name}: {p}")
         bad += len(problems)
