@@ -55,7 +55,8 @@ cat "$work/rx3.out"
 echo "--- 3. record, then replay with file:"
 rec=$work/rec
 start_rx rx4 --duration $rx_max --idle 2
-start_cdspd d3 "${common[@]}" --set sim.frames=16 --dest 127.0.0.1:$RX_PORT --duration 1.5 \
+# 60 processed frames (1.2 s at 50 fps idle; never fewer when loaded)
+start_cdspd d3 "${common[@]}" --set sim.frames=16 --dest 127.0.0.1:$RX_PORT --frames 60 --duration 120 \
     --record "$rec" --set record_every=1
 wait_for "$d3_pid" $rx_max || fail "cdspd (record) exit status $?"
 wait_for "$rx4_pid" 10 || fail "receiver (record)"
@@ -69,7 +70,16 @@ echo "recorded $n_pgm frames, $n_json results"
 # order (docs/cdspd.md, solver.threads): the same P_C bit for bit (the
 # JSONL's 17 digits read back exactly); measured: 0 difference of 78 frames.
 # It was "within 6 sigma", the bound ux.sh's replay of every 5th frame needs.
-start_rx rx5 --compare-jsonl "$jsonl" --compare-exact --duration $rx_max --idle 2 --max-dropped 0
+# A live recorder skips a frame while its writer is still busy (a loaded
+# machine, a slow disk): the replay then tracks some frames from another
+# prior, and only the 6-sigma comparison holds.
+exact=(--compare-exact)
+n_proc=$(sed -n 's/.*final: .*processed \([0-9]*\) .*/\1/p' "$work/d3.log")
+if [ "${n_proc:-0}" -ne "$n_pgm" ]; then
+    echo "recorded $n_pgm of $n_proc processed frames (the writer was busy): replay compared within 6 sigma"
+    exact=()
+fi
+start_rx rx5 --compare-jsonl "$jsonl" "${exact[@]}" --duration $rx_max --idle 2 --max-dropped 0
 # the replay's full searches run in strips on 2 threads (solver.threads):
 # the recording's results came from one core
 start_cdspd d4 --calib "$CALIB" --radius 10 --source "file:$rec/*.pgm" --set file.rate=100 \
