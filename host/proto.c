@@ -431,7 +431,8 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         !finite_n(&r->distance, 1) || !finite_n(&r->alpha, 1) || !finite_n(&r->lines[0][0], 6) ||
         !finite_n(&r->segment[0][0], 6) || !finite_n(r->sigma_point, 3) ||
         !finite_n(r->sigma_direction, 3) || !finite_n(&r->sigma_distance, 1) ||
-        !finite_n(r->rms, 2) || !finite_n(r->point_body, 3) || !finite_n(r->direction_body, 3)) {
+        !finite_n(r->rms, 2) || !finite_n(r->point_body, 3) || !finite_n(r->direction_body, 3) ||
+        !finite_n(&r->confidence, 1)) {
         *why = "a number in the record is not finite";
         return -1;
     }
