@@ -79,6 +79,33 @@ static inline int wpx(const win_px *w, int i, int k)
     return w->wide ? (int)((const uint16_t *)(const void *)w->b)[o] : (int)w->b[o];
 }
 
+/* The integer part of the refinement: the 3x3 Sobel-like components g[0]
+ * (along the scan) and g[1] (across), and for the rows k = -1, 0, 1 the
+ * window sums S[k + 1] over -h .. h and the end pixels' sums AB[0] (at -h)
+ * and AB[1] (at +h). wide is a constant at each call (the two calls below
+ * compile to a byte and a 16-bit form, no width test per read); integer
+ * sums, so their order is free. */
+static inline void window_sums(const win_px *w, int wide, int h, int g[2], int S[3], int AB[2])
+{
+    int k, c;
+    const uint8_t *b8 = w->b;
+    const uint16_t *b16 = (const uint16_t *)(const void *)w->b;
+#define WPX(i, k) (wide ? (int)b16[(ptrdiff_t)(i) * w->ds + (ptrdiff_t)(k) * w->dt] \
+                        : (int)b8[(ptrdiff_t)(i) * w->ds + (ptrdiff_t)(k) * w->dt])
+    g[0] = g[1] = AB[0] = AB[1] = 0;
+    for (k = -1; k <= 1; k++) {
+        int wk = k == 0 ? 2 : 1, sum = 0;
+        g[0] += wk * (WPX(1, k) - WPX(-1, k));
+        g[1] += wk * (WPX(k, 1) - WPX(k, -1));
+        for (c = -h; c <= h; c++)
+            sum += WPX(c, k);
+        S[k + 1] = sum;
+        AB[0] += WPX(-h, k);
+        AB[1] += WPX(h, k);
+    }
+#undef WPX
+}
+
 /* Intensity at pos along the scan from the window's centre (row k across
  * it), interpolated linearly between pixel centres, with pos clamped to
  * [-lim, lim]: the caller guarantees lim = h + 1 pixels on both sides of s
@@ -96,7 +123,11 @@ static cdsp_real sample_at(const win_px *w, int k, cdsp_real pos, int lim)
         pos = -(cdsp_real)lim;
     if (pos > (cdsp_real)lim)
         pos = (cdsp_real)lim;
-    i = (int)R_FLOOR(pos);
+    /* floor of a small finite value (|pos| <= lim): truncation, one down
+     * below zero; the same integer as R_FLOOR without its call */
+    i = (int)pos;
+    if ((cdsp_real)i > pos)
+        i--;
     f = pos - (cdsp_real)i;
     if (f <= R(0))
         return (cdsp_real)wpx(w, i, k);
@@ -109,27 +140,23 @@ static cdsp_real sample_at(const win_px *w, int k, cdsp_real pos, int lim)
 int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
                        cdsp_edge *e)
 {
-    int k, c, S[3], A = 0, B = 0, gs = 0, gt = 0;
+    int k, S[3], g[2], AB[2], A, B, gs, gt;
     cdsp_real diff, a, b, norm, gsn, gtn;
     win_px w;
     win_at(img, horizontal, s, t, &w);
-    /* Which family owns the edge: compare the 3x3 Sobel-like components. */
-    for (k = -1; k <= 1; k++) {
-        int wk = k == 0 ? 2 : 1;
-        gs += wk * (wpx(&w, 1, k) - wpx(&w, -1, k));
-        gt += wk * (wpx(&w, k, 1) - wpx(&w, k, -1));
-    }
-    /* ties (45 degrees) go to the row family only, so no edge is reported twice */
+    if (w.wide)
+        window_sums(&w, 1, h, g, S, AB);
+    else
+        window_sums(&w, 0, h, g, S, AB);
+    gs = g[0];
+    gt = g[1];
+    A = AB[0];
+    B = AB[1];
+    /* Which family owns the edge: compare the 3x3 Sobel-like components;
+     * ties (45 degrees) go to the row family only, so no edge is reported
+     * twice */
     if (horizontal ? (iabs(gs) < iabs(gt)) : (iabs(gs) <= iabs(gt)))
         return 0;
-    for (k = -1; k <= 1; k++) {
-        int sum = 0;
-        for (c = -h; c <= h; c++)
-            sum += wpx(&w, c, k);
-        S[k + 1] = sum;
-        A += wpx(&w, -h, k);
-        B += wpx(&w, h, k);
-    }
     /* A, B: means of the three end pixels (kept as sums of 3 until here) */
     if (iabs(A - B) < 3 * min_step)
         return 0;
@@ -217,6 +244,15 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
  * one. 16-bit frames take the per-pixel test.
  */
 #define CHUNK 32
+/* Positions a row segment's test takes at once (a multiple of 8). */
+#define SEG_RUN 64
+
+/* Candidate flags, read eight at a time: a word of zeros (nearly every
+ * word: edges are sparse along a line) is passed over with one test. */
+typedef union {
+    uint8_t b[SEG_RUN];
+    uint64_t w[SEG_RUN / 8];
+} flag_buf;
 
 /* Portable form of the primitive (internal.h). Byte-wide arithmetic (|a -
  * b| of 8-bit samples fits a byte) and no early exit: a loop compilers
@@ -291,9 +327,12 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
     size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
     const unsigned char *base = (const unsigned char *)img->data;
     ptrdiff_t es;
-    uint8_t flag[CHUNK], run[CHUNK + 4];
+    flag_buf flag;
+    uint8_t run[SEG_RUN + 4];
     if (to - from < 3 || cap == 0)
         return 0;
+    for (s0 = 0; s0 < SEG_RUN / 8; s0++) /* no word is ever read unset */
+        flag.w[s0] = 0;
     /* the run's pixel s=0 and the element stride along it */
     if (horizontal) {
         base += (size_t)line * img->stride;
@@ -303,8 +342,8 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
         es = (ptrdiff_t)(img->stride / bpp);
     }
     /* candidates s in [from+1, to-1): a local maximum of |g| needs g at s-1..s+1 */
-    for (s0 = from + 1; s0 < to - 1; s0 += CHUNK) {
-        int m = (to - 1 - s0) < CHUNK ? (to - 1 - s0) : CHUNK, i;
+    for (s0 = from + 1; s0 < to - 1; s0 += SEG_RUN) {
+        int m = (to - 1 - s0) < SEG_RUN ? (to - 1 - s0) : SEG_RUN, i, k;
         if (bpp == 1) {
             /* a column's run s0 - 2 .. s0 + m + 1 gathered first (tracking
              * reads column segments): the same samples, contiguous */
@@ -315,17 +354,22 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
             }
             {
                 const uint8_t *const f[5] = {r - 2, r - 1, r, r + 1, r + 2};
-                if (!cdsp__edges_peaks(f, NULL, (size_t)m, thr, flag))
+                if (!cdsp__edges_peaks(f, NULL, (size_t)m, thr, flag.b))
                     continue;
             }
         } else {
             for (i = 0; i < m; i++)
-                flag[i] = (uint8_t)is_peak(img, base, es, s0 + i, thr);
+                flag.b[i] = (uint8_t)is_peak(img, base, es, s0 + i, thr);
         }
-        for (i = 0; i < m; i++)
-            if (flag[i] && cdsp__edges_refine(img, horizontal, s0 + i, line, h, min_step, &out[n]) &&
-                ++n == cap)
-                return n;
+        /* bytes past m: zero, or flags of an earlier run, skipped by i < m */
+        for (k = 0; k < m; k += 8) {
+            if (!flag.w[k / 8])
+                continue;
+            for (i = k; i < k + 8 && i < m; i++)
+                if (flag.b[i] && cdsp__edges_refine(img, horizontal, s0 + i, line, h, min_step, &out[n]) &&
+                    ++n == cap)
+                    return n;
+        }
     }
     return n;
 }
@@ -350,9 +394,12 @@ static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, 
      * tail of a short block is zero, |g| = 0 there fails every threshold) */
     size_t nt = ncols < 16 ? 16u : (size_t)ncols;
     ptrdiff_t es = (ptrdiff_t)(img->stride / bpp);
-    uint8_t ring[5][CHUNK], flag[CHUNK];
+    uint8_t ring[5][CHUNK];
+    flag_buf flag;
     const uint8_t *f[5], *col = (const uint8_t *)img->data + xs;
     int w = 4; /* the ring's slot of row c + 2 */
+    for (i = 0; i < SEG_RUN / 8; i++) /* no word is ever read unset */
+        flag.w[i] = 0;
     for (i = 0; i < 5; i++) {
         f[i] = ring[i];
         for (k = ncols; k < (int)nt; k++)
@@ -365,18 +412,27 @@ static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, 
             /* f[i]: row c - 2 + i; the ring turns by one row per row */
             const uint8_t *r0 = f[0];
             gather(col + (ptrdiff_t)(c + 2) * es, step, ncols, ring[w]);
-            k = cdsp__edges_peaks(f, NULL, nt, thr, flag);
+            k = cdsp__edges_peaks(f, NULL, nt, thr, flag.b);
             for (i = 0; i < 4; i++)
                 f[i] = f[i + 1];
             f[4] = r0;
             w = w == 4 ? 0 : w + 1;
             if (!k)
                 continue;
+            /* bytes past nt: zero, or an earlier row's, skipped by k < ncols */
+            for (i = 0; i < ncols; i += 8) {
+                if (!flag.w[i / 8])
+                    continue;
+                for (k = i; k < i + 8 && k < ncols; k++)
+                    if (flag.b[k] && cdsp__edges_refine(img, 0, c, xs + k * step, h, min_step, &out[n]) &&
+                        ++n == cap)
+                        return n;
+            }
+            continue;
         }
         for (k = 0; k < ncols; k++) {
             int x = xs + k * step;
-            if ((bpp == 1 ? flag[k]
-                          : is_peak(img, (const unsigned char *)img->data + (size_t)x * bpp, es, c, thr)) &&
+            if (is_peak(img, (const unsigned char *)img->data + (size_t)x * bpp, es, c, thr) &&
                 cdsp__edges_refine(img, 0, c, x, h, min_step, &out[n]) && ++n == cap)
                 return n;
         }

@@ -27,6 +27,7 @@ static int crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal
     cdsp_real target = (cdsp_real)line, t = target, und[2], dist[2];
     int it;
     for (it = 0; it < 4; it++) {
+        cdsp_real d;
         if (horizontal) { /* row v = t: u from a u + b v + c = 0 */
             und[1] = t;
             und[0] = -(l[1] * t + l[2]) / l[0];
@@ -36,7 +37,12 @@ static int crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal
         }
         if (cdsp_camera_distort(cam, und, dist) != CDSP_OK)
             return 0;
-        t += target - (horizontal ? dist[1] : dist[0]);
+        /* a round that moves t by nothing is a fixed point: every later
+         * round would compute the same und and dist again */
+        d = target - (horizontal ? dist[1] : dist[0]);
+        if (d == R(0))
+            break;
+        t += d;
     }
     *s_out = horizontal ? dist[0] : dist[1];
     return R_FINITE(*s_out);
