@@ -115,7 +115,7 @@ static inline void window_sums(const win_px *w, int wide, int h, int g[2], int S
  * stays inside it, so the clamp changes nothing there. The far neighbour is
  * read only when its weight is non-zero, so pos = +lim never reads
  * s + lim + 1. */
-static cdsp_real sample_at(const win_px *w, int k, cdsp_real pos, int lim)
+static inline cdsp_real sample_at(const win_px *w, int k, cdsp_real pos, int lim)
 {
     int i;
     cdsp_real f;
@@ -146,6 +146,8 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
     win_at(img, horizontal, s, t, &w);
     if (w.wide)
         window_sums(&w, 1, h, g, S, AB);
+    else if (h == 4) /* the default half window: the sums unrolled */
+        window_sums(&w, 0, 4, g, S, AB);
     else
         window_sums(&w, 0, h, g, S, AB);
     gs = g[0];
