@@ -296,11 +296,12 @@ static inline int is_peak(const cdsp_image *img, const unsigned char *base, ptrd
     return a >= thr && a > absg(img, base, es, s - 1) && a >= absg(img, base, es, s + 1);
 }
 
-/* n 8-bit samples src[0], src[d], src[2d], ... into dst[0, n): a strided
- * run made contiguous, so the candidate test runs on it many positions at
- * once. Each sample is read once here where the per-pixel test would read
- * it up to six times (three |g| of two samples each). */
-static void gather(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst)
+/* Portable form of the gather (internal.h): n 8-bit samples src[0],
+ * src[d], src[2d], ... into dst[0, n), a strided run made contiguous so
+ * that the candidate test runs on it many positions at once. Each sample
+ * is read once here where the per-pixel test would read it up to six
+ * times (three |g| of two samples each). */
+void cdsp__edges_gather_c(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst)
 {
     int k;
     for (k = 0; k + 4 <= n; k += 4, src += 4 * d) {
@@ -351,7 +352,7 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
              * reads column segments): the same samples, contiguous */
             const uint8_t *r = (const uint8_t *)base + s0;
             if (es != 1) {
-                gather((const uint8_t *)base + (s0 - 2) * es, es, m + 4, run);
+                cdsp__edges_gather((const uint8_t *)base + (s0 - 2) * es, es, m + 4, run);
                 r = run + 2;
             }
             {
@@ -380,10 +381,16 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
  * Near-horizontal edges over the columns x = xs + k*step, k < ncols <=
  * CHUNK, rows [from, to): candidate rows c in [from, to - 1), listed row by
  * row and left to right (see above). 8-bit frames: each row's samples at
- * the block's columns are gathered once into a ring of five (rows c - 2 ..
- * c + 2), so the candidate test reads ncols contiguous bytes per run, at
- * any step; 16-bit frames take the per-pixel test.
+ * the block's columns are gathered once, into rows of CHUNK bytes (zero
+ * past ncols: |g| = 0 there fails every threshold) laid one after the
+ * other, rows c - 2 .. c + COL_BATCH + 1 for COL_BATCH candidate rows at a
+ * time. The five runs of the test are then that buffer from its rows 0 ..
+ * 4, COL_BATCH * CHUNK positions long: position r * CHUNK + k is column k
+ * of candidate row c + r, so one call tests COL_BATCH rows, and its flags
+ * come in the order of the plain definition. 16-bit frames take the
+ * per-pixel test.
  */
+#define COL_BATCH 4
 static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, int step, int xs,
                               int ncols, int from, int to, cdsp_edge *out, size_t cap)
 {
@@ -392,53 +399,50 @@ static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, 
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
     size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
-    /* the test runs on at least 16 positions (a vector of any ISA: the
-     * tail of a short block is zero, |g| = 0 there fails every threshold) */
-    size_t nt = ncols < 16 ? 16u : (size_t)ncols;
     ptrdiff_t es = (ptrdiff_t)(img->stride / bpp);
-    uint8_t ring[5][CHUNK];
-    flag_buf flag;
-    const uint8_t *f[5], *col = (const uint8_t *)img->data + xs;
-    int w = 4; /* the ring's slot of row c + 2 */
-    for (i = 0; i < SEG_RUN / 8; i++) /* no word is ever read unset */
-        flag.w[i] = 0;
-    for (i = 0; i < 5; i++) {
-        f[i] = ring[i];
-        for (k = ncols; k < (int)nt; k++)
-            ring[i][k] = 0;
-        if (bpp == 1 && i < 4 && from < to - 1)
-            gather(col + (ptrdiff_t)(from - 2 + i) * es, step, ncols, ring[i]);
-    }
-    for (c = from; c < to - 1; c++) {
-        if (bpp == 1) {
-            /* f[i]: row c - 2 + i; the ring turns by one row per row */
-            const uint8_t *r0 = f[0];
-            gather(col + (ptrdiff_t)(c + 2) * es, step, ncols, ring[w]);
-            k = cdsp__edges_peaks(f, NULL, nt, thr, flag.b);
-            for (i = 0; i < 4; i++)
-                f[i] = f[i + 1];
-            f[4] = r0;
-            w = w == 4 ? 0 : w + 1;
-            if (!k)
-                continue;
-            /* bytes past nt: zero, or an earlier row's, skipped by k < ncols */
-            for (i = 0; i < ncols; i += 8) {
-                if (!flag.w[i / 8])
-                    continue;
-                for (k = i; k < i + 8 && k < ncols; k++)
-                    if (flag.b[k] && cdsp__edges_refine(img, 0, c, xs + k * step, h, min_step, &out[n]) &&
-                        ++n == cap)
-                        return n;
-            }
-            continue;
+    const uint8_t *col = (const uint8_t *)img->data + xs;
+    if (bpp == 1) {
+        uint8_t rows[(COL_BATCH + 4) * CHUNK];
+        union {
+            uint8_t b[COL_BATCH * CHUNK];
+            uint64_t w[COL_BATCH * CHUNK / 8];
+        } flag;
+        const uint8_t *const f[5] = {rows, rows + CHUNK, rows + 2 * CHUNK, rows + 3 * CHUNK,
+                                     rows + 4 * CHUNK};
+        if (from >= to - 1)
+            return 0;
+        for (i = 0; i < (COL_BATCH + 4) * CHUNK; i++)
+            rows[i] = 0;
+        for (i = 0; i < 4; i++)
+            cdsp__edges_gather(col + (ptrdiff_t)(from - 2 + i) * es, step, ncols, rows + i * CHUNK);
+        for (c = from; c < to - 1; c += COL_BATCH) {
+            int nr = to - 1 - c < COL_BATCH ? to - 1 - c : COL_BATCH, np = nr * CHUNK;
+            for (i = 0; i < nr; i++)
+                cdsp__edges_gather(col + (ptrdiff_t)(c + 2 + i) * es, step, ncols, rows + (4 + i) * CHUNK);
+            if (cdsp__edges_peaks(f, NULL, (size_t)np, thr, flag.b))
+                for (i = 0; i < np; i += 8) { /* a word of 8 zero flags: one test */
+                    if (!flag.w[i / 8])
+                        continue;
+                    for (k = i; k < i + 8; k++)
+                        if (flag.b[k] &&
+                            cdsp__edges_refine(img, 0, c + k / CHUNK, xs + (k % CHUNK) * step, h, min_step,
+                                               &out[n]) &&
+                            ++n == cap)
+                            return n;
+                }
+            /* rows c + nr - 2 .. c + nr + 1 to the front: the next batch's first four */
+            for (i = 0; i < 4 * CHUNK; i++)
+                rows[i] = rows[np + i];
         }
+        return n;
+    }
+    for (c = from; c < to - 1; c++)
         for (k = 0; k < ncols; k++) {
             int x = xs + k * step;
             if (is_peak(img, (const unsigned char *)img->data + (size_t)x * bpp, es, c, thr) &&
                 cdsp__edges_refine(img, 0, c, x, h, min_step, &out[n]) && ++n == cap)
                 return n;
         }
-    }
     return n;
 }
 
