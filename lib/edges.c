@@ -82,9 +82,9 @@ static inline int wpx(const win_px *w, int i, int k)
 /* The integer part of the refinement: the 3x3 Sobel-like components g[0]
  * (along the scan) and g[1] (across), and for the rows k = -1, 0, 1 the
  * window sums S[k + 1] over -h .. h and the end pixels' sums AB[0] (at -h)
- * and AB[1] (at +h). wide is a constant at each call (the two calls below
- * compile to a byte and a 16-bit form, no width test per read); integer
- * sums, so their order is free. */
+ * and AB[1] (at +h). wide (and h, at the default) is a constant at each
+ * call below: byte and 16-bit forms, no width test per read, and the
+ * default window unrolled. */
 static inline void window_sums(const win_px *w, int wide, int h, int g[2], int S[3], int AB[2])
 {
     int k, c;
@@ -225,19 +225,20 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
  * is evaluated for many positions at once by one primitive,
  * cdsp__edges_peaks (portable below; SIMD forms in lib/edges_simd.c), on
  * five parallel runs of pixels f(s-2) .. f(s+2):
- *   - rows: CHUNK positions of the row, the five runs the row shifted by
+ *   - rows: SEG_RUN positions of the row, the five runs the row shifted by
  *     -2 .. +2;
  *   - columns: CHUNK columns x = xs + k*step at a time, walked row by row
  *     (memory order: a block of columns reads a few cache lines per row,
  *     where a column at a time reads a new line at every pixel); each
- *     row's samples at the block's columns are gathered once into a ring
- *     of five rows, and for candidate row c the five runs are the ring's
- *     rows c-2 .. c+2: ncols contiguous bytes at any step. (Until issue
- *     17's second pass the runs were the rows' whole span, every pixel
- *     between the columns included, masked to the sampled ones, and steps
- *     above 8 took the per-pixel test: each row was then read by five
- *     tests, step times wider than needed. Callgrind, one 2448 x 2048 paper
- *     frame, full search: 9.62 M -> 7.96 M instructions.)
+ *     row's samples at the block's columns are gathered once
+ *     (cdsp__edges_gather) into rows of CHUNK bytes laid end to end, and
+ *     the five runs are that buffer from its rows 0 .. 4: four candidate
+ *     rows per call, at any step (scan_cols_block). Until issue 17's second
+ *     pass the runs were the frame's rows c-2 .. c+2 over the block's whole
+ *     span, every pixel between the columns included, masked to the
+ *     sampled ones, one call per row, and steps above 8 (the coarse pass's
+ *     columns) took the per-pixel test: every row was read by five tests,
+ *     step times wider than needed;
  *   - column segments (tracking): the segment gathered, then as a row.
  * Candidates are then refined in the order of the plain definition (along
  * the scan for rows; for a block of columns row by row, left to right
