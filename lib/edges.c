@@ -51,21 +51,71 @@ cdsp_status cdsp_image_check(const cdsp_image *img)
     return CDSP_OK;
 }
 
-/* Pixel at (s along the scan, t across it). */
-static inline int at(const cdsp_image *img, int horizontal, int s, int t)
+/* The pixels around a scan's position (s, t): sample i along the scan, k
+ * across it, is at element i*ds + k*dt from b (elements of the frame's
+ * size). The refinement reads 3 x (2h + 3) of them; one base pointer and
+ * two strides, set up once, in place of a row product and a width test per
+ * read: the same integers as img_px gives, so the estimate is unchanged. */
+typedef struct {
+    const unsigned char *b;
+    ptrdiff_t ds, dt;
+    int wide; /* 16-bit samples */
+} win_px;
+
+static void win_at(const cdsp_image *img, int horizontal, int s, int t, win_px *w)
 {
-    return horizontal ? img_px(img, s, t) : img_px(img, t, s);
+    size_t bpp = img->bits <= 8 ? 1u : 2u;
+    ptrdiff_t row = (ptrdiff_t)(img->stride / bpp);
+    int x = horizontal ? s : t, y = horizontal ? t : s;
+    w->b = (const unsigned char *)img->data + (size_t)y * img->stride + (size_t)x * bpp;
+    w->ds = horizontal ? 1 : row;
+    w->dt = horizontal ? row : 1;
+    w->wide = bpp == 2;
 }
 
-/* Intensity at s + pos along the scan (row t across it), interpolated
- * linearly between pixel centres, with pos clamped to [-lim, lim]: the
- * caller guarantees lim = h + 1 pixels on both sides of s (the scan keeps
- * that margin from the frame's border). The second pass samples at
- * |pos| <= |a| + |b| + (h + 1/2)/2 <= 3.3 for h = 2, one pixel past that
- * margin; for h >= 3 the bound (3.8 at h = 3, 4.3 at h = 4, ...) stays
- * inside it, so the clamp changes nothing there. The far neighbour is read
- * only when its weight is non-zero, so pos = +lim never reads s + lim + 1. */
-static cdsp_real sample_at(const cdsp_image *img, int horizontal, int s, int t, cdsp_real pos, int lim)
+static inline int wpx(const win_px *w, int i, int k)
+{
+    ptrdiff_t o = (ptrdiff_t)i * w->ds + (ptrdiff_t)k * w->dt;
+    return w->wide ? (int)((const uint16_t *)(const void *)w->b)[o] : (int)w->b[o];
+}
+
+/* The integer part of the refinement: the 3x3 Sobel-like components g[0]
+ * (along the scan) and g[1] (across), and for the rows k = -1, 0, 1 the
+ * window sums S[k + 1] over -h .. h and the end pixels' sums AB[0] (at -h)
+ * and AB[1] (at +h). wide (and h, at the default) is a constant at each
+ * call below: byte and 16-bit forms, no width test per read, and the
+ * default window unrolled. */
+static inline void window_sums(const win_px *w, int wide, int h, int g[2], int S[3], int AB[2])
+{
+    int k, c;
+    const uint8_t *b8 = w->b;
+    const uint16_t *b16 = (const uint16_t *)(const void *)w->b;
+#define WPX(i, k) (wide ? (int)b16[(ptrdiff_t)(i) * w->ds + (ptrdiff_t)(k) * w->dt] \
+                        : (int)b8[(ptrdiff_t)(i) * w->ds + (ptrdiff_t)(k) * w->dt])
+    g[0] = g[1] = AB[0] = AB[1] = 0;
+    for (k = -1; k <= 1; k++) {
+        int wk = k == 0 ? 2 : 1, sum = 0;
+        g[0] += wk * (WPX(1, k) - WPX(-1, k));
+        g[1] += wk * (WPX(k, 1) - WPX(k, -1));
+        for (c = -h; c <= h; c++)
+            sum += WPX(c, k);
+        S[k + 1] = sum;
+        AB[0] += WPX(-h, k);
+        AB[1] += WPX(h, k);
+    }
+#undef WPX
+}
+
+/* Intensity at pos along the scan from the window's centre (row k across
+ * it), interpolated linearly between pixel centres, with pos clamped to
+ * [-lim, lim]: the caller guarantees lim = h + 1 pixels on both sides of s
+ * (the scan keeps that margin from the frame's border). The second pass
+ * samples at |pos| <= |a| + |b| + (h + 1/2)/2 <= 3.3 for h = 2, one pixel
+ * past that margin; for h >= 3 the bound (3.8 at h = 3, 4.3 at h = 4, ...)
+ * stays inside it, so the clamp changes nothing there. The far neighbour is
+ * read only when its weight is non-zero, so pos = +lim never reads
+ * s + lim + 1. */
+static inline cdsp_real sample_at(const win_px *w, int k, cdsp_real pos, int lim)
 {
     int i;
     cdsp_real f;
@@ -73,12 +123,15 @@ static cdsp_real sample_at(const cdsp_image *img, int horizontal, int s, int t, 
         pos = -(cdsp_real)lim;
     if (pos > (cdsp_real)lim)
         pos = (cdsp_real)lim;
-    i = (int)R_FLOOR(pos);
+    /* floor of a small finite value (|pos| <= lim): truncation, one down
+     * below zero; the same integer as R_FLOOR without its call */
+    i = (int)pos;
+    if ((cdsp_real)i > pos)
+        i--;
     f = pos - (cdsp_real)i;
     if (f <= R(0))
-        return (cdsp_real)at(img, horizontal, s + i, t);
-    return (R(1) - f) * (cdsp_real)at(img, horizontal, s + i, t) +
-           f * (cdsp_real)at(img, horizontal, s + i + 1, t);
+        return (cdsp_real)wpx(w, i, k);
+    return (R(1) - f) * (cdsp_real)wpx(w, i, k) + f * (cdsp_real)wpx(w, i + 1, k);
 }
 
 /* Refine candidate (s, t): returns 1 and fills e when the partial-area
@@ -87,25 +140,25 @@ static cdsp_real sample_at(const cdsp_image *img, int horizontal, int s, int t, 
 int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
                        cdsp_edge *e)
 {
-    int k, c, S[3], A = 0, B = 0, gs = 0, gt = 0;
+    int k, S[3], g[2], AB[2], A, B, gs, gt;
     cdsp_real diff, a, b, norm, gsn, gtn;
-    /* Which family owns the edge: compare the 3x3 Sobel-like components. */
-    for (k = -1; k <= 1; k++) {
-        int w = k == 0 ? 2 : 1;
-        gs += w * (at(img, horizontal, s + 1, t + k) - at(img, horizontal, s - 1, t + k));
-        gt += w * (at(img, horizontal, s + k, t + 1) - at(img, horizontal, s + k, t - 1));
-    }
-    /* ties (45 degrees) go to the row family only, so no edge is reported twice */
+    win_px w;
+    win_at(img, horizontal, s, t, &w);
+    if (w.wide)
+        window_sums(&w, 1, h, g, S, AB);
+    else if (h == 4) /* the default half window: the sums unrolled */
+        window_sums(&w, 0, 4, g, S, AB);
+    else
+        window_sums(&w, 0, h, g, S, AB);
+    gs = g[0];
+    gt = g[1];
+    A = AB[0];
+    B = AB[1];
+    /* Which family owns the edge: compare the 3x3 Sobel-like components;
+     * ties (45 degrees) go to the row family only, so no edge is reported
+     * twice */
     if (horizontal ? (iabs(gs) < iabs(gt)) : (iabs(gs) <= iabs(gt)))
         return 0;
-    for (k = -1; k <= 1; k++) {
-        int sum = 0;
-        for (c = -h; c <= h; c++)
-            sum += at(img, horizontal, s + c, t + k);
-        S[k + 1] = sum;
-        A += at(img, horizontal, s - h, t + k);
-        B += at(img, horizontal, s + h, t + k);
-    }
     /* A, B: means of the three end pixels (kept as sums of 3 until here) */
     if (iabs(A - B) < 3 * min_step)
         return 0;
@@ -130,8 +183,8 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
         cdsp_real sa = R(0), sb = R(0), HH = R(h) + R(0.5), D = HH / R(2);
         for (k = -1; k <= 1; k++) {
             cdsp_real ek = a + (cdsp_real)k * b;
-            sa += sample_at(img, horizontal, s, t + k, ek - D, h + 1);
-            sb += sample_at(img, horizontal, s, t + k, ek + D, h + 1);
+            sa += sample_at(&w, k, ek - D, h + 1);
+            sb += sample_at(&w, k, ek + D, h + 1);
         }
         if (R_FABS(sa - sb) >= R(1.5) * (cdsp_real)min_step) {
             diff = (sa - sb) / R(3);
@@ -172,26 +225,37 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
  * is evaluated for many positions at once by one primitive,
  * cdsp__edges_peaks (portable below; SIMD forms in lib/edges_simd.c), on
  * five parallel runs of pixels f(s-2) .. f(s+2):
- *   - rows: CHUNK positions of the row, the five runs the row shifted by
+ *   - rows: SEG_RUN positions of the row, the five runs the row shifted by
  *     -2 .. +2;
  *   - columns: CHUNK columns x = xs + k*step at a time, walked row by row
  *     (memory order: a block of columns reads a few cache lines per row,
- *     where a column at a time reads a new line at every pixel); for
- *     candidate row c the five runs are rows c-2 .. c+2 over the block's
- *     whole span xs .. xs + (ncols-1)*step, every pixel between the
- *     sampled columns included (contiguous: no gather, and cheaper than
- *     picking every step-th byte up to steps of 8), masked by `sel` to the
- *     sampled columns, so a row without a candidate there is passed over
- *     at once.
+ *     where a column at a time reads a new line at every pixel); each
+ *     row's samples at the block's columns are gathered once
+ *     (cdsp__edges_gather) into rows of CHUNK bytes laid end to end, and
+ *     the five runs are that buffer from its rows 0 .. 4: four candidate
+ *     rows per call, at any step (scan_cols_block). Until issue 17's second
+ *     pass the runs were the frame's rows c-2 .. c+2 over the block's whole
+ *     span, every pixel between the columns included, masked to the
+ *     sampled ones, one call per row, and steps above 8 (the coarse pass's
+ *     columns) took the per-pixel test: every row was read by five tests,
+ *     step times wider than needed;
+ *   - column segments (tracking): the segment gathered, then as a row.
  * Candidates are then refined in the order of the plain definition (along
  * the scan for rows; for a block of columns row by row, left to right
  * within a row), so the edges, and their order, are those of a pixel by
  * pixel scan: tests/lib/test_edges_scan.c compares them bit for bit with
- * one. 16-bit frames, column segments (tracking) and steps above
- * PEAK_MAX_STEP take the per-pixel test.
+ * one. 16-bit frames take the per-pixel test.
  */
 #define CHUNK 32
-#define PEAK_MAX_STEP 8
+/* Positions a row segment's test takes at once (a multiple of 8). */
+#define SEG_RUN 64
+
+/* Candidate flags, read eight at a time: a word of zeros (nearly every
+ * word: edges are sparse along a line) is passed over with one test. */
+typedef union {
+    uint8_t b[SEG_RUN];
+    uint64_t w[SEG_RUN / 8];
+} flag_buf;
 
 /* Portable form of the primitive (internal.h). Byte-wide arithmetic (|a -
  * b| of 8-bit samples fits a byte) and no early exit: a loop compilers
@@ -233,6 +297,24 @@ static inline int is_peak(const cdsp_image *img, const unsigned char *base, ptrd
     return a >= thr && a > absg(img, base, es, s - 1) && a >= absg(img, base, es, s + 1);
 }
 
+/* Portable form of the gather (internal.h): n 8-bit samples src[0],
+ * src[d], src[2d], ... into dst[0, n), a strided run made contiguous so
+ * that the candidate test runs on it many positions at once. Each sample
+ * is read once here where the per-pixel test would read it up to six
+ * times (three |g| of two samples each). */
+void cdsp__edges_gather_c(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst)
+{
+    int k;
+    for (k = 0; k + 4 <= n; k += 4, src += 4 * d) {
+        dst[k] = src[0];
+        dst[k + 1] = src[d];
+        dst[k + 2] = src[2 * d];
+        dst[k + 3] = src[3 * d];
+    }
+    for (; k < n; k++, src += d)
+        dst[k] = *src;
+}
+
 /*
  * Scan one line: horizontal != 0 scans row `line` over x in [from, to);
  * otherwise column `line` over y in [from, to). The caller guarantees the
@@ -249,9 +331,12 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
     size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
     const unsigned char *base = (const unsigned char *)img->data;
     ptrdiff_t es;
-    uint8_t flag[CHUNK];
+    flag_buf flag;
+    uint8_t run[SEG_RUN + 4];
     if (to - from < 3 || cap == 0)
         return 0;
+    for (s0 = 0; s0 < SEG_RUN / 8; s0++) /* no word is ever read unset */
+        flag.w[s0] = 0;
     /* the run's pixel s=0 and the element stride along it */
     if (horizontal) {
         base += (size_t)line * img->stride;
@@ -261,21 +346,34 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
         es = (ptrdiff_t)(img->stride / bpp);
     }
     /* candidates s in [from+1, to-1): a local maximum of |g| needs g at s-1..s+1 */
-    for (s0 = from + 1; s0 < to - 1; s0 += CHUNK) {
-        int m = (to - 1 - s0) < CHUNK ? (to - 1 - s0) : CHUNK, i;
-        if (es == 1 && bpp == 1) {
+    for (s0 = from + 1; s0 < to - 1; s0 += SEG_RUN) {
+        int m = (to - 1 - s0) < SEG_RUN ? (to - 1 - s0) : SEG_RUN, i, k;
+        if (bpp == 1) {
+            /* a column's run s0 - 2 .. s0 + m + 1 gathered first (tracking
+             * reads column segments): the same samples, contiguous */
             const uint8_t *r = (const uint8_t *)base + s0;
-            const uint8_t *const f[5] = {r - 2, r - 1, r, r + 1, r + 2};
-            if (!cdsp__edges_peaks(f, NULL, (size_t)m, thr, flag))
-                continue;
+            if (es != 1) {
+                cdsp__edges_gather((const uint8_t *)base + (s0 - 2) * es, es, m + 4, run);
+                r = run + 2;
+            }
+            {
+                const uint8_t *const f[5] = {r - 2, r - 1, r, r + 1, r + 2};
+                if (!cdsp__edges_peaks(f, NULL, (size_t)m, thr, flag.b))
+                    continue;
+            }
         } else {
             for (i = 0; i < m; i++)
-                flag[i] = (uint8_t)is_peak(img, base, es, s0 + i, thr);
+                flag.b[i] = (uint8_t)is_peak(img, base, es, s0 + i, thr);
         }
-        for (i = 0; i < m; i++)
-            if (flag[i] && cdsp__edges_refine(img, horizontal, s0 + i, line, h, min_step, &out[n]) &&
-                ++n == cap)
-                return n;
+        /* bytes past m: zero, or flags of an earlier run, skipped by i < m */
+        for (k = 0; k < m; k += 8) {
+            if (!flag.w[k / 8])
+                continue;
+            for (i = k; i < k + 8 && i < m; i++)
+                if (flag.b[i] && cdsp__edges_refine(img, horizontal, s0 + i, line, h, min_step, &out[n]) &&
+                    ++n == cap)
+                    return n;
+        }
     }
     return n;
 }
@@ -283,52 +381,69 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
 /*
  * Near-horizontal edges over the columns x = xs + k*step, k < ncols <=
  * CHUNK, rows [from, to): candidate rows c in [from, to - 1), listed row by
- * row and left to right (see above).
+ * row and left to right (see above). 8-bit frames: each row's samples at
+ * the block's columns are gathered once, into rows of CHUNK bytes (zero
+ * past ncols: |g| = 0 there fails every threshold) laid one after the
+ * other, rows c - 2 .. c + COL_BATCH + 1 for COL_BATCH candidate rows at a
+ * time. The five runs of the test are then that buffer from its rows 0 ..
+ * 4, COL_BATCH * CHUNK positions long: position r * CHUNK + k is column k
+ * of candidate row c + r, so one call tests COL_BATCH rows, and its flags
+ * come in the order of the plain definition. 16-bit frames take the
+ * per-pixel test.
  */
+#define COL_BATCH 4
 static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, int step, int xs,
                               int ncols, int from, int to, cdsp_edge *out, size_t cap)
 {
-    int h = p->half_window, c, k;
+    int h = p->half_window, c, k, i;
     int full = (1 << img->bits) - 1;
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
-    int vec = img->bits <= 8 && step <= PEAK_MAX_STEP;
-    size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u, span = (size_t)(ncols - 1) * (size_t)step + 1;
+    size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
     ptrdiff_t es = (ptrdiff_t)(img->stride / bpp);
-    uint8_t flag[(CHUNK - 1) * PEAK_MAX_STEP + 1], sel[(CHUNK - 1) * PEAK_MAX_STEP + 1];
-    if (vec)
-        for (k = 0; k < (int)span; k++)
-            sel[k] = (uint8_t)(k % step == 0);
-    for (c = from; c < to - 1; c++) {
-        const uint8_t *r = (const uint8_t *)img->data + (size_t)c * img->stride + xs;
-        if (vec) {
-            const uint8_t *const f[5] = {r - 2 * img->stride, r - img->stride, r, r + img->stride,
-                                         r + 2 * img->stride};
-            if (!cdsp__edges_peaks(f, sel, span, thr, flag))
-                continue;
+    const uint8_t *col = (const uint8_t *)img->data + xs;
+    if (bpp == 1) {
+        uint8_t rows[(COL_BATCH + 4) * CHUNK];
+        union {
+            uint8_t b[COL_BATCH * CHUNK];
+            uint64_t w[COL_BATCH * CHUNK / 8];
+        } flag;
+        const uint8_t *const f[5] = {rows, rows + CHUNK, rows + 2 * CHUNK, rows + 3 * CHUNK,
+                                     rows + 4 * CHUNK};
+        if (from >= to - 1)
+            return 0;
+        for (i = 0; i < (COL_BATCH + 4) * CHUNK; i++)
+            rows[i] = 0;
+        for (i = 0; i < 4; i++)
+            cdsp__edges_gather(col + (ptrdiff_t)(from - 2 + i) * es, step, ncols, rows + i * CHUNK);
+        for (c = from; c < to - 1; c += COL_BATCH) {
+            int nr = to - 1 - c < COL_BATCH ? to - 1 - c : COL_BATCH, np = nr * CHUNK;
+            for (i = 0; i < nr; i++)
+                cdsp__edges_gather(col + (ptrdiff_t)(c + 2 + i) * es, step, ncols, rows + (4 + i) * CHUNK);
+            if (cdsp__edges_peaks(f, NULL, (size_t)np, thr, flag.b))
+                for (i = 0; i < np; i += 8) { /* a word of 8 zero flags: one test */
+                    if (!flag.w[i / 8])
+                        continue;
+                    for (k = i; k < i + 8; k++)
+                        if (flag.b[k] &&
+                            cdsp__edges_refine(img, 0, c + k / CHUNK, xs + (k % CHUNK) * step, h, min_step,
+                                               &out[n]) &&
+                            ++n == cap)
+                            return n;
+                }
+            /* rows c + nr - 2 .. c + nr + 1 to the front: the next batch's first four */
+            for (i = 0; i < 4 * CHUNK; i++)
+                rows[i] = rows[np + i];
         }
-        if (!vec && bpp == 1) {
-            /* wide steps (the coarse pass's columns): 8-bit rows at hand,
-             * |g| at row c first, which nearly every column fails */
-            const uint8_t *um = r - img->stride, *dp = r + img->stride;
-            for (k = 0; k < ncols; k++) {
-                size_t o = (size_t)k * (size_t)step;
-                int a = iabs((int)dp[o] - (int)um[o]);
-                if (a >= thr && a > iabs((int)r[o] - (int)(um - img->stride)[o]) &&
-                    a >= iabs((int)(dp + img->stride)[o] - (int)r[o]) &&
-                    cdsp__edges_refine(img, 0, c, xs + k * step, h, min_step, &out[n]) && ++n == cap)
-                    return n;
-            }
-            continue;
-        }
+        return n;
+    }
+    for (c = from; c < to - 1; c++)
         for (k = 0; k < ncols; k++) {
             int x = xs + k * step;
-            if ((vec ? flag[k * step]
-                     : is_peak(img, (const unsigned char *)img->data + (size_t)x * bpp, es, c, thr)) &&
+            if (is_peak(img, (const unsigned char *)img->data + (size_t)x * bpp, es, c, thr) &&
                 cdsp__edges_refine(img, 0, c, x, h, min_step, &out[n]) && ++n == cap)
                 return n;
         }
-    }
     return n;
 }
 

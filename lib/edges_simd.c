@@ -1,7 +1,8 @@
 /*
  * edges_simd.c - the SIMD forms of the edge scans' candidate test
  * (cdsp__edges_peaks, internal.h; the portable form, the reference, is
- * cdsp__edges_peaks_c in lib/edges.c). 16 positions per instruction with
+ * cdsp__edges_peaks_c in lib/edges.c) and of the column scans' gather at
+ * the default step (cdsp__edges_gather; cdsp__edges_gather_c). 16 positions per instruction with
  * SSE2 (every x86-64) or NEON (every AArch64), 32 with AVX2 when the
  * library is compiled for it (-mavx2: a compile-time choice, no run-time
  * dispatch). All of it is exact 8-bit integer arithmetic: |a - b| as the
@@ -95,6 +96,42 @@ int cdsp__edges_peaks_simd(const uint8_t *const f[5], const uint8_t *sel, size_t
     return _mm_movemask_epi8(_mm_cmpeq_epi8(acc, _mm_setzero_si128())) != 0xFFFF;
 }
 
+/* The gather at d = 4 (internal.h), 16 samples from 64 bytes: each 32-bit
+ * lane holds one sample in its low byte; masked and packed (the signed and
+ * unsigned saturating packs keep 0..255 as they are). A block of 16 that
+ * ends 3 or more bytes before the run's last sample is loaded from its
+ * first sample; the others from 3 bytes before it, the sample then in each
+ * lane's top byte, so that no byte past the last sample and none before
+ * the first is read. Other steps, and what no block of 16 covers, are
+ * the portable form's. */
+void cdsp__edges_gather_simd(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst)
+{
+    int k = 0;
+    if (d == 4) {
+        const __m128i lo = _mm_set1_epi32(0xFF);
+        for (; k + 16 <= n; k += 16) {
+            const uint8_t *s = src + 4 * k;
+            __m128i a, b, c, e;
+            if (k + 17 <= n) {
+                a = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)s), lo);
+                b = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(s + 16)), lo);
+                c = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(s + 32)), lo);
+                e = _mm_and_si128(_mm_loadu_si128((const __m128i *)(const void *)(s + 48)), lo);
+            } else if (k > 0) {
+                a = _mm_srli_epi32(_mm_loadu_si128((const __m128i *)(const void *)(s - 3)), 24);
+                b = _mm_srli_epi32(_mm_loadu_si128((const __m128i *)(const void *)(s + 13)), 24);
+                c = _mm_srli_epi32(_mm_loadu_si128((const __m128i *)(const void *)(s + 29)), 24);
+                e = _mm_srli_epi32(_mm_loadu_si128((const __m128i *)(const void *)(s + 45)), 24);
+            } else {
+                break; /* n = 16 exactly: 61 bytes, no whole vector load fits */
+            }
+            _mm_storeu_si128((__m128i *)(void *)(dst + k),
+                             _mm_packus_epi16(_mm_packs_epi32(a, b), _mm_packs_epi32(c, e)));
+        }
+    }
+    cdsp__edges_gather_c(src + (ptrdiff_t)k * d, d, n - k, dst + k);
+}
+
 #else /* AArch64 NEON */
 #include <arm_neon.h>
 
@@ -125,6 +162,26 @@ int cdsp__edges_peaks_simd(const uint8_t *const f[5], const uint8_t *sel, size_t
     if (i < n)
         acc = vorrq_u8(acc, peaks16(f, sel, n - 16, t, flag));
     return vmaxvq_u8(acc) != 0;
+}
+
+/* The gather at d = 4 (see the SSE2 form): vld4q_u8 deinterleaves 64 bytes
+ * into the four byte lanes of 16 words; the same blocks, loaded from their
+ * first sample (lane 0) or from 3 bytes before it (lane 3). */
+void cdsp__edges_gather_simd(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst)
+{
+    int k = 0;
+    if (d == 4) {
+        for (; k + 16 <= n; k += 16) {
+            const uint8_t *s = src + 4 * k;
+            if (k + 17 <= n)
+                vst1q_u8(dst + k, vld4q_u8(s).val[0]);
+            else if (k > 0)
+                vst1q_u8(dst + k, vld4q_u8(s - 3).val[3]);
+            else
+                break; /* n = 16 exactly: 61 bytes, no whole load fits */
+        }
+    }
+    cdsp__edges_gather_c(src + (ptrdiff_t)k * d, d, n - k, dst + k);
 }
 #endif
 

@@ -27,6 +27,7 @@ static int crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal
     cdsp_real target = (cdsp_real)line, t = target, und[2], dist[2];
     int it;
     for (it = 0; it < 4; it++) {
+        cdsp_real d;
         if (horizontal) { /* row v = t: u from a u + b v + c = 0 */
             und[1] = t;
             und[0] = -(l[1] * t + l[2]) / l[0];
@@ -36,7 +37,12 @@ static int crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal
         }
         if (cdsp_camera_distort(cam, und, dist) != CDSP_OK)
             return 0;
-        t += target - (horizontal ? dist[1] : dist[0]);
+        /* a round that moves t by nothing is a fixed point: every later
+         * round would compute the same und and dist again */
+        d = target - (horizontal ? dist[1] : dist[0]);
+        if (d == R(0))
+            break;
+        t += d;
     }
     *s_out = horizontal ? dist[0] : dist[1];
     return R_FINITE(*s_out);
@@ -63,7 +69,8 @@ static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
     int full = (1 << img->bits) - 1, maxv = 0, r, x, b, shift = 0, rows;
     cdsp_real med = R(0);
     rows = img->height < NOISE_ROWS ? img->height : NOISE_ROWS;
-    for (r = 0; r < rows; r++) {
+    /* the largest value only decides a container wider than 8 bits */
+    for (r = 0; r < rows && img->bits > 8; r++) {
         int y = (int)(((long)r * 2 + 1) * img->height / (2L * rows));
         for (x = 0; x < img->width; x += 2) {
             int v = img_px(img, x, y);
@@ -86,6 +93,13 @@ static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
         hist[b] = 0;
     for (r = 0; r < rows; r++) {
         int y = (int)(((long)r * 2 + 1) * img->height / (2L * rows));
+        if (img->bits <= 8) { /* bytes: the row at hand, shift 0, |d| <= 255 < NOISE_BINS */
+            const uint8_t *row = (const uint8_t *)img->data + (size_t)y * img->stride;
+            for (x = 0; x + 1 < img->width; x += 2)
+                hist[iabs((int)row[x + 1] - (int)row[x])]++;
+            total += (uint32_t)(img->width / 2);
+            continue;
+        }
         for (x = 0; x + 1 < img->width; x += 2) {
             int d = iabs(img_px(img, x + 1, y) - img_px(img, x, y)) >> shift;
             hist[d < NOISE_BINS ? d : NOISE_BINS - 1]++;

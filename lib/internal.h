@@ -232,14 +232,22 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
  * AVX2 when compiled with -mavx2, NEON on AArch64) unless CDSP_NO_SIMD. */
 int cdsp__edges_peaks_c(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
                         uint8_t *flag);
+/* The column scans' gather (lib/edges.c): dst[k] = src[k * d], k < n (8-bit
+ * samples, d >= 1), reading no byte outside [src, src + (n - 1) d];
+ * portable form always built, cdsp__edges_gather the scans' form (the SIMD
+ * one for d = 4, the default step, where the target has it). */
+void cdsp__edges_gather_c(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst);
 #if !defined(CDSP_NO_SIMD) && (defined(__SSE2__) || (defined(__aarch64__) && defined(__ARM_NEON)))
 #define CDSP__SIMD 1
 int cdsp__edges_peaks_simd(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
                            uint8_t *flag);
+void cdsp__edges_gather_simd(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst);
 #define cdsp__edges_peaks cdsp__edges_peaks_simd
+#define cdsp__edges_gather cdsp__edges_gather_simd
 #else
 #define CDSP__SIMD 0
 #define cdsp__edges_peaks cdsp__edges_peaks_c
+#define cdsp__edges_gather cdsp__edges_gather_c
 #endif
 
 #endif /* CDSP_INTERNAL_H */

@@ -539,11 +539,52 @@ static void test_peaks_forms(void **state)
 #endif
 }
 
+/* The gather alone (the column scans' strided runs made contiguous): the
+ * portable and the built forms give dst[k] = src[k * d] on every length
+ * 0..70 (SIMD blocks of 16 and the portable rest, n = 16 exactly, whose 61
+ * bytes no vector load fits), every step 1..9 and the coarse pass's 32, a
+ * row's stride; each source is a malloc of exactly (n - 1) d + 1 bytes, so
+ * under AddressSanitizer (check-lib-asan) a read before the first sample or
+ * past the last one fails; nothing is written past dst[n - 1]. */
+static void test_gather_forms(void **state)
+{
+    static const int steps[] = {1, 2, 3, 4, 5, 7, 8, 9, 32, 2448};
+    cdsp_rng rng;
+    size_t si;
+    int n, trials = 0;
+    (void)state;
+    cdsp_rng_seed(&rng, 6, 6);
+    for (si = 0; si < sizeof steps / sizeof steps[0]; si++)
+        for (n = 0; n <= 70; n++) {
+            ptrdiff_t d = steps[si];
+            size_t len = n > 0 ? (size_t)(n - 1) * (size_t)d + 1 : 1, i;
+            uint8_t *src = malloc(len), ref[80], got_c[80], got_b[80];
+            int k;
+            assert_non_null(src);
+            for (i = 0; i < len; i++)
+                src[i] = (uint8_t)cdsp_rng_u32(&rng);
+            for (k = 0; k < n; k++)
+                ref[k] = src[(size_t)k * (size_t)d];
+            memset(got_c, 7, sizeof got_c);
+            memset(got_b, 7, sizeof got_b);
+            cdsp__edges_gather_c(src, d, n, got_c);
+            cdsp__edges_gather(src, d, n, got_b);
+            if (memcmp(got_c, ref, (size_t)n) != 0 || got_c[n] != 7)
+                fail_msg("portable gather: d %d n %d", (int)d, n);
+            if (memcmp(got_b, ref, (size_t)n) != 0 || got_b[n] != 7)
+                fail_msg("built gather: d %d n %d", (int)d, n);
+            free(src);
+            trials++;
+        }
+    assert_int_equal(trials, 10 * 71);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scan_equals_reference),
         cmocka_unit_test(test_peaks_forms),
+        cmocka_unit_test(test_gather_forms),
         cmocka_unit_test(test_coarse_guarantee),
         cmocka_unit_test(test_strips_merge),
         cmocka_unit_test(test_frame_solve_strips),
