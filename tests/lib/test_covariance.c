@@ -109,8 +109,10 @@ static double mahalanobis4(double A[4][4], const double b[4])
     return s;
 }
 
-/* d^2 of a result against the true axis (P, v), and z^2 of its distance. */
-static double observable_d2(const cdsp_result *r, const double P[3], const double v0[3],
+/* d^2 of a result against the true axis (P, v), and z^2 of its distance;
+ * from the published cov (factor 0) or from cov_factor F (factor 1: the
+ * 6 x 6 is F F^T, formed in double here). */
+static double observable_d2(const cdsp_result *r, int factor, const double P[3], const double v0[3],
                             double *z2_dist)
 {
     double v[3], f[3], got[3], dir[3], e1[3], e2[3], y[4], B[4][6], C[6][6], C4[4][4], t, sgn;
@@ -126,8 +128,16 @@ static double observable_d2(const cdsp_result *r, const double P[3], const doubl
      * truth's: flipping v flips the point-direction block of cov */
     sgn = dot3(dir, v) < 0 ? -1 : 1;
     for (a = 0; a < 6; a++)
-        for (b = 0; b < 6; b++)
-            C[a][b] = (double)r->cov[a][b] * (((a < 3) != (b < 3)) ? sgn : 1);
+        for (b = 0; b < 6; b++) {
+            double c = 0;
+            int k;
+            if (!factor)
+                c = (double)r->cov[a][b];
+            else
+                for (k = 0; k < 4; k++)
+                    c += (double)r->cov_factor[a][k] * (double)r->cov_factor[b][k];
+            C[a][b] = c * (((a < 3) != (b < 3)) ? sgn : 1);
+        }
     if (fabs(v[0]) > 0.8) {
         ax[0] = 0;
         ax[1] = 1;
@@ -229,20 +239,63 @@ typedef struct {
     int n;
 } chi_stats;
 
-static chi_stats run_trials(int kind, int trials, double sigma_px, uint64_t seed)
+/* How far cov is from cov_factor F F^T: the largest |cov_ab - (F F^T)_ab|
+ * over sum_k |F_ak F_bk| (the scale of the entry's rounding), in eps. */
+static double factor_gap(const cdsp_result *r)
+{
+    double worst = 0;
+    int a, b, k;
+    for (a = 0; a < 6; a++)
+        for (b = 0; b < 6; b++) {
+            double s = 0, m = 0;
+            for (k = 0; k < 4; k++) {
+                double p = (double)r->cov_factor[a][k] * (double)r->cov_factor[b][k];
+                s += p;
+                m += fabs(p);
+            }
+            if (m > 0 && fabs((double)r->cov[a][b] - s) / m > worst)
+                worst = fabs((double)r->cov[a][b] - s) / m;
+            else if (m == 0 && r->cov[a][b] != 0)
+                return 1e300;
+        }
+    return worst / T_EPS;
+}
+
+/* Accumulates the statistics of one d^2 series. */
+static void add_d2(chi_stats *st, double d2, double z2, double *sum, double *sum2, int *tail)
+{
+    *sum += d2;
+    *sum2 += d2 * d2;
+    *tail += d2 > CHI2_4_Q95;
+    st->mean_z2 += z2;
+    st->n++;
+}
+
+static void end_stats(chi_stats *st, double sum, double sum2, int tail)
+{
+    st->mean = sum / st->n;
+    st->var = (sum2 - st->n * st->mean * st->mean) / (st->n - 1);
+    st->tail = (double)tail / st->n;
+    st->mean_z2 /= st->n;
+}
+
+/* The same seeded trials scored with cov (st[0], when use_cov) and with
+ * cov_factor (st[1]). */
+static void run_trials(int kind, int trials, double sigma_px, uint64_t seed, int use_cov,
+                       chi_stats st[2], double *gap)
 {
     cdsp_camera cam;
     cdsp_params prm;
     cdsp_rng rng, gen;
-    chi_stats st = {0, 0, 0, 0, 0};
-    double sum = 0, sum2 = 0;
-    int t, tail = 0, tries = 0;
+    double sum[2] = {0, 0}, sum2[2] = {0, 0};
+    int t, f, tail[2] = {0, 0}, tries = 0;
+    memset(st, 0, 2 * sizeof *st);
     sup_paper_camera(&cam, 0, 0);
     cdsp_params_default(&prm);
     cdsp_rng_seed(&rng, seed, 1);
     cdsp_rng_seed(&gen, seed, 2);
-    for (t = 0; st.n < trials; t++) {
-        double P[3], v[3], s0, s1, d2, z2;
+    for (t = 0; st[1].n < trials; t++) {
+        double P[3], v[3], s0, s1;
         cdsp_result r;
         size_t n;
         cdsp_status s;
@@ -255,47 +308,50 @@ static chi_stats run_trials(int kind, int trials, double sigma_px, uint64_t seed
         s = cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r);
         if (s != CDSP_OK)
             fail_msg("pose class %d trial %d: %s", kind, t, cdsp_strerror(s));
-        d2 = observable_d2(&r, P, v, &z2);
-        if (d2 < 0)
-            fail_msg("pose class %d trial %d: covariance not positive definite on the 4 "
-                     "observable dof", kind, t);
-        sum += d2;
-        sum2 += d2 * d2;
-        tail += d2 > CHI2_4_Q95;
-        st.mean_z2 += z2;
-        st.n++;
+        {
+            double e = factor_gap(&r);
+            if (e > *gap)
+                *gap = e;
+        }
+        for (f = use_cov ? 0 : 1; f < 2; f++) {
+            double z2, d2 = observable_d2(&r, f, P, v, &z2);
+            if (d2 < 0)
+                fail_msg("pose class %d trial %d: %s not positive definite on the 4 "
+                         "observable dof", kind, t, f ? "cov_factor F F^T" : "cov");
+            add_d2(&st[f], d2, z2, &sum[f], &sum2[f], &tail[f]);
+        }
     }
-    st.mean = sum / st.n;
-    st.var = (sum2 - st.n * st.mean * st.mean) / (st.n - 1);
-    st.tail = (double)tail / st.n;
-    st.mean_z2 /= st.n;
-    return st;
+    for (f = use_cov ? 0 : 1; f < 2; f++)
+        end_stats(&st[f], sum[f], sum2[f], tail[f]);
 }
 
-static void check_stats(const char *what, chi_stats st)
+static void check_stats(const char *what, const char *from, chi_stats st)
 {
     double n = st.n;
     double mean_band = 4 * sqrt(8 / n), var_band = 4 * sqrt((384.0 - 64.0) / n),
            tail_band = 4 * sqrt(0.05 * 0.95 / n), z2_band = 4 * sqrt(2 / n);
     if (getenv("CDSP_TEST_VERBOSE"))
-        print_message("%-24s N=%d mean d2 %.3f (4 +- %.3f) var %.2f (8 +- %.2f) tail %.4f "
+        print_message("%-24s %-6s N=%d mean d2 %.3f (4 +- %.3f) var %.2f (8 +- %.2f) tail %.4f "
                       "(0.05 +- %.4f) mean z2(dist) %.3f (1 +- %.3f)\n",
-                      what, st.n, st.mean, mean_band, st.var, var_band, st.tail, tail_band,
+                      what, from, st.n, st.mean, mean_band, st.var, var_band, st.tail, tail_band,
                       st.mean_z2, z2_band);
     if (fabs(st.mean - 4) > mean_band)
-        fail_msg("%s: mean Mahalanobis d^2 %.3f over %d trials, want 4 +- %.3f", what, st.mean,
-                 st.n, mean_band);
+        fail_msg("%s (%s): mean Mahalanobis d^2 %.3f over %d trials, want 4 +- %.3f", what, from,
+                 st.mean, st.n, mean_band);
     if (fabs(st.var - 8) > var_band)
-        fail_msg("%s: variance of d^2 %.3f, want 8 +- %.3f", what, st.var, var_band);
+        fail_msg("%s (%s): variance of d^2 %.3f, want 8 +- %.3f", what, from, st.var, var_band);
     if (fabs(st.tail - 0.05) > tail_band)
-        fail_msg("%s: fraction of d^2 > %.3f is %.4f, want 0.05 +- %.4f", what, CHI2_4_Q95,
-                 st.tail, tail_band);
+        fail_msg("%s (%s): fraction of d^2 > %.3f is %.4f, want 0.05 +- %.4f", what, from,
+                 CHI2_4_Q95, st.tail, tail_band);
     if (fabs(st.mean_z2 - 1) > z2_band)
-        fail_msg("%s: mean (distance error / sigma_distance)^2 %.3f, want 1 +- %.3f", what,
-                 st.mean_z2, z2_band);
+        fail_msg("%s (%s): mean (distance error / sigma_distance)^2 %.3f, want 1 +- %.3f", what,
+                 from, st.mean_z2, z2_band);
 }
 
-/* Table: each pose class, 400 seeded trials of 1024 points per contour. */
+/* Table: each pose class, 400 seeded trials of 1024 points per contour,
+ * scored with the factor in both builds and with cov wherever its entries'
+ * precision resolves the observable dof (see the top: not the far class in
+ * float). The measured figures are at the top. */
 static void test_mahalanobis(void **state)
 {
     static const struct {
@@ -312,11 +368,24 @@ static void test_mahalanobis(void **state)
     size_t i;
     (void)state;
     for (i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        chi_stats st[2];
+        double gap = 0;
 #ifdef CDSP_SINGLE
-        if (rows[i].kind == POSE_FAR)
-            continue; /* see the top: the float cov does not resolve it */
+        int use_cov = 0;
+#else
+        int use_cov = 1;
 #endif
-        check_stats(rows[i].what, run_trials(rows[i].kind, 400, rows[i].sigma_px, 100 + i));
+        run_trials(rows[i].kind, 400, rows[i].sigma_px, 100 + i, use_cov, st, &gap);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("%-24s cov - F F^T: %.2f eps of the entries' scale\n", rows[i].what, gap);
+        /* cov is F F^T summed in the precision in use: 4 products and 3
+         * additions, at most ~2.5 eps of sum |F_ak F_bk| (the unit roundoff
+         * is eps / 2); measured at the top */
+        if (gap > 3)
+            fail_msg("%s: cov is %.3g eps of its scale from cov_factor F F^T, want <= 3", rows[i].what, gap);
+        if (use_cov)
+            check_stats(rows[i].what, "cov", st[0]);
+        check_stats(rows[i].what, "factor", st[1]);
     }
 }
 
