@@ -376,10 +376,11 @@ typedef struct {
      * contour 1 offset, contour 1 angle): draw g ~ N(0, I4), F g is a
      * draw of the error. Prefer F to cov when the pipe is far: the
      * variance along the constraints, (|P| sigma_v)^2, can exceed the
-     * smallest observable one by more than 1 / eps, and then rounding cov's
-     * entries alone (single precision: beyond about 3 m for a 16 mm pipe
-     * at f = 3478 px) leaves cov not positive definite on the observable
-     * dof, while F keeps each column to its relative precision. */
+     * smallest observable one by about 1 / eps, and then rounding cov's
+     * entries alone spoils the observable dof (single precision, 16 mm
+     * pipe, f = 3478 px: a quarter of the poses at 3-5 m, some at 1.5 m;
+     * docs/method.md §6), while F keeps each column to its relative
+     * precision. */
     cdsp_real cov[6][6];
     cdsp_real cov_factor[6][4];
     cdsp_real sigma_point[3];

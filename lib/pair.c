@@ -30,9 +30,9 @@
  * Uncertainty: each TLS line has two independent parameters about its
  * centroid, the offset along its normal (variance s^2/N) and the angle
  * (variance s^2/sum t_i^2), s^2 = RSS/(N-2) (standard line-fit results).
- * The 4 x 4 diagonal covariance is carried to (P_C, v_L, d) through a
- * central-difference Jacobian of the closed form with steps of one standard
- * deviation (floored at a few ulps of the precision in use).
+ * The 4 x 4 diagonal covariance is carried to (P_C, v_L, d) through the
+ * closed form's Jacobian, itself in closed form (axis_change below,
+ * docs/method.md §6), and published as its factor F as well as F F^T.
  */
 #include "internal.h"
 

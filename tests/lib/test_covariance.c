@@ -22,8 +22,8 @@
  * chi-square with 1 dof: mean 1 +- 4 sqrt(2 / N).
  * The covariance itself comes from estimated residuals (s^2 = RSS/(N_pts-2),
  * relative sd sqrt(2 / 1000) = 4.5 % per line) and a first-order
- * (central-difference) Jacobian; both move the mean of d^2 by well under
- * a percent at these noise levels (measured below), far inside the bands.
+ * Jacobian (in closed form, lib/pair.c); both move the mean of d^2 by well
+ * under a percent at these noise levels, far inside the bands.
  *
  * Poses: the paper's four pipes, random poses at 150-1500 mm, and the
  * near-degenerate ones: axis within 12-20 degrees of the line of sight
@@ -33,17 +33,37 @@
  * optical axis). A mutant that flips the sign of the point-direction
  * covariance when the contours are swapped (lib/axis.c, cdsp__axis_swap), or
  * halves the offset variance in lib/pair.c, or scales a published sigma,
- * fails here (tests/mutants/).
+ * or breaks the factor (its sign or column exchange in the swap, a sign in
+ * axis_change), fails here (tests/mutants/).
  *
- * The float build (CDSP_SINGLE) skips the far class: there cov is not
- * positive definite on the observable dof (measured: a correlation of
- * 1.0018 between the two position dof at 3.7 m). Its position block holds
- * (|P| sigma_v)^2 ~ 200 mm^2 along v (dP.v = -P.dv) while the smallest
- * observable variance is ~1e-5 mm^2, a condition beyond 1/eps of float, so
- * the float entries' rounding alone swamps that dof; the estimate itself is
- * fine (its float rounding, eps d / alpha ~ 0.05 mm, is 1/20 of the noise's
- * sigma). Publishing cov in float would need a better-conditioned
- * parameterization (e.g. the 4 observable dof themselves).
+ * cov and cov_factor F (cov = F F^T, include/cdsp.h). Both builds score
+ * every class with F; the double build scores cov too. The float build
+ * does not score cov: its entries' rounding alone loses the observable dof
+ * of far pipes. The position block holds (|P| sigma_v)^2 ~ 200 mm^2 along
+ * v (dP.v = -P.dv) while the smallest observable variance is ~1e-5 mm^2,
+ * a ratio beyond 1 / eps of float. Measured: the double build's 6 x 6
+ * rounded to float is not positive definite on the observable dof at the
+ * far class's first trial; the float build's cov gives d^2 more than 20 %
+ * off F's (or not positive definite) in 95 of the far class's 400 trials,
+ * and with seed 700 in 2 of the random class's (1.4-1.5 m; one 51.7
+ * against 9.1, a variance of d^2 of 13.6, outside the band). F's columns
+ * keep their relative precision (lib/pair.c, axis_change), so F carries
+ * them in float; that cov is F F^T to its rounding is checked in both.
+ *
+ * Measured (CDSP_TEST_VERBOSE=1, seeds as committed, N = 400 each; bands
+ * mean 4 +- 0.566, variance 8 +- 3.58, tail 0.05 +- 0.0436, mean z^2
+ * 1 +- 0.283):
+ *                          double (cov and F alike)    float (F)
+ *                          mean  var   tail   z^2     mean  var   tail   z^2
+ *   paper pipes, 0.1 px    3.820 7.07 0.0350 0.971    4.204 10.23 0.0575 0.944
+ *   random 150-1500 mm     4.079 8.77 0.0500 1.020    3.983 7.34 0.0525 1.038
+ *   12-20 deg off the view 4.023 7.30 0.0525 1.034    3.991 7.91 0.0500 0.997
+ *   far, 3-5 m             4.095 9.26 0.0750 0.864    4.352 8.05 0.0525 1.047
+ *   oblique, frame corner  3.904 7.05 0.0350 0.964    4.194 8.54 0.0600 1.146
+ * The double figures are those of the central-difference Jacobian this
+ * replaced, to the digits shown. cov - F F^T: at most 1.67 eps (double)
+ * and 1.20 eps (float) of sum_k |F_ak F_bk|; bound 3 eps (the rounding of
+ * 4 products and 3 sums, ~2.5 eps).
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -445,11 +465,98 @@ static void test_sigmas_are_cov_diagonal(void **state)
     }
 }
 
+#ifndef CDSP_SINGLE
+/* What each column of cov_factor means (include/cdsp.h): column 2k is the
+ * change of (point, direction) when contour k's published line moves by one
+ * standard deviation of its offset, s / sqrt(N - 2) with s = rms (the
+ * angle columns turn about the fit's centroid, which the result does not
+ * carry, so they are left to the Mahalanobis test). Checked against central
+ * differences of cdsp_axis_solve on the published lines, in double only:
+ * in float the differences' rounding is what the closed form is there to
+ * avoid. The differences' truncation is (h / band)^2 relative: h = 0.1 /
+ * sqrt(1000) = 3.2e-3 px, the far pose's band 15 px, 4.4e-8; their
+ * rounding, eps |P| / h ~ 3e-10 mm, is negligible. Measured 4.5e-8 of the
+ * column's norm (the far pose); bound 2e-7, 4.5 times it. Poses: the
+ * paper's four, one far, one at the corner; the contours come out in both
+ * orders (3 and 3: the direction's sign rule swaps them), so the swap's
+ * column exchange is exercised. */
+static void test_factor_columns(void **state)
+{
+    static const double far_P[3] = {185, 0, 3700}, far_v[3] = {-0.41, 0.91, 0.1};
+    static const double cor_P[3] = {150, 120, 600}, cor_v[3] = {0.6, -0.78, 0.2};
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng rng, gen;
+    double worst = 0;
+    int pose, k, swapped = 0, straight = 0;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 9, 1);
+    cdsp_rng_seed(&gen, 9, 2);
+    for (pose = 0; pose < 6; pose++) {
+        double P[3], v[3];
+        cdsp_result r;
+        cdsp_real pin[2];
+        size_t n;
+        if (pose < 4)
+            sup_paper_pipe(pose, P, v);
+        memcpy(P, pose == 4 ? far_P : pose == 5 ? cor_P : P, sizeof P);
+        memcpy(v, pose == 4 ? far_v : pose == 5 ? cor_v : v, sizeof v);
+        n = sup_contour_points(&cam, P, v, 8, pose == 4 ? -400 : -100, pose == 4 ? 400 : 100, 1000,
+                               0.1, 100, &gen, pts, CDSP_MAX_POINTS, NULL);
+        assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+        assert_int_equal(cdsp_camera_project(&cam, r.point, pin), CDSP_OK); /* between the contours */
+        /* lib/pair.c solves with the lines in the order of their labels
+         * (pairs i < j) and swaps them for the direction's sign rule */
+        if (r.label[0] > r.label[1])
+            swapped++;
+        else
+            straight++;
+        for (k = 0; k < 2; k++) {
+            double h = (double)r.rms[k] / sqrt((double)r.inliers[k] - 2), fd[6], e2 = 0, c2 = 0;
+            cdsp_real lp[2][3], lm[2][3];
+            cdsp_result rp, rm;
+            int i;
+            memcpy(lp, r.lines, sizeof lp);
+            memcpy(lm, r.lines, sizeof lm);
+            lp[k][2] -= h; /* + one sigma: l[2] - h moves the line by h along its normal */
+            lm[k][2] += h;
+            assert_int_equal(cdsp_axis_solve(&cam, lp[0], lp[1], pin, 8, &rp), CDSP_OK);
+            assert_int_equal(cdsp_axis_solve(&cam, lm[0], lm[1], pin, 8, &rm), CDSP_OK);
+            for (i = 0; i < 3; i++) {
+                double sp = (double)(rp.direction[0] * r.direction[0] + rp.direction[1] * r.direction[1] +
+                                     rp.direction[2] * r.direction[2]) < 0 ? -1 : 1;
+                double sm = (double)(rm.direction[0] * r.direction[0] + rm.direction[1] * r.direction[1] +
+                                     rm.direction[2] * r.direction[2]) < 0 ? -1 : 1;
+                fd[i] = ((double)rp.point[i] - (double)rm.point[i]) / 2;
+                fd[3 + i] = (sp * (double)rp.direction[i] - sm * (double)rm.direction[i]) / 2;
+            }
+            for (i = 0; i < 6; i++) {
+                double c = (double)r.cov_factor[i][2 * k];
+                e2 += (c - fd[i]) * (c - fd[i]);
+                c2 += c * c;
+            }
+            if (sqrt(e2 / c2) > worst)
+                worst = sqrt(e2 / c2);
+        }
+    }
+    if (getenv("CDSP_TEST_VERBOSE"))
+        print_message("offset columns against central differences: %.3g of the column "
+                      "(%d poses with the contours swapped, %d not)\n", worst, swapped, straight);
+    assert_true(swapped > 0 && straight > 0);
+    assert_true(worst < 2e-7);
+}
+#endif
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mahalanobis),
         cmocka_unit_test(test_sigmas_are_cov_diagonal),
+#ifndef CDSP_SINGLE
+        cmocka_unit_test(test_factor_columns),
+#endif
     };
     return cmocka_run_group_tests_name("covariance", tests, NULL, NULL);
 }
