@@ -477,7 +477,7 @@ typedef struct {
  * The closed form (docs/method.md): from two contour lines (undistorted px), a
  * pixel p_in between them on the pipe, the radius r (0 < r <= CDSP_MAX_RADIUS).
  * Fills point, direction, distance, alpha, normals, lines; segment is set to
- * point; cov/sigma zero; counts zero.
+ * point; cov, cov_factor, sigma zero; counts zero.
  * CDSP_E_DEGENERATE when: the back-projection planes are parallel
  * (|n1 x n2| tiny), p_in lies on a line, or alpha is so close to pi that the
  * optical centre would be inside the pipe (d < r (1 + 1e-6)).
