@@ -366,8 +366,23 @@ typedef struct {
      * cov is the covariance of (point[0..2], direction[0..2]). It covers the
      * random error of the edge points only; systematic errors (calibration,
      * a wrong radius, the edge bias of a shaded pipe's limb, see README
-     * "Accuracy") are not in it. */
+     * "Accuracy") are not in it. cov = F F^T, F = cov_factor: positive
+     * semi-definite of rank 4 (the axis' 4 degrees of freedom: 2 of
+     * direction, 2 of position across it), singular along the constraints
+     * dv.v = 0 and dP.v = -P.dv (point is the foot of the perpendicular
+     * from the optical centre). Column k of F is the change of
+     * (point, direction) for a one-standard-deviation change of the k-th
+     * independent line parameter (contour 0 offset, contour 0 angle,
+     * contour 1 offset, contour 1 angle): draw g ~ N(0, I4), F g is a
+     * draw of the error. Prefer F to cov when the pipe is far: the
+     * variance along the constraints, (|P| sigma_v)^2, can exceed the
+     * smallest observable one by about 1 / eps, and then rounding cov's
+     * entries alone spoils the observable dof (single precision, 16 mm
+     * pipe, f = 3478 px: a quarter of the poses at 3-5 m, some at 1.5 m;
+     * docs/method.md §6), while F keeps each column to its relative
+     * precision. */
     cdsp_real cov[6][6];
+    cdsp_real cov_factor[6][4];
     cdsp_real sigma_point[3];
     cdsp_real sigma_direction[3];
     cdsp_real sigma_distance;
@@ -462,7 +477,7 @@ typedef struct {
  * The closed form (docs/method.md): from two contour lines (undistorted px), a
  * pixel p_in between them on the pipe, the radius r (0 < r <= CDSP_MAX_RADIUS).
  * Fills point, direction, distance, alpha, normals, lines; segment is set to
- * point; cov/sigma zero; counts zero.
+ * point; cov, cov_factor, sigma zero; counts zero.
  * CDSP_E_DEGENERATE when: the back-projection planes are parallel
  * (|n1 x n2| tiny), p_in lies on a line, or alpha is so close to pi that the
  * optical centre would be inside the pipe (d < r (1 + 1e-6)).

@@ -131,13 +131,25 @@ void cdsp__axis_swap(cdsp_result *r)
         r->edge_blur[0] = r->edge_blur[1];
         r->edge_blur[1] = t;
     }
-    /* cov(point, direction) changes sign with the direction */
+    /* cov(point, direction) changes sign with the direction; so do the
+     * factor's direction rows, and its columns follow their contour */
     for (i = 0; i < 3; i++) {
         int j;
         for (j = 3; j < 6; j++) {
             r->cov[i][j] = -r->cov[i][j];
             r->cov[j][i] = -r->cov[j][i];
         }
+    }
+    for (i = 0; i < 6; i++) {
+        int j;
+        for (j = 0; j < 2; j++) {
+            cdsp_real t = r->cov_factor[i][j];
+            r->cov_factor[i][j] = r->cov_factor[i][j + 2];
+            r->cov_factor[i][j + 2] = t;
+        }
+        if (i >= 3)
+            for (j = 0; j < 4; j++)
+                r->cov_factor[i][j] = -r->cov_factor[i][j];
     }
 }
 

@@ -30,9 +30,9 @@
  * Uncertainty: each TLS line has two independent parameters about its
  * centroid, the offset along its normal (variance s^2/N) and the angle
  * (variance s^2/sum t_i^2), s^2 = RSS/(N-2) (standard line-fit results).
- * The 4 x 4 diagonal covariance is carried to (P_C, v_L, d) through a
- * central-difference Jacobian of the closed form with steps of one standard
- * deviation (floored at a few ulps of the precision in use).
+ * The 4 x 4 diagonal covariance is carried to (P_C, v_L, d) through the
+ * closed form's Jacobian, itself in closed form (axis_change below,
+ * docs/method.md §6), and published as its factor F as well as F F^T.
  */
 #include "internal.h"
 
@@ -500,67 +500,109 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     return S;
 }
 
-/* Perturb a line: move it by dn along its normal and turn it by da about
- * its centroid. */
-static void perturb(const cdsp_line *ln, cdsp_real dn, cdsp_real da, cdsp_real l[3])
+/* The first-order effect on the axis of a change of one contour line,
+ * in closed form (docs/method.md §6). Frame of the pose: u = P_C / d
+ * (toward the axis), w = v x u, v. The normals satisfy n_i.v = 0,
+ * n1.P = +r, n2.P = -r and v = (n1 x n2) / |n1 x n2|; differentiating:
+ *   dv = (1 - v v^T) d(n1 x n2) / |n1 x n2|,
+ *   v.dP = -P.dv                 (P_C.v = 0),
+ *   n_i.dP = -dn_i.P             (n_i.P = +-r), two equations in u.dP, w.dP
+ *   whose determinant is n1.u n2.w - n1.w n2.u = sin(alpha) (no cancellation);
+ *   dd = u.dP                    (d = |P_C|).
+ * Every quantity here is a product of small exact-order terms, so it keeps
+ * the precision's relative accuracy: central differences of the closed form
+ * subtract two poses, whose rounding (eps |P_C|, 0.5 um at 4 m in float)
+ * is a tenth of the smallest observable deviation of a far pipe (a
+ * perpendicular shift of ~4 um) and, squared and summed in the 6 x 6, left
+ * it not positive definite (issue 11). dl is the change of the homogeneous
+ * line l; n = +-K^T l / |K^T l| (lib/axis.c). Out: dP, dv, dd. */
+static void axis_change(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp_real l[3], int side,
+                        const cdsp_real dl[3], const cdsp_real u[3], const cdsp_real w[3],
+                        cdsp_real dP[3], cdsp_real dv[3], cdsp_real *dd)
 {
-    cdsp_real c = R_COS(da), s = R_SIN(da);
-    l[0] = c * ln->l[0] - s * ln->l[1];
-    l[1] = s * ln->l[0] + c * ln->l[1];
-    l[2] = -(l[0] * ln->centroid[0] + l[1] * ln->centroid[1]) - dn;
-}
-
-static void pose_vec(const cdsp__axis *r, cdsp_real v[7])
-{
+    const cdsp_real *n = ax->normals[side], *v = ax->direction, *P = ax->point;
+    const cdsp_real *n1 = ax->normals[0], *n2 = ax->normals[1];
+    cdsp_real N[3], dN[3], dn[3], g[3], len, sg, t, z, rhs[2], A[2][2], det, sn, x, y;
     int i;
-    for (i = 0; i < 3; i++) {
-        v[i] = r->point[i];
-        v[3 + i] = r->direction[i];
+    N[0] = cam->fx * l[0];
+    N[1] = cam->fy * l[1];
+    N[2] = cam->cx * l[0] + cam->cy * l[1] + l[2];
+    dN[0] = cam->fx * dl[0];
+    dN[1] = cam->fy * dl[1];
+    dN[2] = cam->cx * dl[0] + cam->cy * dl[1] + dl[2];
+    len = v3_norm(N);
+    sg = v3_dot(N, n) < R(0) ? R(-1) : R(1); /* axis_core's orientation */
+    t = v3_dot(n, dN);
+    for (i = 0; i < 3; i++)
+        dn[i] = sg * (dN[i] - t * n[i]) / len; /* d(N/|N|): the part normal to n */
+    if (side == 0)
+        v3_cross(dn, n2, g);
+    else
+        v3_cross(n1, dn, g);
+    v3_cross(n1, n2, N);
+    sn = v3_norm(N);
+    t = v3_dot(v, g);
+    for (i = 0; i < 3; i++)
+        dv[i] = (g[i] - t * v[i]) / sn;
+    z = -v3_dot(dv, P);
+    for (i = 0; i < 2; i++) {
+        A[i][0] = v3_dot(ax->normals[i], u);
+        A[i][1] = v3_dot(ax->normals[i], w);
+        /* n_i.v is zero to rounding: its product with the large v.dP is kept */
+        rhs[i] = -v3_dot(ax->normals[i], v) * z - (i == side ? v3_dot(dn, P) : R(0));
     }
-    v[6] = r->distance;
+    det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
+    x = (rhs[0] * A[1][1] - rhs[1] * A[0][1]) / det;
+    y = (A[0][0] * rhs[1] - A[1][0] * rhs[0]) / det;
+    for (i = 0; i < 3; i++)
+        dP[i] = x * u[i] + y * w[i] + z * v[i];
+    *dd = x;
 }
 
-static void propagate(const cdsp_camera *cam, cdsp_real radius, const cdsp_line *L[2],
-                      const cdsp_real p_in[2], cdsp_result *out)
+/* Each TLS line's two parameters (offset along its normal, angle about its
+ * centroid: variances s^2/N and s^2/sum t_i^2) are independent, so with
+ * F's column k the one-standard-deviation change of (P_C, v) for parameter
+ * k, cov = F F^T exactly: rank 4, singular along the two constraints. */
+static void propagate(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp_line *L[2],
+                      cdsp_result *out)
 {
-#ifdef CDSP_SINGLE
-    const cdsp_real hmin_off = R(1e-3), hmin_ang = R(1e-6);
-#else
-    const cdsp_real hmin_off = R(1e-7), hmin_ang = R(1e-10);
-#endif
-    cdsp_real cov7[7][7];
+    cdsp_real cov7[7][7], u[3], w[3];
     int k, a, b, i;
     for (a = 0; a < 7; a++)
         for (b = 0; b < 7; b++)
             cov7[a][b] = R(0);
+    for (i = 0; i < 3; i++)
+        u[i] = ax->point[i] / ax->distance;
+    v3_cross(ax->direction, u, w);
     for (k = 0; k < 4; k++) {
         const cdsp_line *ln = L[k / 2];
         cdsp_real dof = ln->count > 2 ? (cdsp_real)(ln->count - 2) : R(1);
         cdsp_real s2 = ln->rms * ln->rms * (cdsp_real)ln->count / dof;
         cdsp_real var = (k % 2 == 0) ? s2 / (cdsp_real)ln->count
                                      : (ln->spread > R(0) ? s2 / ln->spread : R(0));
-        cdsp_real h = R_SQRT(var), lp[3], lm[3], vp[7], vm[7], J[7];
-        cdsp__axis rp, rm;
+        cdsp_real h = R_SQRT(var), dl[3], J[7];
+        for (i = 0; i < 6; i++)
+            out->cov_factor[i][k] = R(0);
         if (!(var > R(0)))
             continue;
-        if (k % 2 == 0 && h < hmin_off)
-            h = hmin_off;
-        if (k % 2 == 1 && h < hmin_ang)
-            h = hmin_ang;
-        perturb(ln, k % 2 == 0 ? h : R(0), k % 2 == 1 ? h : R(0), lp);
-        perturb(ln, k % 2 == 0 ? -h : R(0), k % 2 == 1 ? -h : R(0), lm);
-        if (cdsp__axis_core(cam, k < 2 ? lp : L[0]->l, k < 2 ? L[1]->l : lp, p_in, radius, &rp) !=
-                CDSP_OK ||
-            cdsp__axis_core(cam, k < 2 ? lm : L[0]->l, k < 2 ? L[1]->l : lm, p_in, radius, &rm) !=
-                CDSP_OK)
-            continue; /* a perturbation one sigma away is degenerate: leave it out */
-        pose_vec(&rp, vp);
-        pose_vec(&rm, vm);
-        for (i = 0; i < 7; i++)
-            J[i] = (vp[i] - vm[i]) / (R(2) * h);
+        if (k % 2 == 0) {
+            /* l[2] -> l[2] - h: the line moved by h along its unit normal */
+            dl[0] = R(0);
+            dl[1] = R(0);
+            dl[2] = -h;
+        } else {
+            /* (a, b) turned by h about the centroid q: d(a, b) = h (-b, a),
+             * dl[2] = -d(a, b).q (the line keeps passing through q) */
+            dl[0] = -h * ln->l[1];
+            dl[1] = h * ln->l[0];
+            dl[2] = -(dl[0] * ln->centroid[0] + dl[1] * ln->centroid[1]);
+        }
+        axis_change(cam, ax, ln->l, k / 2, dl, u, w, J, J + 3, J + 6);
+        for (i = 0; i < 6; i++)
+            out->cov_factor[i][k] = J[i];
         for (a = 0; a < 7; a++)
             for (b = 0; b < 7; b++)
-                cov7[a][b] += J[a] * J[b] * var;
+                cov7[a][b] += J[a] * J[b];
     }
     for (a = 0; a < 6; a++)
         for (b = 0; b < 6; b++)
@@ -894,7 +936,7 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cd
     }
     r.score = c->score;
     r.n_lines = (uint32_t)set->nlines;
-    propagate(cam, radius, L, c->p_in, &r);
+    propagate(cam, &ax, L, &r);
     visible_segment(cam, L, &r);
     *out = r;
     return CDSP_OK;

@@ -22,8 +22,8 @@
  * chi-square with 1 dof: mean 1 +- 4 sqrt(2 / N).
  * The covariance itself comes from estimated residuals (s^2 = RSS/(N_pts-2),
  * relative sd sqrt(2 / 1000) = 4.5 % per line) and a first-order
- * (central-difference) Jacobian; both move the mean of d^2 by well under
- * a percent at these noise levels (measured below), far inside the bands.
+ * Jacobian (in closed form, lib/pair.c); both move the mean of d^2 by well
+ * under a percent at these noise levels, far inside the bands.
  *
  * Poses: the paper's four pipes, random poses at 150-1500 mm, and the
  * near-degenerate ones: axis within 12-20 degrees of the line of sight
@@ -33,17 +33,37 @@
  * optical axis). A mutant that flips the sign of the point-direction
  * covariance when the contours are swapped (lib/axis.c, cdsp__axis_swap), or
  * halves the offset variance in lib/pair.c, or scales a published sigma,
- * fails here (tests/mutants/).
+ * or breaks the factor (its sign or column exchange in the swap, a sign in
+ * axis_change), fails here (tests/mutants/).
  *
- * The float build (CDSP_SINGLE) skips the far class: there cov is not
- * positive definite on the observable dof (measured: a correlation of
- * 1.0018 between the two position dof at 3.7 m). Its position block holds
- * (|P| sigma_v)^2 ~ 200 mm^2 along v (dP.v = -P.dv) while the smallest
- * observable variance is ~1e-5 mm^2, a condition beyond 1/eps of float, so
- * the float entries' rounding alone swamps that dof; the estimate itself is
- * fine (its float rounding, eps d / alpha ~ 0.05 mm, is 1/20 of the noise's
- * sigma). Publishing cov in float would need a better-conditioned
- * parameterization (e.g. the 4 observable dof themselves).
+ * cov and cov_factor F (cov = F F^T, include/cdsp.h). Both builds score
+ * every class with F; the double build scores cov too. The float build
+ * does not score cov: its entries' rounding alone loses the observable dof
+ * of far pipes. The position block holds (|P| sigma_v)^2 ~ 200 mm^2 along
+ * v (dP.v = -P.dv) while the smallest observable variance is ~1e-5 mm^2,
+ * a ratio beyond 1 / eps of float. Measured: the double build's 6 x 6
+ * rounded to float is not positive definite on the observable dof at the
+ * far class's first trial; the float build's cov gives d^2 more than 20 %
+ * off F's (or not positive definite) in 95 of the far class's 400 trials,
+ * and with seed 700 in 2 of the random class's (1.4-1.5 m; one 51.7
+ * against 9.1, a variance of d^2 of 13.6, outside the band). F's columns
+ * keep their relative precision (lib/pair.c, axis_change), so F carries
+ * them in float; that cov is F F^T to its rounding is checked in both.
+ *
+ * Measured (CDSP_TEST_VERBOSE=1, seeds as committed, N = 400 each; bands
+ * mean 4 +- 0.566, variance 8 +- 3.58, tail 0.05 +- 0.0436, mean z^2
+ * 1 +- 0.283):
+ *                          double (cov and F alike)    float (F)
+ *                          mean  var   tail   z^2     mean  var   tail   z^2
+ *   paper pipes, 0.1 px    3.820 7.07 0.0350 0.971    4.204 10.23 0.0575 0.944
+ *   random 150-1500 mm     4.079 8.77 0.0500 1.020    3.983 7.34 0.0525 1.038
+ *   12-20 deg off the view 4.023 7.30 0.0525 1.034    3.991 7.91 0.0500 0.997
+ *   far, 3-5 m             4.095 9.26 0.0750 0.864    4.352 8.05 0.0525 1.047
+ *   oblique, frame corner  3.904 7.05 0.0350 0.964    4.194 8.54 0.0600 1.146
+ * The double figures are those of the central-difference Jacobian this
+ * replaced, to the digits shown. cov - F F^T: at most 1.67 eps (double)
+ * and 1.20 eps (float) of sum_k |F_ak F_bk|; bound 3 eps (the rounding of
+ * 4 products and 3 sums, ~2.5 eps).
  */
 #include <stdarg.h>
 #include <stddef.h>
@@ -109,8 +129,10 @@ static double mahalanobis4(double A[4][4], const double b[4])
     return s;
 }
 
-/* d^2 of a result against the true axis (P, v), and z^2 of its distance. */
-static double observable_d2(const cdsp_result *r, const double P[3], const double v0[3],
+/* d^2 of a result against the true axis (P, v), and z^2 of its distance;
+ * from the published cov (factor 0) or from cov_factor F (factor 1: the
+ * 6 x 6 is F F^T, formed in double here). */
+static double observable_d2(const cdsp_result *r, int factor, const double P[3], const double v0[3],
                             double *z2_dist)
 {
     double v[3], f[3], got[3], dir[3], e1[3], e2[3], y[4], B[4][6], C[6][6], C4[4][4], t, sgn;
@@ -126,8 +148,16 @@ static double observable_d2(const cdsp_result *r, const double P[3], const doubl
      * truth's: flipping v flips the point-direction block of cov */
     sgn = dot3(dir, v) < 0 ? -1 : 1;
     for (a = 0; a < 6; a++)
-        for (b = 0; b < 6; b++)
-            C[a][b] = (double)r->cov[a][b] * (((a < 3) != (b < 3)) ? sgn : 1);
+        for (b = 0; b < 6; b++) {
+            double c = 0;
+            int k;
+            if (!factor)
+                c = (double)r->cov[a][b];
+            else
+                for (k = 0; k < 4; k++)
+                    c += (double)r->cov_factor[a][k] * (double)r->cov_factor[b][k];
+            C[a][b] = c * (((a < 3) != (b < 3)) ? sgn : 1);
+        }
     if (fabs(v[0]) > 0.8) {
         ax[0] = 0;
         ax[1] = 1;
@@ -163,6 +193,16 @@ static double observable_d2(const cdsp_result *r, const double P[3], const doubl
         *z2_dist = dd * dd / ((double)r->sigma_distance * (double)r->sigma_distance);
     }
     return mahalanobis4(C4, y);
+}
+
+/* The paper's camera (no distortion), default parameters, and the solver's
+ * and the generator's streams of one seed. */
+static void setup(cdsp_camera *cam, cdsp_params *prm, cdsp_rng *rng, cdsp_rng *gen, uint64_t seed)
+{
+    sup_paper_camera(cam, 0, 0);
+    cdsp_params_default(prm);
+    cdsp_rng_seed(rng, seed, 1);
+    cdsp_rng_seed(gen, seed, 2);
 }
 
 /* The pose classes (see the top). */
@@ -229,20 +269,60 @@ typedef struct {
     int n;
 } chi_stats;
 
-static chi_stats run_trials(int kind, int trials, double sigma_px, uint64_t seed)
+/* How far cov is from cov_factor F F^T: the largest |cov_ab - (F F^T)_ab|
+ * over sum_k |F_ak F_bk| (the scale of the entry's rounding), in eps. */
+static double factor_gap(const cdsp_result *r)
+{
+    double worst = 0;
+    int a, b, k;
+    for (a = 0; a < 6; a++)
+        for (b = 0; b < 6; b++) {
+            double s = 0, m = 0;
+            for (k = 0; k < 4; k++) {
+                double p = (double)r->cov_factor[a][k] * (double)r->cov_factor[b][k];
+                s += p;
+                m += fabs(p);
+            }
+            if (m > 0 && fabs((double)r->cov[a][b] - s) / m > worst)
+                worst = fabs((double)r->cov[a][b] - s) / m;
+            else if (m == 0 && r->cov[a][b] != 0)
+                return 1e300;
+        }
+    return worst / T_EPS;
+}
+
+/* Accumulates the statistics of one d^2 series. */
+static void add_d2(chi_stats *st, double d2, double z2, double *sum, double *sum2, int *tail)
+{
+    *sum += d2;
+    *sum2 += d2 * d2;
+    *tail += d2 > CHI2_4_Q95;
+    st->mean_z2 += z2;
+    st->n++;
+}
+
+static void end_stats(chi_stats *st, double sum, double sum2, int tail)
+{
+    st->mean = sum / st->n;
+    st->var = (sum2 - st->n * st->mean * st->mean) / (st->n - 1);
+    st->tail = (double)tail / st->n;
+    st->mean_z2 /= st->n;
+}
+
+/* The same seeded trials scored with cov (st[0], when use_cov) and with
+ * cov_factor (st[1]). */
+static void run_trials(int kind, int trials, double sigma_px, uint64_t seed, int use_cov,
+                       chi_stats st[2], double *gap)
 {
     cdsp_camera cam;
     cdsp_params prm;
     cdsp_rng rng, gen;
-    chi_stats st = {0, 0, 0, 0, 0};
-    double sum = 0, sum2 = 0;
-    int t, tail = 0, tries = 0;
-    sup_paper_camera(&cam, 0, 0);
-    cdsp_params_default(&prm);
-    cdsp_rng_seed(&rng, seed, 1);
-    cdsp_rng_seed(&gen, seed, 2);
-    for (t = 0; st.n < trials; t++) {
-        double P[3], v[3], s0, s1, d2, z2;
+    double sum[2] = {0, 0}, sum2[2] = {0, 0};
+    int t, f, tail[2] = {0, 0}, tries = 0;
+    memset(st, 0, 2 * sizeof *st);
+    setup(&cam, &prm, &rng, &gen, seed);
+    for (t = 0; st[1].n < trials; t++) {
+        double P[3], v[3], s0, s1;
         cdsp_result r;
         size_t n;
         cdsp_status s;
@@ -255,47 +335,50 @@ static chi_stats run_trials(int kind, int trials, double sigma_px, uint64_t seed
         s = cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r);
         if (s != CDSP_OK)
             fail_msg("pose class %d trial %d: %s", kind, t, cdsp_strerror(s));
-        d2 = observable_d2(&r, P, v, &z2);
-        if (d2 < 0)
-            fail_msg("pose class %d trial %d: covariance not positive definite on the 4 "
-                     "observable dof", kind, t);
-        sum += d2;
-        sum2 += d2 * d2;
-        tail += d2 > CHI2_4_Q95;
-        st.mean_z2 += z2;
-        st.n++;
+        {
+            double e = factor_gap(&r);
+            if (e > *gap)
+                *gap = e;
+        }
+        for (f = use_cov ? 0 : 1; f < 2; f++) {
+            double z2, d2 = observable_d2(&r, f, P, v, &z2);
+            if (d2 < 0)
+                fail_msg("pose class %d trial %d: %s not positive definite on the 4 "
+                         "observable dof", kind, t, f ? "cov_factor F F^T" : "cov");
+            add_d2(&st[f], d2, z2, &sum[f], &sum2[f], &tail[f]);
+        }
     }
-    st.mean = sum / st.n;
-    st.var = (sum2 - st.n * st.mean * st.mean) / (st.n - 1);
-    st.tail = (double)tail / st.n;
-    st.mean_z2 /= st.n;
-    return st;
+    for (f = use_cov ? 0 : 1; f < 2; f++)
+        end_stats(&st[f], sum[f], sum2[f], tail[f]);
 }
 
-static void check_stats(const char *what, chi_stats st)
+static void check_stats(const char *what, const char *from, chi_stats st)
 {
     double n = st.n;
     double mean_band = 4 * sqrt(8 / n), var_band = 4 * sqrt((384.0 - 64.0) / n),
            tail_band = 4 * sqrt(0.05 * 0.95 / n), z2_band = 4 * sqrt(2 / n);
     if (getenv("CDSP_TEST_VERBOSE"))
-        print_message("%-24s N=%d mean d2 %.3f (4 +- %.3f) var %.2f (8 +- %.2f) tail %.4f "
+        print_message("%-24s %-6s N=%d mean d2 %.3f (4 +- %.3f) var %.2f (8 +- %.2f) tail %.4f "
                       "(0.05 +- %.4f) mean z2(dist) %.3f (1 +- %.3f)\n",
-                      what, st.n, st.mean, mean_band, st.var, var_band, st.tail, tail_band,
+                      what, from, st.n, st.mean, mean_band, st.var, var_band, st.tail, tail_band,
                       st.mean_z2, z2_band);
     if (fabs(st.mean - 4) > mean_band)
-        fail_msg("%s: mean Mahalanobis d^2 %.3f over %d trials, want 4 +- %.3f", what, st.mean,
-                 st.n, mean_band);
+        fail_msg("%s (%s): mean Mahalanobis d^2 %.3f over %d trials, want 4 +- %.3f", what, from,
+                 st.mean, st.n, mean_band);
     if (fabs(st.var - 8) > var_band)
-        fail_msg("%s: variance of d^2 %.3f, want 8 +- %.3f", what, st.var, var_band);
+        fail_msg("%s (%s): variance of d^2 %.3f, want 8 +- %.3f", what, from, st.var, var_band);
     if (fabs(st.tail - 0.05) > tail_band)
-        fail_msg("%s: fraction of d^2 > %.3f is %.4f, want 0.05 +- %.4f", what, CHI2_4_Q95,
-                 st.tail, tail_band);
+        fail_msg("%s (%s): fraction of d^2 > %.3f is %.4f, want 0.05 +- %.4f", what, from,
+                 CHI2_4_Q95, st.tail, tail_band);
     if (fabs(st.mean_z2 - 1) > z2_band)
-        fail_msg("%s: mean (distance error / sigma_distance)^2 %.3f, want 1 +- %.3f", what,
-                 st.mean_z2, z2_band);
+        fail_msg("%s (%s): mean (distance error / sigma_distance)^2 %.3f, want 1 +- %.3f", what,
+                 from, st.mean_z2, z2_band);
 }
 
-/* Table: each pose class, 400 seeded trials of 1024 points per contour. */
+/* Table: each pose class, 400 seeded trials of 1024 points per contour,
+ * scored with the factor in both builds and with cov wherever its entries'
+ * precision resolves the observable dof (see the top: not the far class in
+ * float). The measured figures are at the top. */
 static void test_mahalanobis(void **state)
 {
     static const struct {
@@ -312,11 +395,24 @@ static void test_mahalanobis(void **state)
     size_t i;
     (void)state;
     for (i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        chi_stats st[2];
+        double gap = 0;
 #ifdef CDSP_SINGLE
-        if (rows[i].kind == POSE_FAR)
-            continue; /* see the top: the float cov does not resolve it */
+        int use_cov = 0;
+#else
+        int use_cov = 1;
 #endif
-        check_stats(rows[i].what, run_trials(rows[i].kind, 400, rows[i].sigma_px, 100 + i));
+        run_trials(rows[i].kind, 400, rows[i].sigma_px, 100 + i, use_cov, st, &gap);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("%-24s cov - F F^T: %.2f eps of the entries' scale\n", rows[i].what, gap);
+        /* cov is F F^T summed in the precision in use: 4 products and 3
+         * additions, at most ~2.5 eps of sum |F_ak F_bk| (the unit roundoff
+         * is eps / 2); measured at the top */
+        if (gap > 3)
+            fail_msg("%s: cov is %.3g eps of its scale from cov_factor F F^T, want <= 3", rows[i].what, gap);
+        if (use_cov)
+            check_stats(rows[i].what, "cov", st[0]);
+        check_stats(rows[i].what, "factor", st[1]);
     }
 }
 
@@ -332,21 +428,18 @@ static void test_sigmas_are_cov_diagonal(void **state)
     size_t n;
     int i;
     (void)state;
-    sup_paper_camera(&cam, 0, 0);
-    cdsp_params_default(&prm);
-    cdsp_rng_seed(&rng, 7, 1);
-    cdsp_rng_seed(&gen, 7, 2);
+    setup(&cam, &prm, &rng, &gen, 7);
     sup_paper_pipe(1, P, v);
     n = sup_contour_points(&cam, P, v, 8, -250, 250, 1000, 0.1, 100, &gen, pts, CDSP_MAX_POINTS, NULL);
     assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
     {
         /* singular along the two unobservable dof: |v| = 1 (dv . v = 0) and
          * P_C . v = 0 (dP . v + P . dv = 0), i.e. n^T cov n = 0 for n = (0, v)
-         * and n = (v, P). The constraints are quadratic and the central
-         * differences cancel their even terms, so only rounding is left:
+         * and n = (v, P). Each column of F meets both to first order by
+         * construction (lib/pair.c, axis_change), so only rounding is left:
          * ~eps of the block's variance. Measured (CDSP_TEST_VERBOSE=1)
-         * 5e-17 (double, 0.24 eps) and 1.05e-7 (float, 0.9 eps); bound
-         * 3 eps. */
+         * 3.4e-17 (double, 0.15 eps) and 2.8e-8 (float, 0.23 eps); bound
+         * 1 eps, 4.3 times the larger. */
         double n1[6] = {0, 0, 0, 0, 0, 0}, n2[6], q1 = 0, q2 = 0, tv = 0, tp = 0;
         int a, b;
         for (i = 0; i < 3; i++) {
@@ -366,7 +459,7 @@ static void test_sigmas_are_cov_diagonal(void **state)
         q1 /= tv;
         if (getenv("CDSP_TEST_VERBOSE"))
             print_message("null directions: %.3g %.3g of the variance\n", q1, q2);
-        assert_true(fabs(q1) < 3 * T_EPS && fabs(q2) < 3 * T_EPS);
+        assert_true(fabs(q1) < T_EPS && fabs(q2) < T_EPS);
     }
     for (i = 0; i < 3; i++) {
         /* a square root's rounding: a few eps relative */
@@ -376,11 +469,95 @@ static void test_sigmas_are_cov_diagonal(void **state)
     }
 }
 
+#ifndef CDSP_SINGLE
+/* What each column of cov_factor means (include/cdsp.h): column 2k is the
+ * change of (point, direction) when contour k's published line moves by one
+ * standard deviation of its offset, s / sqrt(N - 2) with s = rms (the
+ * angle columns turn about the fit's centroid, which the result does not
+ * carry, so they are left to the Mahalanobis test). Checked against central
+ * differences of cdsp_axis_solve on the published lines, in double only:
+ * in float the differences' rounding is what the closed form is there to
+ * avoid. The differences' truncation is (h / band)^2 relative: h = 0.1 /
+ * sqrt(1000) = 3.2e-3 px, the far pose's band 15 px, 4.4e-8; their
+ * rounding, eps |P| / h ~ 3e-10 mm, is negligible. Measured 4.5e-8 of the
+ * column's norm (the far pose); bound 2e-7, 4.5 times it. Poses: the
+ * paper's four, one far, one at the corner; the contours come out in both
+ * orders (3 and 3: the direction's sign rule swaps them), so the swap's
+ * column exchange is exercised. */
+static void test_factor_columns(void **state)
+{
+    static const double far_P[3] = {185, 0, 3700}, far_v[3] = {-0.41, 0.91, 0.1};
+    static const double cor_P[3] = {150, 120, 600}, cor_v[3] = {0.6, -0.78, 0.2};
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng rng, gen;
+    double worst = 0;
+    int pose, k, swapped = 0, straight = 0;
+    (void)state;
+    setup(&cam, &prm, &rng, &gen, 9);
+    for (pose = 0; pose < 6; pose++) {
+        double P[3], v[3];
+        cdsp_result r;
+        cdsp_real pin[2];
+        size_t n;
+        if (pose < 4)
+            sup_paper_pipe(pose, P, v);
+        memcpy(P, pose == 4 ? far_P : pose == 5 ? cor_P : P, sizeof P);
+        memcpy(v, pose == 4 ? far_v : pose == 5 ? cor_v : v, sizeof v);
+        n = sup_contour_points(&cam, P, v, 8, pose == 4 ? -400 : -100, pose == 4 ? 400 : 100, 1000,
+                               0.1, 100, &gen, pts, CDSP_MAX_POINTS, NULL);
+        assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+        assert_int_equal(cdsp_camera_project(&cam, r.point, pin), CDSP_OK); /* between the contours */
+        /* lib/pair.c solves with the lines in the order of their labels
+         * (pairs i < j) and swaps them for the direction's sign rule */
+        if (r.label[0] > r.label[1])
+            swapped++;
+        else
+            straight++;
+        for (k = 0; k < 2; k++) {
+            double h = (double)r.rms[k] / sqrt((double)r.inliers[k] - 2), fd[6], e2 = 0, c2 = 0;
+            cdsp_real lp[2][3], lm[2][3];
+            cdsp_result rp, rm;
+            int i;
+            memcpy(lp, r.lines, sizeof lp);
+            memcpy(lm, r.lines, sizeof lm);
+            lp[k][2] -= h; /* + one sigma: l[2] - h moves the line by h along its normal */
+            lm[k][2] += h;
+            assert_int_equal(cdsp_axis_solve(&cam, lp[0], lp[1], pin, 8, &rp), CDSP_OK);
+            assert_int_equal(cdsp_axis_solve(&cam, lm[0], lm[1], pin, 8, &rm), CDSP_OK);
+            for (i = 0; i < 3; i++) {
+                double sp = (double)(rp.direction[0] * r.direction[0] + rp.direction[1] * r.direction[1] +
+                                     rp.direction[2] * r.direction[2]) < 0 ? -1 : 1;
+                double sm = (double)(rm.direction[0] * r.direction[0] + rm.direction[1] * r.direction[1] +
+                                     rm.direction[2] * r.direction[2]) < 0 ? -1 : 1;
+                fd[i] = ((double)rp.point[i] - (double)rm.point[i]) / 2;
+                fd[3 + i] = (sp * (double)rp.direction[i] - sm * (double)rm.direction[i]) / 2;
+            }
+            for (i = 0; i < 6; i++) {
+                double c = (double)r.cov_factor[i][2 * k];
+                e2 += (c - fd[i]) * (c - fd[i]);
+                c2 += c * c;
+            }
+            if (sqrt(e2 / c2) > worst)
+                worst = sqrt(e2 / c2);
+        }
+    }
+    if (getenv("CDSP_TEST_VERBOSE"))
+        print_message("offset columns against central differences: %.3g of the column "
+                      "(%d poses with the contours swapped, %d not)\n", worst, swapped, straight);
+    assert_true(swapped > 0 && straight > 0);
+    assert_true(worst < 2e-7);
+}
+#endif
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mahalanobis),
         cmocka_unit_test(test_sigmas_are_cov_diagonal),
+#ifndef CDSP_SINGLE
+        cmocka_unit_test(test_factor_columns),
+#endif
     };
     return cmocka_run_group_tests_name("covariance", tests, NULL, NULL);
 }

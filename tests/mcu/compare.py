@@ -31,11 +31,11 @@ Where libm enters (lib/, points and frame paths alike):
     most 20 u relative; the direction (cross product of identical normals,
     no libm) not at all. The visible segment is P_C + s v with s from
     dot products of P_C: the same 20 u of the larger of |P_C|, |segment|.
-  - the uncertainty: sigma_x^2 = sum_k J_k^2 var_k over 4 line parameters,
-    J_k = (x(+h_k) - x(-h_k)) / 2h_k with h_k >= sqrt(var_k); each x(+-h)
-    carries the 20 u |x| above, so |d sigma_x| <= 20u|x| sqrt(sum var_k /
-    h_k^2) <= 40 u |x| (plus the sin/cos of the angle steps, of the same
-    order).
+  - the uncertainty: sigma_x^2 = sum_k F_xk^2 over 4 line parameters, F
+    in closed form from the normals (identical bits), P_C and d (lib/pair.c,
+    axis_change: no libm but sqrt); F is linear in P_C and d to first
+    order, so it carries their 20 u relative: |d sigma_x| <= 20 u sigma_x
+    plus the few u of its own rounding, far under 40 u |x|.
 Tolerance used: K u times the scale, K = 32 (the 20 u bound to the next
 power of two) for the pose, 2 K for the sigmas; the scale is |P_C| for
 point and sigma_point, max(|P_C|, |endpoint|) for the segment, d for
