@@ -423,7 +423,8 @@ typedef struct {
  * crossing inside their stretch, a band at least as wide as the edge window
  * 2 half_window + 1, each contour's support covering min_support of the
  * overlap, the closed form's distance inside [min_distance, max_distance],
- * one object inside: no strong interior contours of both polarities, no
+ * one object inside: no strong interior contours of both polarities an
+ * edge window or more apart, no
  * strong one opposing its nearer contour without a stripe's other side of
  * half its strength, no strong one continuing its nearer contour's step
  * with nothing of the other polarity beyond it (a staircase onto an object

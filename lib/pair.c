@@ -209,8 +209,14 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
     }
     if (first_rev + R(1.5) < last_cont)
         return 1; /* not unimodal */
-    if (first_rev < R_MAX && last_cont > -R_MAX)
-        return 1; /* strong contours of both polarities inside: an object within */
+    /* strong contours of both polarities inside, an edge window or more
+     * apart: an object within (narrower, it is no band to measure, and a
+     * specular stripe brighter than the contours are strong is one:
+     * bench-detect, found without a range, seeds 1 / 2 / 3: 89.0 / 88.3 /
+     * 89.3 % rejecting any, 89.3 / 88.3 / 89.7 % with a range 91.0 / 92.0 /
+     * 91.3 -> 91.3 / 92.3 / 91.7 %) */
+    if (first_rev < R_MAX && last_cont > -R_MAX && R_FABS(last_cont - first_rev) >= sc->min_band_px)
+        return 1;
     /* a strong edge opposing its nearer contour N is N's neighbour's
      * contour (the band runs on past an object's edge), unless an edge of
      * N's polarity lies between them: then the two are a stripe inside

@@ -135,6 +135,11 @@ static void test_band_interior(void **state)
         {"stripe near a contour, one edge strong", {{1000, 600, 1400, 60}, {1100, 600, 1400, -60},
                                                     {1015, 600, 1400, 50}, {1030, 600, 1400, -30}}, 4,
          {1000, 1100}},
+        /* a stripe stronger than the contours, 5 px wide (under the 9 px
+         * edge window): a specular highlight, not an object within (the old
+         * test split every band on its edges: no pipe) */
+        {"narrow strong stripe inside", {{1000, 600, 1400, 60}, {1060, 600, 1400, -60}, {1027, 600, 1400, 70},
+                                         {1032, 600, 1400, -70}}, 4, {1000, 1060}},
         /* column, gap, pipe: strong fall then rise inside; the wider of the
          * two objects is returned */
         {"two objects and the gap", {{1000, 600, 1400, 60}, {1030, 600, 1400, -60}, {1045, 600, 1400, 60},
