@@ -17,11 +17,13 @@
  * (the true distance x [0.5..0.8, 1.25..2]; for negatives the range of a
  * pipe the generator would have drawn). "Found": the reported axis foot P_C
  * within 5 % of the true distance of the true one and the direction within
- * 2 degrees. Printed: found rate, false-positive rate, the confidence
+ * 2 degrees. Printed: found rate, false-positive rate (also counted at
+ * confidence >= 0.5 and >= 0.9: a weak pose the vehicle is told of), the confidence
  * calibration table (fraction right per confidence bin), time per frame.
  * Usage: bench_detect [positives [negatives [seed]]] (default 300 100 1);
  * bench_detect fit TRAIN [VALIDATE]: the confidence model's fit (below).
- * Knobs (environment): BENCH_DETECT_ONLY=i one frame with its candidates;
+ * Knobs (environment): BENCH_DETECT_ONLY=i one frame with its candidates
+ * (and BENCH_DETECT_LINES=1 its candidate lines against the true contours);
  * BENCH_DETECT_FROM / _TO a range of frames; BENCH_DETECT_CACHE=dir the
  * rendered frames kept (seconds per run instead of minutes);
  * BENCH_DETECT_WHY=1 each failed positive by cause (diagnose);
