@@ -438,18 +438,22 @@ typedef struct {
  * crossing inside their stretch, a band at least as wide as the edge window
  * 2 half_window + 1, each contour's support covering min_support of the
  * overlap, the closed form's distance inside [min_distance, max_distance],
- * one object inside: no strong interior contours of both polarities and no
- * strong one opposing its nearer contour, and, on the single-pipe path, not
- * the gap between two objects) is scored by its weaker contour times its
- * width squared
- *   S = min(n1 c1 q1, n2 c2 q2) * (w / w0)^2 * T
+ * one object inside: no strong interior contours of both polarities an
+ * edge window or more apart, no
+ * strong one opposing its nearer contour without a stripe's other side of
+ * half its strength, no strong one continuing its nearer contour's step
+ * with nothing of the other polarity beyond it (a staircase onto an object
+ * beside), and, on the single-pipe path, not the gap between two objects)
+ * is scored by its weaker contour times its width squared and an angle prior
+ *   S = min(n1 c1 q1, n2 c2 q2) * (w / w0)^2 * exp(-sin(a) / 0.4) * T
  * with, per contour k: n_k its inliers on the common stretch, c_k its mean
  * edge step divided by the frame's step threshold (contrast, counted up to
  * 2), q_k the fraction of the overlap its inliers cover (spread, not one
  * short piece); w the band's width at its middle, w0 the edge window: the
  * largest, clearest band wins (a long thin bar has the length, not the
  * width), and a gap borrowing one strong edge of a neighbour does not win
- * on that edge; T, in tracking, 1 + 2 exp(-e^2 / 2) with e the pair's offset
+ * on that edge; a the angle between the contours (a pipe's are nearly
+ * parallel unless it is close and steeply tilted); T, in tracking, 1 + 2 exp(-e^2 / 2) with e the pair's offset
  * from the prior's contours in units of track_band_px (the pipe being
  * followed wins over a newcomer). The multi-pipe calls below keep S =
  * min(n1 c1 q1, n2 c2 q2) * T (their matching tells pipes from gaps). A

@@ -17,11 +17,13 @@
  * (the true distance x [0.5..0.8, 1.25..2]; for negatives the range of a
  * pipe the generator would have drawn). "Found": the reported axis foot P_C
  * within 5 % of the true distance of the true one and the direction within
- * 2 degrees. Printed: found rate, false-positive rate, the confidence
+ * 2 degrees. Printed: found rate, false-positive rate (also counted at
+ * confidence >= 0.5 and >= 0.9: a weak pose the vehicle is told of), the confidence
  * calibration table (fraction right per confidence bin), time per frame.
  * Usage: bench_detect [positives [negatives [seed]]] (default 300 100 1);
  * bench_detect fit TRAIN [VALIDATE]: the confidence model's fit (below).
- * Knobs (environment): BENCH_DETECT_ONLY=i one frame with its candidates;
+ * Knobs (environment): BENCH_DETECT_ONLY=i one frame with its candidates
+ * (and BENCH_DETECT_LINES=1 its candidate lines against the true contours);
  * BENCH_DETECT_FROM / _TO a range of frames; BENCH_DETECT_CACHE=dir the
  * rendered frames kept (seconds per run instead of minutes);
  * BENCH_DETECT_WHY=1 each failed positive by cause (diagnose);
@@ -433,6 +435,7 @@ typedef struct {
     int neg_n[NNEG], neg_fp[NNEG];
     bin bins[NBIN];
     int hi_n, hi_ok; /* confidence >= 0.9 */
+    int fp_mid, fp_hi; /* false positives at confidence >= 0.5, >= 0.9 */
 } tally;
 
 static void record(tally *t, const frame_spec *f, int positive_frame, cdsp_status st, const cdsp_result *r)
@@ -450,6 +453,8 @@ static void record(tally *t, const frame_spec *f, int positive_frame, cdsp_statu
         int k;
         t->neg++;
         t->fp += st == CDSP_OK;
+        t->fp_mid += st == CDSP_OK && CONFIDENCE(*r) >= 0.5;
+        t->fp_hi += st == CDSP_OK && CONFIDENCE(*r) >= 0.9;
         for (k = 0; k < NNEG; k++)
             if (f->kind == neg_kinds[k]) {
                 t->neg_n[k]++;
@@ -467,6 +472,43 @@ static void record(tally *t, const frame_spec *f, int positive_frame, cdsp_statu
             t->hi_ok += ok;
         }
     }
+}
+
+static cdsp_frame_ws dws;
+
+/* BENCH_DETECT_ONLY with BENCH_DETECT_LINES=1: the whole frame's candidate
+ * lines (coarse pass off), each with its signed distance from the true
+ * contours at its centroid, to see what a wrong band is made of. */
+static void explain_lines(const frame_spec *f, const cdsp_image *img, const cdsp_params *prm, int i)
+{
+    double t[2][3], pin[2];
+    cdsp_params p = *prm;
+    cdsp_pair_set set;
+    cdsp_real sigma, step;
+    uint32_t flags;
+    size_t n = 0;
+    cdsp_rng rng;
+    int m;
+    if (!sup_contour_lines(&f->cam, f->P, f->v, f->radius, t, pin))
+        return;
+    p.edge.coarse = 0;
+    if (cdsp__frame_edges(img, &f->cam, &p, &dws, &n, &sigma, &step, &flags) != CDSP_OK)
+        return;
+    cdsp_rng_seed(&rng, (uint64_t)i, 3);
+    (void)cdsp__pair_score_frame(&f->cam, (cdsp_real)f->radius, dws.edge, n, dws.label, &p, step, NULL, &rng,
+                                 img, &set);
+    fprintf(stderr, "lines (step %.1f):\n", (double)step);
+    for (m = 0; m < set.nlines; m++) {
+        const cdsp_line *L = &set.lines[m];
+        double c0 = (double)L->centroid[0], c1 = (double)L->centroid[1];
+        fprintf(stderr, "  %2d (%.3f %.3f %.1f) n %4u strength %7.1f (%.2f steps) at (%.0f %.0f) d %+.1f %+.1f\n",
+                m, (double)L->l[0], (double)L->l[1], (double)L->l[2], (unsigned)L->count, (double)L->strength,
+                (double)(L->strength / step), c0, c1, t[0][0] * c0 + t[0][1] * c1 + t[0][2],
+                t[1][0] * c0 + t[1][1] * c1 + t[1][2]);
+    }
+    for (m = 0; m < set.npairs && m < 12; m++)
+        fprintf(stderr, "  pair %d-%d score %.0f width %.0f shade %.2f\n", set.pair[m].i, set.pair[m].j,
+                (double)set.pair[m].score, (double)set.pair[m].width, (double)set.pair[m].shade);
 }
 
 /* BENCH_DETECT_ONLY: the truth, the answer and the ranked candidates. */
@@ -530,8 +572,6 @@ static int result_matches(double t[2][3], const cdsp_real (*l)[3], const cdsp_re
         }
     return hit == 3;
 }
-
-static cdsp_frame_ws dws;
 
 static double cand_width(const cdsp_candidate *c)
 {
@@ -703,7 +743,8 @@ static void print_tally(const char *title, const tally *t)
     int c, b;
     printf("\n%s\n", title);
     printf("  found: %d / %d = %.1f %% (target >= 99 %%)\n", t->found, t->pos, 100.0 * t->found / t->pos);
-    printf("  false positives: %d / %d = %.1f %%\n", t->fp, t->neg, 100.0 * t->fp / t->neg);
+    printf("  false positives: %d / %d = %.1f %% (at confidence >= 0.5: %d, >= 0.9: %d)\n", t->fp, t->neg,
+           100.0 * t->fp / t->neg, t->fp_mid, t->fp_hi);
     printf("  found by cue (frames with that cue):");
     for (c = 0; c < NCUES; c++)
         if (t->cue_n[c])
@@ -944,6 +985,8 @@ int main(int argc, char **argv)
             features(i, 0, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_ONLY"))
             explain(&f, st, &r, &ws);
+        if (getenv("BENCH_DETECT_ONLY") && getenv("BENCH_DETECT_LINES"))
+            explain_lines(&f, &img, &prm, i);
         if (getenv("BENCH_DETECT_WHY") && pos && !(st == CDSP_OK && right(&f, &r)))
             diagnose(i, &f, &img, &prm, st, &r, &ws);
         prm.pair.min_distance = (cdsp_real)f.range[0];

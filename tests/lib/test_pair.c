@@ -117,6 +117,29 @@ static void test_band_interior(void **state)
         /* a weak stripe near one contour (a specular highlight): kept */
         {"weak stripe near a contour", {{1000, 600, 1400, 60}, {1100, 600, 1400, -60}, {1015, 600, 1400, 25},
                                         {1025, 600, 1400, -25}}, 4, {1000, 1100}},
+        /* a strong edge opposing its nearer contour with only a shading
+         * ramp's weak edge (1/6 of its strength) of the contour's polarity
+         * between them: no stripe, the edge is a neighbour's contour and the
+         * band 1088..1100 is the object (the old test took any edge between
+         * as the stripe's other side and returned 1000..1100) */
+        {"strong opposing edge, weak ramp beside it", {{1000, 600, 1400, 60}, {1100, 600, 1400, -60},
+                                                       {1088, 600, 1400, 60}, {1094, 600, 1400, -10}}, 4,
+         {1088, 1100}},
+        /* a strong edge of its nearer contour's polarity with nothing of the
+         * other polarity beyond it: a staircase, the strip 1000..1020 outside
+         * the object 1020..1070 (the old tests returned the wider 1000..1070) */
+        {"staircase onto the object", {{1000, 600, 1400, 60}, {1020, 600, 1400, 60}, {1070, 600, 1400, -60}}, 3,
+         {1020, 1070}},
+        /* such an edge followed by its stripe's weaker fall (above half its
+         * strength): a specular stripe near one contour, the band kept */
+        {"stripe near a contour, one edge strong", {{1000, 600, 1400, 60}, {1100, 600, 1400, -60},
+                                                    {1015, 600, 1400, 50}, {1030, 600, 1400, -30}}, 4,
+         {1000, 1100}},
+        /* a stripe stronger than the contours, 5 px wide (under the 9 px
+         * edge window): a specular highlight, not an object within (the old
+         * test split every band on its edges: no pipe) */
+        {"narrow strong stripe inside", {{1000, 600, 1400, 60}, {1060, 600, 1400, -60}, {1027, 600, 1400, 70},
+                                         {1032, 600, 1400, -70}}, 4, {1000, 1060}},
         /* column, gap, pipe: strong fall then rise inside; the wider of the
          * two objects is returned */
         {"two objects and the gap", {{1000, 600, 1400, 60}, {1030, 600, 1400, -60}, {1045, 600, 1400, 60},
