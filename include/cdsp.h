@@ -632,7 +632,7 @@ typedef struct {
 /* Candidate lines and their scored pairs (scratch; contents undefined
  * between calls). Part of every workspace below, not of the library's
  * stack: CDSP_MAX_LINES * sizeof(cdsp_line) + CDSP_MAX_PAIRS *
- * sizeof(cdsp_pair_eval) bytes, 3 372 (float) / 6 336 (double) at the
+ * sizeof(cdsp_pair_eval) bytes, 3 180 (float) / 5 968 (double) at the
  * default 24 lines and 48 pairs. */
 typedef struct {
     cdsp_line lines[CDSP_MAX_LINES];
