@@ -175,6 +175,8 @@ cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, con
                                    size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                    const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
                                    cdsp_pair_set *set);
+/* One pair's result (ref as in cdsp__pair_pose; out written only on
+ * CDSP_OK). */
 cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, size_t n,
                               const cdsp_pair_set *set, const cdsp_pair_eval *c,
                               const cdsp__pair_refined *ref, cdsp_result *out);
