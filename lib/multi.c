@@ -527,10 +527,12 @@ cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, 
          * pairs share no line, so the order does not matter; beyond cap
          * the model runs for nothing, which a caller asking for all
          * CDSP_MAX_PIPES never sees) */
-        for (k = 0; k < nc; k++)
-            if (cdsp__pair_evidence(&set->pair[chosen[k]], min_step > R(0)) >= p->min_confidence)
-                cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, &set->pair[chosen[k]],
-                                   p, &ws->frame.profile, &ref[k]);
+        for (k = 0; k < nc; k++) {
+            const cdsp_pair_eval *e = &set->pair[chosen[k]];
+            if (cdsp__pair_evidence(e, min_step > R(0)) >= p->min_confidence)
+                cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, e, p,
+                                   &ws->frame.profile, &ref[k]);
+        }
         st = solve_all(cam, radius, n, set, chosen, nc, ref, p, min_step, trk, out, cap, n_out);
     } else if (trk)
         track_update(trk, cam, out, 0); /* no pipe this frame: every track ages */
