@@ -629,7 +629,36 @@ void cdsp_params_default(cdsp_params *p);
  * (documented at each field above: e.g. 0 < min_contrast < 1). */
 cdsp_status cdsp_params_check(const cdsp_params *p);
 
-/* Workspace of the points path: one label byte per point. */
+/* Scored pairs of candidate lines a frame keeps (PAIR_KEEP in lib/pair.c):
+ * what falls off the end is weaker than CDSP_MAX_PAIRS others. */
+#ifndef CDSP_MAX_PAIRS
+#define CDSP_MAX_PAIRS 48
+#endif
+
+/* One pair of candidate lines that passed the pair tests (internal to the
+ * library; public only so the workspaces below have a size). */
+typedef struct {
+    int i, j;               /* the two lines (indices into cdsp_pair_set.lines) */
+    cdsp_real score;        /* the pair score */
+    cdsp_real p_in[2];      /* a pixel between the lines */
+    cdsp_real support;      /* min over both contours of inliers on the overlap x spread */
+    cdsp_real contrast;     /* min over both contours of step / threshold */
+    cdsp_real width;        /* band width at p_in, px */
+    cdsp_real sin_angle;    /* sine of the angle between the contours */
+    cdsp_real shade;        /* the band's shading (cdsp_candidate) */
+} cdsp_pair_eval;
+
+/* Candidate lines and their scored pairs (scratch; contents undefined
+ * between calls). Part of every workspace below, not of the library's
+ * stack: CDSP_MAX_LINES * sizeof(cdsp_line) + CDSP_MAX_PAIRS *
+ * sizeof(cdsp_pair_eval) bytes, 3 180 (float) / 5 968 (double) at the
+ * default 24 lines and 48 pairs. */
+typedef struct {
+    cdsp_line lines[CDSP_MAX_LINES];
+    cdsp_pair_eval pair[CDSP_MAX_PAIRS]; /* best score first */
+    int nlines, npairs, capped;
+} cdsp_pair_set;
+
 /* A ranked pipe candidate: its two contour lines (undistorted px, as in
  * cdsp_result.lines), a pixel between them, its score and confidence, and
  * the labels of its inliers in the workspace's label array. */
@@ -647,10 +676,14 @@ typedef struct {
     uint8_t label[2];
 } cdsp_candidate;
 
+/* Workspace of the points path: one label byte per point, the ranked
+ * candidates and the pair set (the library keeps no buffer of this size on
+ * its stack; docs/mcu.md has the bytes per target). */
 typedef struct {
     uint8_t label[CDSP_MAX_POINTS];
     cdsp_candidate cand[CDSP_MAX_CANDIDATES]; /* ranked, best first; result.n_candidates
                                                  of them (at most CDSP_MAX_CANDIDATES) */
+    cdsp_pair_set pairs;                      /* scratch */
 } cdsp_points_ws;
 
 /* Workspace of the frame path. Large (CDSP_MAX_EDGES * (4 reals + 1));
@@ -660,7 +693,15 @@ typedef struct {
     uint8_t label[CDSP_MAX_EDGES];
     cdsp_profile_ws profile;
     cdsp_candidate cand[CDSP_MAX_CANDIDATES]; /* as in cdsp_points_ws */
+    cdsp_pair_set pairs;                      /* scratch */
 } cdsp_frame_ws;
+
+/* Bytes of each single-path workspace as the library was built: equal to
+ * the caller's sizeof only when both were compiled with the same
+ * capacities (CDSP_MAX_POINTS, _EDGES, _LINES, _PAIRS, _CANDIDATES), which
+ * firmware with smaller capacities can check once at start. */
+size_t cdsp_points_ws_size(void);
+size_t cdsp_frame_ws_size(void);
 
 /*
  * Undistorted edge points -> pipe axis: RANSAC candidate lines, pair
@@ -744,46 +785,19 @@ cdsp_real cdsp_result_point_distance(const cdsp_result *r, const cdsp_real X[3])
 #define CDSP_MAX_PIPES 8
 #endif
 
-/* Scored pairs of candidate lines a frame keeps (PAIR_KEEP in lib/pair.c):
- * what falls off the end is weaker than CDSP_MAX_PAIRS others. */
-#ifndef CDSP_MAX_PAIRS
-#define CDSP_MAX_PAIRS 48
-#endif
-
-/* One pair of candidate lines that passed the pair tests (internal to the
- * library; public only so the workspaces below have a size). */
-typedef struct {
-    int i, j;               /* the two lines (indices into cdsp_pair_set.lines) */
-    cdsp_real score;        /* the pair score */
-    cdsp_real p_in[2];      /* a pixel between the lines */
-    cdsp_real support;      /* min over both contours of inliers on the overlap x spread */
-    cdsp_real contrast;     /* min over both contours of step / threshold */
-    cdsp_real width;        /* band width at p_in, px */
-    cdsp_real sin_angle;    /* sine of the angle between the contours */
-    cdsp_real shade;        /* the band's shading (cdsp_candidate) */
-} cdsp_pair_eval;
-
-/* Candidate lines and their scored pairs (scratch; contents undefined
- * between calls). */
-typedef struct {
-    cdsp_line lines[CDSP_MAX_LINES];
-    cdsp_pair_eval pair[CDSP_MAX_PAIRS]; /* best score first */
-    int nlines, npairs, capped;
-} cdsp_pair_set;
-
-/* Workspaces of the two multi-pipe paths: the single path's plus the pairs. */
+/* Workspaces of the two multi-pipe paths: the single path's, whose pair
+ * set (every scored pair, not only the best) they use. */
 typedef struct {
     cdsp_frame_ws frame;
-    cdsp_pair_set pairs;
 } cdsp_frame_all_ws;
 
 typedef struct {
     cdsp_points_ws points;
-    cdsp_pair_set pairs;
 } cdsp_points_all_ws;
 
 /* Bytes of each workspace (the query for callers that place them in
- * memory of their own, e.g. one per worker thread). */
+ * memory of their own, e.g. one per worker thread; as the single path's
+ * queries above). */
 size_t cdsp_frame_all_ws_size(void);
 size_t cdsp_points_all_ws_size(void);
 

@@ -204,15 +204,53 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
     return n;
 }
 
+void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts, size_t n,
+                        const uint8_t *label, cdsp_pair_set *set, const cdsp_pair_eval *c,
+                        const cdsp_params *p, cdsp_profile_ws *pws, cdsp__pair_refined *ref)
+{
+    int i;
+    for (i = 0; i < 2; i++)
+        ref->offset[i] = ref->blur[i] = R(0);
+    ref->profiled = 0;
+    if (!p->profile.enable)
+        return;
+    /* the edge-profile model moves each line to its modelled silhouette
+     * (lib/profile.c); a contour it cannot model keeps the detector's line */
+    for (i = 0; i < 2; i++) {
+        int k = i ? c->j : c->i;
+        cdsp_profile pr;
+        cdsp_real moved = R(0);
+        if (cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)(k + 1), &set->lines[k], c->p_in,
+                                 &p->profile, p->edge.half_window, pws, &pr, &moved) == CDSP_OK) {
+            ref->offset[i] = moved;
+            ref->blur[i] = pr.blur;
+            ref->profiled++;
+        }
+    }
+}
+
+/* The frame path's pair stage: lib/pair.c's points path (cdsp__pair_solve)
+ * with the frame's pair tests and, between the ranking and the pose, the
+ * edge-profile model on the best pair's lines (after the candidates and
+ * their confidences were taken from the detector's lines, as before the
+ * model moves them). */
 static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
                                cdsp_frame_ws *ws, size_t n, const cdsp_params *p, cdsp_real min_step,
                                const cdsp_result *prior, cdsp_rng *rng, cdsp_result *out)
 {
+    cdsp_pair_eval best;
+    cdsp__pair_refined ref;
+    uint32_t nc;
     cdsp_status st = cdsp_camera_undistort_edges(cam, ws->edge, &n);
+    if (st == CDSP_OK)
+        st = cdsp__pair_score_frame(cam, radius, ws->edge, n, ws->label, p, min_step, prior, rng, img,
+                                    &ws->pairs);
+    if (st == CDSP_OK)
+        st = cdsp__pair_rank(&ws->pairs, ws->cand, p, min_step, &best, &nc);
     if (st != CDSP_OK)
         return st;
-    return cdsp__pair_solve_frame(cam, radius, ws->edge, n, ws->label, ws->cand, p, min_step, prior,
-                                  rng, img, &ws->profile, out);
+    cdsp__frame_refine(img, cam, ws->edge, n, ws->label, &ws->pairs, &best, p, &ws->profile, &ref);
+    return cdsp__pair_pose(cam, radius, n, &ws->pairs, &best, nc, ws->cand, p, prior, &ref, out);
 }
 
 /*
@@ -386,4 +424,9 @@ cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, con
     else if (st != CDSP_OK)
         return st;
     return cdsp_camera_undistort_edges(cam, ws->edge, n);
+}
+
+size_t cdsp_frame_ws_size(void)
+{
+    return sizeof(cdsp_frame_ws);
 }

@@ -131,20 +131,37 @@ static inline int img_px(const cdsp_image *img, int x, int y)
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
                              cdsp_line *lines, int *nlines, int *capped);
-/* min_step: the edge step threshold the points were detected with (gray
- * levels; 0 when unknown, e.g. the points path): contrast is scored
- * relative to it. cand: CDSP_MAX_CANDIDATES slots for the ranked list. */
+/* The points path's pose (lib/pair.c): score_pairs, cdsp__pair_rank and
+ * cdsp__pair_pose without the frame. min_step: the edge step threshold the
+ * points were detected with (gray levels; 0 when unknown, e.g. the points
+ * path): contrast is scored relative to it. cand: CDSP_MAX_CANDIDATES slots
+ * for the ranked list; set: the workspace's pair set. The frame path
+ * (lib/frame.c) makes the same calls with cdsp__pair_score_frame and the
+ * edge-profile model between rank and pose, so that a points-only firmware
+ * links neither the frame sampling nor the model (docs/mcu.md). */
 cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                             size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
-                             cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
-                             cdsp_result *out);
-/* The frame path's: the same with test (x) and the bands' shading read from
- * img, and the edge-profile model with scratch pws (a separate entry point,
- * so a points-only firmware links without the frame sampling). */
-cdsp_status cdsp__pair_solve_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                                   size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
-                                   cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
-                                   const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out);
+                             size_t n, uint8_t *label, cdsp_candidate *cand, cdsp_pair_set *set,
+                             const cdsp_params *p, cdsp_real min_step, const cdsp_result *prior,
+                             cdsp_rng *rng, cdsp_result *out);
+/* What the edge-profile model did to a pair's two lines (lib/frame.c):
+ * each line's move along its normal and the modelled blur, px (0 for a
+ * line it could not model), and how many of the two it modelled. */
+typedef struct {
+    cdsp_real offset[2], blur[2];
+    int profiled;
+} cdsp__pair_refined;
+/* The ranking of set's scored pairs into cand (confidences included; the
+ * best pair in *best, the candidates' number in *n_cand; CDSP_E_NO_PIPE when
+ * none), and the pose of that pair: confidence, n_candidates, the
+ * min_confidence test and the direction's sign (prior's, or the
+ * convention) included; ref: NULL, or the edge-profile model's moves, the
+ * lines in set already moved. */
+cdsp_status cdsp__pair_rank(const cdsp_pair_set *set, cdsp_candidate *cand, const cdsp_params *p,
+                            cdsp_real min_step, cdsp_pair_eval *best, uint32_t *n_cand);
+cdsp_status cdsp__pair_pose(const cdsp_camera *cam, cdsp_real radius, size_t n,
+                            const cdsp_pair_set *set, const cdsp_pair_eval *best, uint32_t n_cand,
+                            const cdsp_candidate *cand, const cdsp_params *p,
+                            const cdsp_result *prior, const cdsp__pair_refined *ref, cdsp_result *out);
 /* pair.c, split for the multi-pipe path (lib/multi.c): every candidate
  * line and scored pair (CDSP_E_NO_PIPE when none), one pair's full result
  * (confidence, n_candidates, track_id and the direction's sign are the
@@ -158,10 +175,11 @@ cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, con
                                    size_t n, uint8_t *label, const cdsp_params *p, cdsp_real min_step,
                                    const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
                                    cdsp_pair_set *set);
-cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                              size_t n, const uint8_t *label, cdsp_pair_set *set,
-                              const cdsp_pair_eval *c, const cdsp_params *p, const cdsp_image *img,
-                              cdsp_profile_ws *pws, cdsp_result *out);
+/* One pair's result (ref as in cdsp__pair_pose; out written only on
+ * CDSP_OK). */
+cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, size_t n,
+                              const cdsp_pair_set *set, const cdsp_pair_eval *c,
+                              const cdsp__pair_refined *ref, cdsp_result *out);
 cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known);
 /* Which of the pair tests (lib/pair.c, docs/method.md §4) lines i and j of
  * set fail (no prior): CDSP__PAIR_PASSED, a CDSP__PAIR_* code, -1 for bad
@@ -189,6 +207,13 @@ int cdsp__points_finite(const cdsp_edge *e, size_t n);
 cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_frame_ws *ws, size_t *n, cdsp_real *sigma, cdsp_real *min_step,
                               uint32_t *flags);
+/* frame.c: the edge-profile model on pair c's two lines of set (moved in
+ * place when modelled; the moves in *ref), with scratch pws; nothing when
+ * p->profile.enable is 0. Only the frame paths call it, so the points path
+ * does not link lib/profile.c. */
+void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts, size_t n,
+                        const uint8_t *label, cdsp_pair_set *set, const cdsp_pair_eval *c,
+                        const cdsp_params *p, cdsp_profile_ws *pws, cdsp__pair_refined *ref);
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,

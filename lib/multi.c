@@ -449,15 +449,20 @@ static void track_update(cdsp_tracker *trk, const cdsp_camera *cam, cdsp_result 
     }
 }
 
-/* From scored pairs to results (both paths). */
-static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
-                             const uint8_t *label, cdsp_pair_set *set, const cdsp_params *p,
-                             cdsp_real min_step, const cdsp_image *img, cdsp_profile_ws *pws,
+/* Pipes select_pipes chooses at most. */
+#define MAX_CHOSEN (CDSP_MAX_LINES / 2 + 1)
+
+/* From the pairs select_pipes chose (chosen[0..nc-1]) to results (both
+ * paths); ref: per chosen pair, what the frame path's edge-profile model
+ * did to its lines (NULL on the points path, which so does not link
+ * lib/profile.c). */
+static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, size_t n,
+                             const cdsp_pair_set *set, const int *chosen, int nc,
+                             const cdsp__pair_refined *ref, const cdsp_params *p, cdsp_real min_step,
                              cdsp_tracker *trk, cdsp_result *out, size_t cap, size_t *n_out)
 {
-    int chosen[CDSP_MAX_LINES / 2 + 1], nc, k;
+    int k;
     size_t m = 0, i;
-    nc = select_pipes(set, cam, trk, trk ? trk->gate_px : R(1), chosen);
     if (cap > CDSP_MAX_PIPES)
         cap = CDSP_MAX_PIPES;
     for (k = 0; k < nc && m < cap; k++) {
@@ -466,7 +471,7 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cds
         cdsp_result *r = &out[m];
         if (conf < p->min_confidence)
             continue;
-        if (cdsp__pair_result(cam, radius, pts, n, label, set, e, p, img, pws, r) != CDSP_OK)
+        if (cdsp__pair_result(cam, radius, n, set, e, ref ? &ref[k] : NULL, r) != CDSP_OK)
             continue; /* the refined lines turned degenerate: not a pose */
         r->confidence = conf;
         if (cdsp__axis_wants_swap(r->direction))
@@ -512,11 +517,24 @@ cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, 
     st = cdsp__frame_edges(img, cam, p, &ws->frame, &n, &sigma, &min_step, &flags);
     if (st == CDSP_OK)
         st = cdsp__pair_score_all(cam, radius, ws->frame.edge, n, ws->frame.label, p, min_step, NULL,
-                                  rng, &ws->pairs);
-    if (st == CDSP_OK)
-        st = solve_all(cam, radius, ws->frame.edge, n, ws->frame.label, &ws->pairs, p, min_step, img,
-                       &ws->frame.profile, trk, out, cap, n_out);
-    else if (trk)
+                                  rng, &ws->frame.pairs);
+    if (st == CDSP_OK) {
+        cdsp_pair_set *set = &ws->frame.pairs;
+        cdsp__pair_refined ref[MAX_CHOSEN];
+        int chosen[MAX_CHOSEN], nc, k;
+        nc = select_pipes(set, cam, trk, trk ? trk->gate_px : R(1), chosen);
+        /* every chosen pair solve_all may return is modelled first (the
+         * pairs share no line, so the order does not matter; beyond cap
+         * the model runs for nothing, which a caller asking for all
+         * CDSP_MAX_PIPES never sees) */
+        for (k = 0; k < nc; k++) {
+            const cdsp_pair_eval *e = &set->pair[chosen[k]];
+            if (cdsp__pair_evidence(e, min_step > R(0)) >= p->min_confidence)
+                cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, e, p,
+                                   &ws->frame.profile, &ref[k]);
+        }
+        st = solve_all(cam, radius, n, set, chosen, nc, ref, p, min_step, trk, out, cap, n_out);
+    } else if (trk)
         track_update(trk, cam, out, 0); /* no pipe this frame: every track ages */
     for (i = 0; i < *n_out; i++) {
         out[i].flags |= flags;
@@ -544,10 +562,14 @@ cdsp_status cdsp_points_solve_all(const cdsp_camera *cam, cdsp_real radius, cons
         return CDSP_E_CAPACITY;
     if (!cdsp__points_finite(pts, n))
         return CDSP_E_NONFINITE;
-    st = cdsp__pair_score_all(cam, radius, pts, n, ws->points.label, p, R(0), NULL, rng, &ws->pairs);
-    if (st == CDSP_OK)
-        return solve_all(cam, radius, pts, n, ws->points.label, &ws->pairs, p, R(0), NULL, NULL, trk,
-                         out, cap, n_out);
+    st = cdsp__pair_score_all(cam, radius, pts, n, ws->points.label, p, R(0), NULL, rng,
+                              &ws->points.pairs);
+    if (st == CDSP_OK) {
+        int chosen[MAX_CHOSEN];
+        int nc = select_pipes(&ws->points.pairs, cam, trk, trk ? trk->gate_px : R(1), chosen);
+        return solve_all(cam, radius, n, &ws->points.pairs, chosen, nc, NULL, p, R(0), trk, out, cap,
+                         n_out);
+    }
     if (trk)
         track_update(trk, cam, out, 0);
     return st;

@@ -933,76 +933,57 @@ cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known)
     return evidence(c, contrast_known);
 }
 
-cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                              size_t n, const uint8_t *label, cdsp_pair_set *set,
-                              const cdsp_pair_eval *c, const cdsp_params *p, const cdsp_image *img,
-                              cdsp_profile_ws *pws, cdsp_result *out)
+cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, size_t n,
+                              const cdsp_pair_set *set, const cdsp_pair_eval *c,
+                              const cdsp__pair_refined *ref, cdsp_result *out)
 {
-    cdsp_line *lines = set->lines;
+    const cdsp_line *lines = set->lines;
     const cdsp_line *L[2];
-    int i, profiled = 0;
-    cdsp_real edge_offset[2] = {0, 0}, edge_blur[2] = {0, 0};
-    cdsp_result r;
+    int i;
     cdsp__axis ax;
     cdsp_status st;
 
     L[0] = &lines[c->i];
     L[1] = &lines[c->j];
-    /* the edge-profile model moves each line to its modelled silhouette
-     * (lib/profile.c); a contour it cannot model keeps the detector's line */
-    if (img && pws && p->profile.enable) {
-        for (i = 0; i < 2; i++) {
-            cdsp_profile pr;
-            cdsp_real moved = R(0);
-            if (cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)((i ? c->j : c->i) + 1),
-                                     &lines[i ? c->j : c->i], c->p_in, &p->profile,
-                                     p->edge.half_window, pws, &pr, &moved) == CDSP_OK) {
-                edge_offset[i] = moved;
-                edge_blur[i] = pr.blur;
-                profiled++;
-            }
-        }
-    }
     st = cdsp__axis_core(cam, L[0]->l, L[1]->l, c->p_in, radius, &ax);
     if (st != CDSP_OK)
         return st;
-    zero_bytes(&r, sizeof r); /* no stale bytes, padding included, reach the caller */
-    cdsp__axis_to_result(&ax, L[0]->l, L[1]->l, &r);
-    r.rms[0] = L[0]->rms;
-    r.rms[1] = L[1]->rms;
-    r.inliers[0] = L[0]->count;
-    r.inliers[1] = L[1]->count;
-    r.label[0] = (uint8_t)(c->i + 1);
-    r.label[1] = (uint8_t)(c->j + 1);
-    r.n_edges = (uint32_t)n;
-    r.flags = (set->capped ? CDSP_FLAG_CAPPED : 0u) | (profiled == 2 ? CDSP_FLAG_PROFILE : 0u);
+    /* out is written in place, untouched when the axis fails (a local copy
+     * is a cdsp_result more on the deepest stack path, docs/mcu.md); no
+     * stale bytes, padding included, reach the caller */
+    zero_bytes(out, sizeof *out);
+    cdsp__axis_to_result(&ax, L[0]->l, L[1]->l, out);
+    out->rms[0] = L[0]->rms;
+    out->rms[1] = L[1]->rms;
+    out->inliers[0] = L[0]->count;
+    out->inliers[1] = L[1]->count;
+    out->label[0] = (uint8_t)(c->i + 1);
+    out->label[1] = (uint8_t)(c->j + 1);
+    out->n_edges = (uint32_t)n;
+    out->flags = (set->capped ? CDSP_FLAG_CAPPED : 0u) |
+                 (ref && ref->profiled == 2 ? CDSP_FLAG_PROFILE : 0u);
     for (i = 0; i < 2; i++) {
-        r.edge_offset[i] = edge_offset[i];
-        r.edge_blur[i] = edge_blur[i];
+        out->edge_offset[i] = ref ? ref->offset[i] : R(0);
+        out->edge_blur[i] = ref ? ref->blur[i] : R(0);
     }
-    r.score = c->score;
-    r.n_lines = (uint32_t)set->nlines;
-    propagate(cam, &ax, L, &r);
-    visible_segment(cam, L, &r);
-    *out = r;
+    out->score = c->score;
+    out->n_lines = (uint32_t)set->nlines;
+    propagate(cam, &ax, L, out);
+    visible_segment(cam, L, out);
     return CDSP_OK;
 }
 
-/* The ranking, the candidates and the pose from the scored pairs (the
- * common end of the points and the frame path). */
-static cdsp_status choose(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts, size_t n,
-                          const uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
-                          cdsp_real min_step, const cdsp_result *prior, const cdsp_image *img,
-                          cdsp_profile_ws *pws, cdsp_pair_set *pset, cdsp_result *out)
+/* The ranking and the candidates from the scored pairs (the common middle
+ * of the points and the frame path): the best pair in *best, the number of
+ * candidates in *n_cand, their confidences in cand. */
+cdsp_status cdsp__pair_rank(const cdsp_pair_set *pset, cdsp_candidate *cand, const cdsp_params *p,
+                            cdsp_real min_step, cdsp_pair_eval *best, uint32_t *n_cand)
 {
     const cdsp_line *lines = pset->lines;
     const pair_choice *list = pset->pair;
     uint8_t used[CDSP_MAX_LINES], dead[PAIR_KEEP];
     pair_choice chosen[CDSP_MAX_CANDIDATES];
     int nlines, i, np, nc = 0;
-    cdsp_result r;
-    cdsp_status st;
-    cdsp_real conf;
     int ranged = p->pair.min_distance > R(0) || p->pair.max_distance > R(0);
 
     nlines = pset->nlines;
@@ -1054,45 +1035,59 @@ static cdsp_status choose(const cdsp_camera *cam, cdsp_real radius, const cdsp_e
      * rival: the best other candidate) */
     for (i = 0; i < nc; i++)
         cand[i].confidence = cdsp__pair_confidence(cand, (uint32_t)nc, (uint32_t)i, ranged, min_step > R(0));
-    conf = cand[0].confidence;
-    st = cdsp__pair_result(cam, radius, pts, n, label, pset, &chosen[0], p, img, pws, &r);
+    *best = chosen[0];
+    *n_cand = (uint32_t)nc;
+    return CDSP_OK;
+}
+
+/* The pose of the ranked best pair (cdsp__pair_rank; the common end of the
+ * points and the frame path); ref: what the frame path's edge-profile
+ * model did to its lines, NULL on the points path. */
+cdsp_status cdsp__pair_pose(const cdsp_camera *cam, cdsp_real radius, size_t n,
+                            const cdsp_pair_set *pset, const cdsp_pair_eval *best, uint32_t n_cand,
+                            const cdsp_candidate *cand, const cdsp_params *p,
+                            const cdsp_result *prior, const cdsp__pair_refined *ref, cdsp_result *out)
+{
+    cdsp_real conf = cand[0].confidence, prior_dir[3];
+    cdsp_status st;
+    int k;
+    /* The pose is built in out itself (a local cdsp_result would be 348 B
+     * (float) more on the deepest stack path, docs/mcu.md), so out is
+     * written only when the call succeeds: a pose below min_confidence is
+     * refused first, with the status the axis would give it (a degenerate
+     * axis reports as such, as when the pose was built before the test). */
+    if (conf < p->min_confidence) {
+        cdsp__axis ax;
+        st = cdsp__axis_core(cam, pset->lines[best->i].l, pset->lines[best->j].l, best->p_in, radius,
+                             &ax);
+        return st != CDSP_OK ? st : CDSP_E_NO_PIPE;
+    }
+    if (prior) /* out may be the prior itself */
+        for (k = 0; k < 3; k++)
+            prior_dir[k] = prior->direction[k];
+    st = cdsp__pair_result(cam, radius, n, pset, best, ref, out);
     if (st != CDSP_OK)
         return st;
-    if (conf < p->min_confidence)
-        return CDSP_E_NO_PIPE;
-    r.confidence = conf;
-    r.n_candidates = (uint32_t)nc;
-    if (prior ? v3_dot(r.direction, prior->direction) < R(0) : cdsp__axis_wants_swap(r.direction))
-        cdsp__axis_swap(&r);
-    *out = r;
+    out->confidence = conf;
+    out->n_candidates = n_cand;
+    if (prior ? v3_dot(out->direction, prior_dir) < R(0) : cdsp__axis_wants_swap(out->direction))
+        cdsp__axis_swap(out);
     return CDSP_OK;
 }
 
 cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                             size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
-                             cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
-                             cdsp_result *out)
+                             size_t n, uint8_t *label, cdsp_candidate *cand, cdsp_pair_set *set,
+                             const cdsp_params *p, cdsp_real min_step, const cdsp_result *prior,
+                             cdsp_rng *rng, cdsp_result *out)
 {
-    cdsp_pair_set set;
-    cdsp_status st = score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, 1, &set);
+    cdsp_pair_eval best;
+    uint32_t nc;
+    cdsp_status st = score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, 1, set);
+    if (st == CDSP_OK)
+        st = cdsp__pair_rank(set, cand, p, min_step, &best, &nc);
     if (st != CDSP_OK)
         return st;
-    return choose(cam, radius, pts, n, label, cand, p, min_step, prior, NULL, NULL, &set, out);
-}
-
-cdsp_status cdsp__pair_solve_frame(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
-                                   size_t n, uint8_t *label, cdsp_candidate *cand, const cdsp_params *p,
-                                   cdsp_real min_step, const cdsp_result *prior, cdsp_rng *rng,
-                                   const cdsp_image *img, cdsp_profile_ws *pws, cdsp_result *out)
-{
-    cdsp_pair_set set;
-    cdsp_status st = score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, 1, &set);
-    if (st != CDSP_OK)
-        return st;
-    frame_filter(img, cam, radius, p, min_step, &set);
-    if (set.npairs == 0)
-        return CDSP_E_NO_PIPE;
-    return choose(cam, radius, pts, n, label, cand, p, min_step, prior, img, pws, &set, out);
+    return cdsp__pair_pose(cam, radius, n, set, &best, nc, cand, p, prior, NULL, out);
 }
 
 int cdsp__points_finite(const cdsp_edge *e, size_t n)
@@ -1154,7 +1149,13 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius, const cd
         return CDSP_E_CAPACITY;
     if (!cdsp__points_finite(pts, n))
         return CDSP_E_NONFINITE;
-    return cdsp__pair_solve(cam, radius, pts, n, ws->label, ws->cand, p, R(0), prior, rng, out);
+    return cdsp__pair_solve(cam, radius, pts, n, ws->label, ws->cand, &ws->pairs, p, R(0), prior, rng,
+                            out);
+}
+
+size_t cdsp_points_ws_size(void)
+{
+    return sizeof(cdsp_points_ws);
 }
 
 void cdsp_params_default(cdsp_params *p)

@@ -240,7 +240,7 @@ static void rack_found(const rack_case *rc, uint64_t seed, int ranged, cdsp_resu
     debug_print(out, *n);
     if (st != CDSP_OK)
         fail_msg("%s: %s", rc->name, cdsp_strerror(st));
-    if (greedy_pairs(&ws.pairs) < rc->n)
+    if (greedy_pairs(&ws.frame.pairs) < rc->n)
         greedy_short++;
     for (i = 0; i < rc->n; i++) {
         idx[i] = match(&cam, out, *n, g, i, rc->radius[i]);

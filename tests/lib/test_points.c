@@ -297,12 +297,15 @@ static void test_halo(void **state)
 static void test_reproducible_and_prior(void **state)
 {
     cdsp_camera cam;
-    cdsp_params prm;
-    cdsp_rng a, b, gen;
-    cdsp_result ra, rb, prior;
+    cdsp_params prm, strict;
+    cdsp_rng a, b, c, gen;
+    cdsp_result ra, rb, rc, rd, prior;
     double P[3], v[3];
     size_t n;
     (void)state;
+    /* the workspace the library was built with is the one compiled here */
+    assert_true(cdsp_points_ws_size() == sizeof(cdsp_points_ws));
+    assert_true(cdsp_frame_ws_size() == sizeof(cdsp_frame_ws));
     sup_paper_camera(&cam, 0, 0);
     cdsp_params_default(&prm);
     cdsp_rng_seed(&gen, 9, 9);
@@ -317,9 +320,25 @@ static void test_reproducible_and_prior(void **state)
     prior.direction[0] = -ra.direction[0];
     prior.direction[1] = -ra.direction[1];
     prior.direction[2] = -ra.direction[2];
+    c = a;
     assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, &prior, &ws, &a, &rb), CDSP_OK);
     assert_true((double)(rb.direction[0] * ra.direction[0] + rb.direction[1] * ra.direction[1] +
                          rb.direction[2] * ra.direction[2]) < -0.999);
+    /* the pose is built in out itself (lib/pair.c, cdsp__pair_pose): with
+     * out the prior itself, the same bytes as with two objects */
+    rc = prior;
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &prm, &rc, &ws, &c, &rc), CDSP_OK);
+    assert_memory_equal(&rc, &rb, sizeof rc);
+    /* and out is written only on success: a pose refused for its confidence
+     * (min_confidence 1 above this one's) leaves every byte of out as it was */
+    assert_true(ra.confidence < (cdsp_real)1);
+    strict = prm;
+    strict.min_confidence = (cdsp_real)1;
+    memset(&rc, 0x5a, sizeof rc);
+    rd = rc;
+    cdsp_rng_seed(&c, 77, 1);
+    assert_int_equal(cdsp_points_solve(&cam, 8, pts, n, &strict, NULL, &ws, &c, &rc), CDSP_E_NO_PIPE);
+    assert_memory_equal(&rc, &rd, sizeof rc);
     /* swapping the contours keeps n1.P = r, n2.P = -r */
     {
         double n1p = 0, n2p = 0;

@@ -2,7 +2,8 @@
 """size.py - flash and RAM of libcdsp's paths on a Cortex-M target, from the
 linker map files of the size probes (tests/mcu/probe.c around example.c).
 
-  size.py --target T [--stack STACK.txt] points.map frame.map both.map [all.map]
+  size.py --target T [--stack STACK.txt] [--budget NAME=BYTES]... [--enforce]
+          points.map frame.map both.map [all.map]
 
 Every byte the linker placed is attributed by its input file: libcdsp.a,
 libm, libgcc (soft-float and 64-bit helpers), libc (memcpy, memset) or the
@@ -13,11 +14,17 @@ workspace (cdsp_points_ws, cdsp_frame_ws), the edge-point input buffer and
 the rest of the caller's state (params, results, rng, camera).
 
 With --stack (stack.py's table) the worst-case stack of the entry point is
-added to RAM, and for m4f the issue's budgets for the points path at 2048
-points are evaluated: flash <= 24 KiB, RAM <= 40 KiB, stack <= 2 KiB.
+added to RAM. --budget evaluates the points path (cdsp_points_solve, the
+probe's default capacities) against a limit: flash (the library path),
+ram (data + bss + workspace + point buffer + static worst-case stack) or
+stack (static worst case); the limits are given by tests/mcu/mcu.mk
+(MCU_BUDGET_*, issue 6's, docs/mcu.md), not kept here. ram and stack need
+--stack.
 
-Exit status 0 (printed, budgets met or not: this is a report), 2 when a map
-file is missing or not a GNU ld map (named in the message).
+Exit status 0 (printed: a report, budgets met or not), 1 with --enforce when
+a budget is exceeded (a FAIL line names the budget, its limit and the
+measured figure), 2 when a map file is missing or not a GNU ld map, or an
+argument is malformed (named in the message).
 """
 import argparse
 import re
@@ -31,7 +38,9 @@ FLASH_OUT = (".text", ".preinit_array", ".init_array", ".fini_array", ".ARM.exta
              ".ARM.exidx")
 ENTRY = {"points": "cdsp_points_solve", "frame": "cdsp_frame_solve",
          "both": "cdsp_frame_solve"}
-BUDGET = {"flash": 24 * 1024, "ram": 40 * 1024, "stack": 2 * 1024}
+BUDGETS = {"flash": "library path",
+           "ram": "data + bss + workspace + point buffer + stack",
+           "stack": "cdsp_points_solve, static worst case"}
 
 
 def die(msg):
@@ -147,8 +156,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--target", required=True)
     ap.add_argument("--stack")
+    ap.add_argument("--budget", action="append", default=[], metavar="NAME=BYTES")
+    ap.add_argument("--enforce", action="store_true")
     ap.add_argument("maps", nargs="+")
     args = ap.parse_args()
+    budget = {}
+    for b in args.budget:
+        m = re.match(r"^(\w+)=(\d+)$", b)
+        if not m or m.group(1) not in BUDGETS:
+            die(f"--budget {b}: expected NAME=BYTES, NAME one of {', '.join(BUDGETS)}")
+        budget[m.group(1)] = int(m.group(2))
+    if not args.stack and ("ram" in budget or "stack" in budget):
+        die("--budget ram/stack needs --stack (the worst-case stack is part of them)")
     kinds = {}
     for m in args.maps:
         k = re.search(r"probe-(points|frame|both|all)\.elf\.map$", m)
@@ -195,18 +214,26 @@ def main():
     print("  largest pieces of the points path: " +
           ", ".join(f"{fn} {n}" + ("" if cat == "libcdsp" else f" [{cat}]")
                     for (cat, fn), n in top))
-    if args.target == "m4f" and stack:
-        flash = lib[0][0]
-        ram = tot[0][1] + stack.get("cdsp_points_solve", 0)
-        stk = stack.get("cdsp_points_solve", 0)
-        print("  budget, points path at 2048 points (issue 6):")
-        for what, val, lim, note in (
-                ("flash", flash, BUDGET["flash"], "library path"),
-                ("RAM", ram, BUDGET["ram"], "data + bss + workspace + point buffer + stack"),
-                ("stack", stk, BUDGET["stack"], "cdsp_points_solve, static worst case")):
+    rc = 0
+    if budget:
+        if args.stack and "cdsp_points_solve" not in stack:
+            die(f"{args.stack}: no cdsp_points_solve row (or no bound for it)")
+        measured = {"flash": lib[0][0],
+                    "ram": tot[0][1] + stack.get("cdsp_points_solve", 0),
+                    "stack": stack.get("cdsp_points_solve", 0)}
+        print("  budget, points path at 2048 points (issue 6; tests/mcu/mcu.mk MCU_BUDGET_*):")
+        for what in BUDGETS:
+            if what not in budget:
+                continue
+            val, lim = measured[what], budget[what]
             print(f"    {what:<6} {val:>6} B of {lim:>6} B: "
-                  f"{'met' if val <= lim else 'NOT MET'} ({note})")
-    return 0
+                  f"{'met' if val <= lim else 'NOT MET'} ({BUDGETS[what]})")
+        for what in BUDGETS:
+            if args.enforce and what in budget and measured[what] > budget[what]:
+                rc = 1
+                print(f"FAIL budget {what} ({args.target}, points path, {BUDGETS[what]}): "
+                      f"measured {measured[what]} B > limit {budget[what]} B")
+    return rc
 
 
 if __name__ == "__main__":
