@@ -75,6 +75,9 @@ typedef double cdsp_real;
 #ifndef CDSP_MAX_LINES
 #define CDSP_MAX_LINES 24
 #endif
+#if CDSP_MAX_LINES < 2 || CDSP_MAX_LINES > 254
+#error "CDSP_MAX_LINES: 2 to 254 (a line's label is a byte, 0 = none)"
+#endif
 
 /* Ranked pipe candidates kept in the workspaces (the chosen one first). */
 #ifndef CDSP_MAX_CANDIDATES
@@ -638,7 +641,8 @@ cdsp_status cdsp_params_check(const cdsp_params *p);
 /* One pair of candidate lines that passed the pair tests (internal to the
  * library; public only so the workspaces below have a size). */
 typedef struct {
-    int i, j;               /* the two lines (indices into cdsp_pair_set.lines) */
+    uint8_t i, j;           /* the two lines (indices into cdsp_pair_set.lines; bytes:
+                               48 pairs x 6 B of the M4F RAM budget, docs/mcu.md) */
     cdsp_real score;        /* the pair score */
     cdsp_real p_in[2];      /* a pixel between the lines */
     cdsp_real support;      /* min over both contours of inliers on the overlap x spread */
@@ -651,7 +655,7 @@ typedef struct {
 /* Candidate lines and their scored pairs (scratch; contents undefined
  * between calls). Part of every workspace below, not of the library's
  * stack: CDSP_MAX_LINES * sizeof(cdsp_line) + CDSP_MAX_PAIRS *
- * sizeof(cdsp_pair_eval) bytes, 3 180 (float) / 5 968 (double) at the
+ * sizeof(cdsp_pair_eval) bytes, 2 988 (float) / 5 968 (double) at the
  * default 24 lines and 48 pairs. */
 typedef struct {
     cdsp_line lines[CDSP_MAX_LINES];

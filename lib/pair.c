@@ -176,8 +176,10 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
     cdsp_real sb = B->l[0] * p_in[0] + B->l[1] * p_in[1] + B->l[2];
     cdsp_real cos_split = R_COS(R(SPLIT_DEG) * R_PI / R(180));
     cdsp_real weak = A->strength < B->strength ? A->strength : B->strength;
-    cdsp_real at[CDSP_MAX_LINES], str[CDSP_MAX_LINES], first_rev = R_MAX, last_cont = -R_MAX;
-    uint8_t cont[CDSP_MAX_LINES], near_a[CDSP_MAX_LINES], strong[CDSP_MAX_LINES];
+    cdsp_real at[CDSP_MAX_LINES], first_rev = R_MAX, last_cont = -R_MAX;
+    /* idx: the line, for its strength (an index byte, not a copy: this
+     * frame is on the deepest stack path, docs/mcu.md) */
+    uint8_t cont[CDSP_MAX_LINES], near_a[CDSP_MAX_LINES], strong[CDSP_MAX_LINES], idx[CDSP_MAX_LINES];
     uint32_t need = (A->count < B->count ? A->count : B->count) / 4u;
     int k, m = 0, i, j;
     for (k = 0; k < sc->nlines && m < CDSP_MAX_LINES; k++) {
@@ -199,7 +201,7 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
         at[m] = (R_FABS(da[0]) + R_FABS(da[1])) / R(2); /* from A, px */
         cont[m] = K->l[0] * A->l[0] + K->l[1] * A->l[1] > R(0);
         near_a[m] = R_FABS(da[0] + da[1]) < R_FABS(db[0] + db[1]);
-        str[m] = K->strength;
+        idx[m] = (uint8_t)k;
         strong[m] = K->strength >= R(SPLIT_STRONG) * weak;
         if (strong[m] && cont[m])
             last_cont = at[m] > last_cont ? at[m] : last_cont;
@@ -228,7 +230,7 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
             continue;
         for (j = 0; j < m && !stripe; j++)
             stripe = cont[j] == near_a[i] && (near_a[i] ? at[j] < at[i] : at[j] > at[i]) &&
-                     str[j] >= R(STRIPE_PAIR) * str[i];
+                     sc->lines[idx[j]].strength >= R(STRIPE_PAIR) * sc->lines[idx[i]].strength;
         if (stripe)
             continue;
         if (strong[i])
@@ -248,7 +250,7 @@ static int band_split(const score_ctx *sc, const cdsp_line *A, const cdsp_line *
             continue;
         for (j = 0; j < m && !stripe && !ramp; j++) {
             stripe = cont[j] != near_a[i] && (near_a[i] ? at[j] > at[i] : at[j] < at[i]) &&
-                     str[j] >= R(STRIPE_PAIR) * str[i];
+                     sc->lines[idx[j]].strength >= R(STRIPE_PAIR) * sc->lines[idx[i]].strength;
             ramp = j != i && cont[j] == cont[i] && R_FABS(at[j] - at[i]) < sc->min_band_px;
         }
         if (!stripe && !ramp)
