@@ -202,6 +202,50 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
 }
 
 /*
+ * Whether a contour of the pose has points too scattered to be one edge
+ * (issue 12). The partial-area detector's points scatter by up to
+ * e = 3 sigma / J for a step J under pixel noise sigma (measured on clean
+ * rendered limbs: rms J / sigma 1.8-3.9, the lower end at low J / sigma;
+ * on the paper's rendered scene, noise 0.6 and 1.1 gray levels, rms
+ * 0.62-0.77 e). A residual rms above SCATTER_E e whose part beyond e is
+ * above SCATTER_PX is not noise but points off one line. On the paper's
+ * scene at ambient 0.4 (cdsp_tool sim --preset paper --ambient 0.4, and
+ * make bench-accuracy's render) the shadowed limb, nearly the
+ * background's level, gave rms 0.50-0.54 px at 1.7-3.1 e (the detector's
+ * points on the faint silhouette, the terminator and the texture at once)
+ * and poses 13-170 mm off, on some frames beyond sigma plus the systematic
+ * bound (cdsp_result.bound_*: 47 mm off with 0.3 + 8.4 mm). The worst
+ * clean contour, p3 at 45 degrees, is 0.043-0.048 px at 1.2-2.0 e (the
+ * detector's phase ripple), 0.02 px beyond e. Such a line says nothing
+ * reliable about where the silhouette is, so neither its sigma nor a
+ * bound computed from it would hold: the pose is not reported
+ * (CDSP_E_NO_PIPE). J: the mean step of the contour's inliers
+ * (ws->label == out->label[k]).
+ */
+#define SCATTER_E 1.5
+#define SCATTER_PX 0.25
+static int contours_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, cdsp_real sigma)
+{
+    int k;
+    for (k = 0; k < 2; k++) {
+        cdsp_real sum = R(0), e, rms = out->rms[k];
+        uint32_t i, cnt = 0;
+        for (i = 0; i < out->n_edges && i < CDSP_MAX_EDGES; i++)
+            if (ws->label[i] == out->label[k]) {
+                const cdsp_edge *p = &ws->edge[i];
+                sum += R_SQRT(p->gx * p->gx + p->gy * p->gy);
+                cnt++;
+            }
+        if (cnt == 0 || !(sum > R(0)) || !(sigma > R(0)))
+            continue;
+        e = R(3) * sigma * (cdsp_real)cnt / sum;
+        if (rms > R(SCATTER_E) * e && rms * rms - e * e > R(SCATTER_PX) * R(SCATTER_PX))
+            return 1;
+    }
+    return 0;
+}
+
+/*
  * The full search's end: fe holds the frame's edge parameters and the
  * status and count of the edges detected with them into ws->edge (by
  * cdsp_edges_detect, or by the caller's strips); solved here. With the
@@ -246,6 +290,8 @@ static cdsp_status full_search(const cdsp_image *img, const cdsp_camera *cam, cd
     }
     if (st != CDSP_OK)
         return st;
+    if (contours_scattered(ws, out, fe->sigma))
+        return CDSP_E_NO_PIPE;
     out->flags |= flags;
     out->noise = fe->sigma;
     out->min_step = fe->min_step;
@@ -335,7 +381,7 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
         n = track_edges(img, cam, p, &edge, prior, ws->edge, CDSP_MAX_EDGES, &truncated);
         st = solve_edges(img, cam, radius, ws, n, p, min_step, prior, rng, out);
         if (st == CDSP_OK && out->inliers[0] >= (uint32_t)p->track_min_inliers &&
-            out->inliers[1] >= (uint32_t)p->track_min_inliers) {
+            out->inliers[1] >= (uint32_t)p->track_min_inliers && !contours_scattered(ws, out, sigma)) {
             out->flags |= CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u);
             out->noise = sigma;
             out->min_step = min_step;

@@ -572,6 +572,68 @@ static void propagate(const cdsp_camera *cam, cdsp_real radius, const cdsp_line 
     out->sigma_distance = R_SQRT(cov7[6][6]);
 }
 
+/* The systematic bound through the pose (issue 12): each contour k shifted
+ * along its normal by up to eb[k] px, worst case of the two, through the
+ * same first-order Jacobian as propagate() (central differences of the
+ * closed form; the step is small against any bound and far above the
+ * closed form's rounding). A bias the same at every point of a contour is
+ * a shift, not a turn, so only the offsets enter. */
+static void bound_propagate(const cdsp_camera *cam, cdsp_real radius, const cdsp_line *L[2],
+                            const cdsp_real p_in[2], const cdsp_real eb[2], cdsp_result *out)
+{
+#ifdef CDSP_SINGLE
+    const cdsp_real h = R(1e-2);
+#else
+    const cdsp_real h = R(1e-4);
+#endif
+    cdsp_real acc[7] = {0, 0, 0, 0, 0, 0, 0};
+    int k, i;
+    for (k = 0; k < 2; k++) {
+        cdsp_real lp[3], lm[3], vp[7], vm[7];
+        cdsp__axis rp, rm;
+        if (!(eb[k] > R(0)))
+            continue;
+        perturb(L[k], h, R(0), lp);
+        perturb(L[k], -h, R(0), lm);
+        if (cdsp__axis_core(cam, k ? L[0]->l : lp, k ? lp : L[1]->l, p_in, radius, &rp) != CDSP_OK ||
+            cdsp__axis_core(cam, k ? L[0]->l : lm, k ? lm : L[1]->l, p_in, radius, &rm) != CDSP_OK)
+            continue; /* degenerate this close: propagate() leaves it out too */
+        pose_vec(&rp, vp);
+        pose_vec(&rm, vm);
+        for (i = 0; i < 7; i++)
+            acc[i] += R_FABS(vp[i] - vm[i]) / (R(2) * h) * eb[k];
+    }
+    for (i = 0; i < 3; i++) {
+        out->bound_point[i] = acc[i];
+        out->bound_direction[i] = acc[3 + i];
+    }
+    out->bound_distance = acc[6];
+}
+
+/* One contour of the frame path's pose: the edge-profile model along it
+ * (lib/profile.c), which moves the line to its modelled silhouette when
+ * enabled and applicable, and the contour's systematic bound from the
+ * same fit (with the model off, it is fitted on a copy of the line, which
+ * stays the detector's). Returns 1 when the line was profiled (moved or
+ * not), with *moved and *blur as in cdsp_result.edge_offset/edge_blur. */
+static int contour_profile(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts, size_t n,
+                           const uint8_t *label, uint8_t lab, cdsp_line *ln, const cdsp_real p_in[2],
+                           const cdsp_params *p, cdsp_profile_ws *pws, cdsp_real *moved, cdsp_real *blur,
+                           cdsp_real *bound)
+{
+    cdsp_profile pr;
+    cdsp_line copy = *ln;
+    cdsp_real mv = R(0);
+    cdsp_status st = cdsp__profile_refine(img, cam, pts, n, label, lab, p->profile.enable ? ln : &copy, p_in,
+                                          &p->profile, p->edge.half_window, pws, &pr, &mv);
+    *bound = cdsp_profile_bound(&pr, &p->profile);
+    if (st != CDSP_OK || !p->profile.enable)
+        return 0;
+    *moved = mv;
+    *blur = pr.blur;
+    return 1;
+}
+
 /* Parameter s of the axis point closest to the ray through undistorted
  * pixel q (closest points of two lines). */
 static int axis_param_of_pixel(const cdsp_camera *cam, const cdsp_result *r, const cdsp_real q[2],
@@ -853,7 +915,7 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cd
     cdsp_line *lines = set->lines;
     const cdsp_line *L[2];
     int i, profiled = 0;
-    cdsp_real edge_offset[2] = {0, 0}, edge_blur[2] = {0, 0};
+    cdsp_real edge_offset[2] = {0, 0}, edge_blur[2] = {0, 0}, edge_bound[2] = {0, 0};
     cdsp_result r;
     cdsp__axis ax;
     cdsp_status st;
@@ -862,19 +924,11 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cd
     L[1] = &lines[c->j];
     /* the edge-profile model moves each line to its modelled silhouette
      * (lib/profile.c); a contour it cannot model keeps the detector's line */
-    if (img && pws && p->profile.enable) {
-        for (i = 0; i < 2; i++) {
-            cdsp_profile pr;
-            cdsp_real moved = R(0);
-            if (cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)((i ? c->j : c->i) + 1),
-                                     &lines[i ? c->j : c->i], c->p_in, &p->profile,
-                                     p->edge.half_window, pws, &pr, &moved) == CDSP_OK) {
-                edge_offset[i] = moved;
-                edge_blur[i] = pr.blur;
-                profiled++;
-            }
-        }
-    }
+    if (img && pws)
+        for (i = 0; i < 2; i++)
+            profiled += contour_profile(img, cam, pts, n, label, (uint8_t)((i ? c->j : c->i) + 1),
+                                        &lines[i ? c->j : c->i], c->p_in, p, pws, &edge_offset[i],
+                                        &edge_blur[i], &edge_bound[i]);
     st = cdsp__axis_core(cam, L[0]->l, L[1]->l, c->p_in, radius, &ax);
     if (st != CDSP_OK)
         return st;
@@ -887,14 +941,17 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, const cd
     r.label[0] = (uint8_t)(c->i + 1);
     r.label[1] = (uint8_t)(c->j + 1);
     r.n_edges = (uint32_t)n;
-    r.flags = (set->capped ? CDSP_FLAG_CAPPED : 0u) | (profiled == 2 ? CDSP_FLAG_PROFILE : 0u);
+    r.flags = (set->capped ? CDSP_FLAG_CAPPED : 0u) | (profiled == 2 ? CDSP_FLAG_PROFILE : 0u) |
+              (img && pws ? CDSP_FLAG_BOUND : 0u);
     for (i = 0; i < 2; i++) {
         r.edge_offset[i] = edge_offset[i];
         r.edge_blur[i] = edge_blur[i];
+        r.edge_bound[i] = edge_bound[i];
     }
     r.score = c->score;
     r.n_lines = (uint32_t)set->nlines;
     propagate(cam, radius, L, c->p_in, &r);
+    bound_propagate(cam, radius, L, c->p_in, edge_bound, &r);
     visible_segment(cam, L, &r);
     *out = r;
     return CDSP_OK;
