@@ -673,13 +673,15 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
         int nb = 0;
         for (b = 0; b < NB; b++) {
             cdsp_real x = ub[b] - d;
-            if (ws->count[b] && x >= z && x <= W && (var_pix > R(0) || J != R(0))) {
-                /* the bin's noise, floored at 0.2 % of the step: a model
-                 * error that small is not a misfit (noise-free frames,
-                 * where var_pix is 0 and the floor alone measures it: a
-                 * misfit there was fit_chi2 0 before issue 12's bound) */
+            if (ws->count[b] && x >= z && x <= W) {
+                /* the bin's noise, with a pixel's rounding (1/12 of a
+                 * gray level squared, which a bin whose pixels share one
+                 * phase does not show in var_pix), floored at 0.2 % of
+                 * the step: a model error that small is not a misfit.
+                 * (Noise-free frames, var_pix 0: before issue 12's bound
+                 * a misfit there came out as fit_chi2 0.) */
                 cdsp_real r = mb[b] - pipe_fitted(&m, x, s2);
-                chi += r * r / (var_pix / (cdsp_real)ws->count[b] + R(4e-6) * J * J);
+                chi += r * r / ((var_pix + R(1) / R(12)) / (cdsp_real)ws->count[b] + R(4e-6) * J * J);
                 nb++;
             }
         }
