@@ -614,8 +614,12 @@ static void bound_propagate(const cdsp_camera *cam, cdsp_real radius, const cdsp
  * (lib/profile.c), which moves the line to its modelled silhouette when
  * enabled and applicable, and the contour's systematic bound from the
  * same fit (with the model off, it is fitted on a copy of the line, which
- * stays the detector's). Returns 1 when the line was profiled (moved or
- * not), with *moved and *blur as in cdsp_result.edge_offset/edge_blur. */
+ * stays the detector's, from at most BOUND_ROWS scanlines: the bound needs
+ * the offset to ~0.01 px, which 256 scanlines give (sigma_offset
+ * 1e-4-1e-3 px at 2048), and the fit's cost goes with its scanlines).
+ * Returns 1 when the line was profiled (moved or not), with *moved and
+ * *blur as in cdsp_result.edge_offset/edge_blur. */
+#define BOUND_ROWS 256
 static int contour_profile(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts, size_t n,
                            const uint8_t *label, uint8_t lab, cdsp_line *ln, const cdsp_real p_in[2],
                            const cdsp_params *p, cdsp_profile_ws *pws, cdsp_real *moved, cdsp_real *blur,
@@ -624,8 +628,12 @@ static int contour_profile(const cdsp_image *img, const cdsp_camera *cam, const 
     cdsp_profile pr;
     cdsp_line copy = *ln;
     cdsp_real mv = R(0);
-    cdsp_status st = cdsp__profile_refine(img, cam, pts, n, label, lab, p->profile.enable ? ln : &copy, p_in,
-                                          &p->profile, p->edge.half_window, pws, &pr, &mv);
+    cdsp_profile_params pp = p->profile;
+    cdsp_status st;
+    if (!pp.enable && pp.max_rows > BOUND_ROWS)
+        pp.max_rows = BOUND_ROWS;
+    st = cdsp__profile_refine(img, cam, pts, n, label, lab, pp.enable ? ln : &copy, p_in, &pp,
+                              p->edge.half_window, pws, &pr, &mv);
     *bound = cdsp_profile_bound(&pr, &p->profile);
     if (st != CDSP_OK || !p->profile.enable)
         return 0;

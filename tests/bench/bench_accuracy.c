@@ -376,7 +376,8 @@ static double true_distance(const double P[3], const double v[3])
 /* The paper's scene rendered: mean axis RMSE over its four pipes and the
  * distance bias, for one light. */
 static void paper_scene(const char *what, double ambient, const double light[3], const cdsp_params *prm, int nok[2],
-                        double rmse[2], double dbias_mean[2], double dbias_worst[2])
+                        double rmse[2], double dbias_mean[2], double dbias_worst[2], int ncov[2], int nref[2],
+                        double bound_mean[2])
 {
     cdsp_camera cam;
     cdsp_rng rng;
@@ -384,8 +385,8 @@ static void paper_scene(const char *what, double ambient, const double light[3],
     sup_paper_camera(&cam, 0, 0);
     cdsp_rng_seed(&rng, 3, 3);
     for (k = 0; k < 2; k++) {
-        nok[k] = 0;
-        rmse[k] = dbias_mean[k] = dbias_worst[k] = 0;
+        nok[k] = ncov[k] = nref[k] = 0;
+        rmse[k] = dbias_mean[k] = dbias_worst[k] = bound_mean[k] = 0;
     }
     for (i = 0; i < 4; i++) {
         cdsp_scene s;
@@ -407,8 +408,15 @@ static void paper_scene(const char *what, double ambient, const double light[3],
         for (k = 0; k < 2; k++) {
             cdsp_params q = *prm;
             q.profile.enable = k; /* the same frame without and with the model */
-            if (px && cdsp_frame_solve(&img, &cam, 8, &q, NULL, &fws, &rng, &r) == CDSP_OK) {
+            cdsp_status st = px ? cdsp_frame_solve(&img, &cam, 8, &q, NULL, &fws, &rng, &r) : CDSP_E_ARG;
+            nref[k] += st == CDSP_E_NO_PIPE;
+            if (st == CDSP_OK) {
                 double db = 100 * ((double)r.distance / true_distance(P, v) - 1);
+                /* the systematic bound: the distance's error within
+                 * sigma + bound (issue 12) */
+                ncov[k] += fabs((double)r.distance - true_distance(P, v)) <=
+                           (double)r.sigma_distance + (double)r.bound_distance;
+                bound_mean[k] += (double)r.bound_distance;
                 sup_result_pose(&r, got, dir, seg);
                 rmse[k] += sup_axis_rmse(seg[0], seg[1], P, v, 100);
                 dbias_mean[k] += db;
@@ -423,6 +431,7 @@ static void paper_scene(const char *what, double ambient, const double light[3],
         if (nok[k]) {
             rmse[k] /= nok[k];
             dbias_mean[k] /= nok[k];
+            bound_mean[k] /= nok[k];
         }
     (void)what;
 }
@@ -448,12 +457,15 @@ static void paper(void)
     printf("the paper's scene rendered (2448 x 2048, 8 bit, blur 0.7 px, noise 0.5 gray level), 4 pipes:\n");
     printf("  %-44s %-30s %-34s\n", "light", "axis RMSE mm (detector|model)", "distance bias % mean/worst (detector|model)");
     for (i = 0; i < sizeof rows / sizeof rows[0]; i++) {
-        int nok[2], k;
-        double rmse[2], dbm[2], dbw[2];
+        int nok[2], k, ncov[2], nref[2];
+        double rmse[2], dbm[2], dbw[2], bm[2];
         fprintf(stderr, "rendering the paper's scene: %s...\n", rows[i].name);
-        paper_scene(rows[i].name, rows[i].ambient, rows[i].light, &prm, nok, rmse, dbm, dbw);
+        paper_scene(rows[i].name, rows[i].ambient, rows[i].light, &prm, nok, rmse, dbm, dbw, ncov, nref, bm);
         printf("  %-44s %.4f (%d/4) | %.4f (%d/4)   %+.3f/%+.3f | %+.3f/%+.3f\n", rows[i].name, rmse[0], nok[0],
                rmse[1], nok[1], dbm[0], dbw[0], dbm[1], dbw[1]);
+        printf("  %-44s distance error within sigma + bound: %d of %d | %d of %d (mean bound %.3f | %.3f mm); "
+               "refused as scattered or no pipe: %d | %d\n",
+               "", ncov[0], nok[0], ncov[1], nok[1], bm[0], bm[1], nref[0], nref[1]);
         for (k = 0; k < 2; k++)
             if (i > 0 && fabs(dbw[k]) > worst_shaded[k])
                 worst_shaded[k] = fabs(dbw[k]);

@@ -548,9 +548,9 @@ static void test_huge_band(void **state)
  * are refused, CDSP_E_NO_PIPE). At ambient 0.85 (the renderer's default)
  * every pose is reported (the rule does not refuse clean contours) with
  * the same coverage; measured errors 0.018-0.051 mm on the distance, bounds
- * 0.12-0.18 mm and 3.78 mm on p3 (one contour's model misfits: the bound
- * falls back to its blur zone), so the bound stays below 1.5 % of the
- * distance (measured at most 1.13 %: 3.78 mm on p3 at 335 mm).
+ * 0.15-0.19 mm on p2 and p4 and 4.2 / 3.8 mm on p1 / p3 (one contour's
+ * model misfits there: the bound falls back to its blur zone), so the
+ * bound stays below 1.5 % of the distance (measured at most 1.16 %).
  */
 static void test_paper_bound(void **state)
 {
@@ -603,7 +603,7 @@ static void test_paper_bound(void **state)
                     fail_msg("ambient %.2f p%d: P_C[%d] error %.4f beyond 3 sigma %.4f + bound %.4f", ambients[a],
                              i + 1, k, got[k] - f[k], 3 * (double)r.sigma_point[k], (double)r.bound_point[k]);
             if (a == 1)
-                assert_true(r.bound_distance <= 0.015 * dtrue);
+                assert_true((double)r.bound_distance <= 0.015 * dtrue);
         }
 }
 
