@@ -700,6 +700,11 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius,
  * the frame); if that yields too few inliers or no pipe, a full search
  * follows. out->flags tells which path produced the result.
  * The frame's size must equal the calibration's (CDSP_E_ARG otherwise).
+ * CDSP_E_NO_PIPE also when a contour of the pose has points scattered
+ * beyond the frame's noise (rms above 1.5 x 3 sigma / step and more than
+ * 0.25 px beyond it, lib/frame.c): its line, and any sigma or bound from
+ * it, would not hold (issue 12: the shadowed limb at ambient 0.4).
+ * out->edge_bound and bound_* (CDSP_FLAG_BOUND): the systematic bound.
  */
 cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam,
                              cdsp_real radius, const cdsp_params *p,

@@ -12,8 +12,11 @@
  *    the mean signed distance of the detector's points from the silhouette
  *    (px, + = into the pipe), and that of the line after the edge-profile
  *    model when the library has it. Every cell goes to a CSV file
- *    (argv[1], default build/bench/accuracy_cells.csv); the worst cells and
- *    the worst per factor are printed.
+ *    (argv[1], default build/bench/accuracy_cells.csv, with the profile's
+ *    fit and the systematic bound); the worst cells and the worst per
+ *    factor are printed, and the bound's coverage (issue 12: the cells
+ *    where |bias| <= cdsp_profile_bound, for the detector's line and the
+ *    moved one) with the median bound / |bias|.
  * 2. Effects on top of a shaded limb: a specular stripe, a saturation
  *    plateau, vignetting (per angle and bits).
  * 3. The paper's scene rendered at 2448 x 2048 (cdsp_render): axis RMSE (mm,
@@ -52,45 +55,19 @@ static int measure_edge(const sup_edge_spec *e, cell_result *out)
     cdsp_image img;
     cdsp_edge_params ep;
     double npipe[2], lt[3], sum = 0;
-    size_t n, i, m = 0;
+    size_t i, m = 0;
     cdsp_line ln;
     void *buf = sup_edge_render(e, &img, npipe, lt);
     if (!buf)
         return 0;
-    cdsp_edge_params_default(&ep);
-    ep.min_contrast = (cdsp_real)0.03; /* 10 gray levels at 8 bit are to be found */
-    ep.step = 2;
-    if (cdsp_edges_detect(&img, &ep, pts, MAXPTS, &n) != CDSP_OK)
-        n = 0;
-    for (i = 0; i < n; i++) {
-        double u = sup_edge_u(e, (double)pts[i].x, (double)pts[i].y);
-        if (fabs(u) < 10) /* the contour's points (a blur of 15 px moves them by ~3) */
-            pts[m++] = pts[i];
-    }
+    cdsp_edge_params_default(&ep); /* the detector's window (half_window) for cdsp_profile_applies */
     out->model = NAN;
-    if (m < 20 || cdsp_line_fit(pts, NULL, m, &ln) != CDSP_OK) {
+    if (!sup_edge_line(e, &img, pts, MAXPTS, &m, &ln)) {
         free(buf);
         return 0;
     }
-    {
-        /* as RANSAC would: the points within inlier_px (1 px) of the line,
-         * trimmed in two rounds (2 px, then 1 px), refitted */
-        int round;
-        for (round = 0; round < 2; round++) {
-            size_t k = 0;
-            double lim = round ? 1.0 : 2.0;
-            for (i = 0; i < m; i++)
-                if (fabs((double)(ln.l[0] * pts[i].x + ln.l[1] * pts[i].y + ln.l[2])) < lim)
-                    pts[k++] = pts[i];
-            m = k;
-            if (m < 20 || cdsp_line_fit(pts, NULL, m, &ln) != CDSP_OK) {
-                free(buf);
-                return 0;
-            }
-        }
-        for (i = 0; i < m; i++)
-            sum += sup_edge_u(e, (double)pts[i].x, (double)pts[i].y);
-    }
+    for (i = 0; i < m; i++)
+        sum += sup_edge_u(e, (double)pts[i].x, (double)pts[i].y);
     out->n = (int)m;
     out->det = sum / (double)m;
     {

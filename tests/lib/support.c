@@ -497,3 +497,32 @@ void *sup_edge_render(const sup_edge_spec *e, cdsp_image *img, double n_pipe[2],
     }
     return buf;
 }
+
+int sup_edge_line(const sup_edge_spec *e, const cdsp_image *img, cdsp_edge *pts, size_t cap, size_t *m,
+                  cdsp_line *ln)
+{
+    cdsp_edge_params ep;
+    size_t n, i, k = 0;
+    int round;
+    cdsp_edge_params_default(&ep);
+    ep.min_contrast = (cdsp_real)0.03; /* 10 gray levels at 8 bit are to be found */
+    ep.step = 2;
+    if (cdsp_edges_detect(img, &ep, pts, cap, &n) != CDSP_OK)
+        n = 0;
+    for (i = 0; i < n; i++)
+        if (fabs(sup_edge_u(e, (double)pts[i].x, (double)pts[i].y)) < 10)
+            pts[k++] = pts[i];
+    for (round = 0; round < 3; round++) {
+        size_t j = 0;
+        if (k < 20 || cdsp_line_fit(pts, NULL, k, ln) != CDSP_OK)
+            return 0;
+        if (round == 2)
+            break;
+        for (i = 0; i < k; i++)
+            if (fabs((double)(ln->l[0] * pts[i].x + ln->l[1] * pts[i].y + ln->l[2])) < (round ? 1.0 : 2.0))
+                pts[j++] = pts[i];
+        k = j;
+    }
+    *m = k;
+    return 1;
+}

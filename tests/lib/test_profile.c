@@ -358,43 +358,23 @@ static void test_frame_path(void **state)
 }
 
 /* The detector's line on an exact limb frame as the frame path gets it
- * (the contour's points within 10 px of the silhouette, trimmed to 2 then
- * 1 px as RANSAC's inlier_px, refitted), the profile fitted along it and
- * its systematic bound; *bias: the line's signed offset from the
+ * (sup_edge_line), the profile fitted along it and its systematic bound; *bias: the line's signed offset from the
  * silhouette at the frame's centre, px. 0 if no line. */
 static int detector_bound(const sup_edge_spec *e, double *bias, double *bound, cdsp_profile *pr)
 {
     static cdsp_edge pts[4096];
     cdsp_image img;
-    cdsp_edge_params ep;
     cdsp_profile_params pp;
     cdsp_line ln;
     cdsp_real ends[2][2], pin[2];
     double np[2], l[3], c0[2], d;
-    size_t n, m = 0, i;
-    int round, j;
+    size_t m = 0;
+    int j;
     void *buf = sup_edge_render(e, &img, np, l);
     assert_non_null(buf);
-    cdsp_edge_params_default(&ep);
-    ep.min_contrast = (cdsp_real)0.03;
-    ep.step = 2;
-    if (cdsp_edges_detect(&img, &ep, pts, 4096, &n) != CDSP_OK)
-        n = 0;
-    for (i = 0; i < n; i++)
-        if (fabs(sup_edge_u(e, (double)pts[i].x, (double)pts[i].y)) < 10)
-            pts[m++] = pts[i];
-    for (round = 0; round < 3; round++) {
-        size_t k = 0;
-        if (m < 20 || cdsp_line_fit(pts, NULL, m, &ln) != CDSP_OK) {
-            free(buf);
-            return 0;
-        }
-        if (round == 2)
-            break;
-        for (i = 0; i < m; i++)
-            if (fabs((double)(ln.l[0] * pts[i].x + ln.l[1] * pts[i].y + ln.l[2])) < (round ? 1.0 : 2.0))
-                pts[k++] = pts[i];
-        m = k;
+    if (!sup_edge_line(e, &img, pts, 4096, &m, &ln)) {
+        free(buf);
+        return 0;
     }
     c0[0] = (e->width - 1) / 2.0 + e->offset_px * np[0];
     c0[1] = (e->height - 1) / 2.0 + e->offset_px * np[1];
