@@ -81,24 +81,14 @@ static int measure_edge(const sup_edge_spec *e, cell_result *out)
             /* the profile model along the line's inlier extent */
             cdsp_profile_params pp;
             cdsp_profile pr;
-            cdsp_real ends[2][2], pin[2];
-            int j;
             cdsp_profile_params_default(&pp);
-            for (j = 0; j < 2; j++) {
-                cdsp_real t = j ? ln.t_max : ln.t_min;
-                ends[j][0] = ln.centroid[0] + t * ln.dir[0];
-                ends[j][1] = ln.centroid[1] + t * ln.dir[1];
-            }
-            /* the pipe's middle: its distance is the limb's radius */
-            pin[0] = (cdsp_real)(c0[0] + e->radius_px * npipe[0]);
-            pin[1] = (cdsp_real)(c0[1] + e->radius_px * npipe[1]);
             /* as the frame path does: the model's offset where it fits and
              * is needed, else the detector's line */
             memset(&pr, 0, sizeof pr);
             out->rms = ln.rms;
             out->strength = ln.strength;
             out->applies = 0;
-            out->pst = cdsp_profile_fit(&img, ln.l, pin, (const cdsp_real(*)[2])ends, &pp, &fws.profile, &pr);
+            out->pst = sup_edge_profile(e, &img, &ln, npipe, &pp, &fws.profile, &pr);
             if (out->pst == CDSP_OK) {
                 out->applies = cdsp_profile_applies(&pr, &pp, ep.half_window);
                 out->model = out->line + (out->applies ? (double)pr.offset : 0);

@@ -526,3 +526,23 @@ int sup_edge_line(const sup_edge_spec *e, const cdsp_image *img, cdsp_edge *pts,
     *m = k;
     return 1;
 }
+
+cdsp_status sup_edge_profile(const sup_edge_spec *e, const cdsp_image *img, const cdsp_line *ln,
+                             const double n_pipe[2], const cdsp_profile_params *pp, cdsp_profile_ws *ws,
+                             cdsp_profile *pr)
+{
+    double c0[2];
+    cdsp_real ends[2][2], pin[2];
+    int j;
+    c0[0] = (e->width - 1) / 2.0 + e->offset_px * n_pipe[0];
+    c0[1] = (e->height - 1) / 2.0 + e->offset_px * n_pipe[1];
+    for (j = 0; j < 2; j++) {
+        cdsp_real t = j ? ln->t_max : ln->t_min;
+        ends[j][0] = ln->centroid[0] + t * ln->dir[0];
+        ends[j][1] = ln->centroid[1] + t * ln->dir[1];
+    }
+    /* the pipe's middle: its distance is the limb's radius */
+    pin[0] = (cdsp_real)(c0[0] + e->radius_px * n_pipe[0]);
+    pin[1] = (cdsp_real)(c0[1] + e->radius_px * n_pipe[1]);
+    return cdsp_profile_fit(img, ln->l, pin, (const cdsp_real(*)[2])ends, pp, ws, pr);
+}

@@ -128,6 +128,13 @@ double sup_edge_u(const sup_edge_spec *e, double x, double y);
  * *m receives the line's points (pts[0..m)). 0 when fewer than 20. */
 int sup_edge_line(const sup_edge_spec *e, const cdsp_image *img, cdsp_edge *pts, size_t cap, size_t *m,
                   cdsp_line *ln);
+/* The edge-profile model fitted along that line's extent (its inliers'
+ * t_min..t_max), the pipe's middle radius_px from the silhouette's point
+ * at the frame's centre along n_pipe (sup_edge_render's): as the frame
+ * path calls it. */
+cdsp_status sup_edge_profile(const sup_edge_spec *e, const cdsp_image *img, const cdsp_line *ln,
+                             const double n_pipe[2], const cdsp_profile_params *pp, cdsp_profile_ws *ws,
+                             cdsp_profile *pr);
 
 /* Monotonic time in seconds. */
 double sup_now(void);

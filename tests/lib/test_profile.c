@@ -366,10 +366,8 @@ static int detector_bound(const sup_edge_spec *e, double *bias, double *bound, c
     cdsp_image img;
     cdsp_profile_params pp;
     cdsp_line ln;
-    cdsp_real ends[2][2], pin[2];
     double np[2], l[3], c0[2], d;
     size_t m = 0;
-    int j;
     void *buf = sup_edge_render(e, &img, np, l);
     assert_non_null(buf);
     if (!sup_edge_line(e, &img, pts, 4096, &m, &ln)) {
@@ -380,15 +378,8 @@ static int detector_bound(const sup_edge_spec *e, double *bias, double *bound, c
     c0[1] = (e->height - 1) / 2.0 + e->offset_px * np[1];
     d = (double)ln.l[0] * c0[0] + (double)ln.l[1] * c0[1] + (double)ln.l[2];
     *bias = sup_edge_u(e, c0[0] - d * (double)ln.l[0], c0[1] - d * (double)ln.l[1]);
-    for (j = 0; j < 2; j++) {
-        cdsp_real t = j ? ln.t_max : ln.t_min;
-        ends[j][0] = ln.centroid[0] + t * ln.dir[0];
-        ends[j][1] = ln.centroid[1] + t * ln.dir[1];
-    }
-    pin[0] = (cdsp_real)(c0[0] + e->radius_px * np[0]);
-    pin[1] = (cdsp_real)(c0[1] + e->radius_px * np[1]);
     cdsp_profile_params_default(&pp);
-    if (cdsp_profile_fit(&img, ln.l, pin, (const cdsp_real(*)[2])ends, &pp, &pws, pr) != CDSP_OK)
+    if (sup_edge_profile(e, &img, &ln, np, &pp, &pws, pr) != CDSP_OK)
         pr->rows = 0; /* as the frame path: a model that did not fit has no rows */
     *bound = (double)cdsp_profile_bound(pr, &pp);
     free(buf);
