@@ -702,7 +702,7 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius,
  * The frame's size must equal the calibration's (CDSP_E_ARG otherwise).
  * CDSP_E_NO_PIPE also when a contour of the pose has points scattered
  * beyond the frame's noise (rms above 1.5 x 3 sigma / step and more than
- * 0.25 px beyond it, lib/frame.c): its line, and any sigma or bound from
+ * 0.2 px beyond it, lib/frame.c): its line, and any sigma or bound from
  * it, would not hold (issue 12: the shadowed limb at ambient 0.4).
  * out->edge_bound and bound_* (CDSP_FLAG_BOUND): the systematic bound.
  */

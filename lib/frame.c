@@ -216,14 +216,18 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
  * and poses 13-170 mm off, on some frames beyond sigma plus the systematic
  * bound (cdsp_result.bound_*: 47 mm off with 0.3 + 8.4 mm). The worst
  * clean contour, p3 at 45 degrees, is 0.043-0.048 px at 1.2-2.0 e (the
- * detector's phase ripple), 0.02 px beyond e. Such a line says nothing
+ * detector's phase ripple), 0.02 px beyond e. With the second light
+ * (-0.6, 0.3, -0.75) at ambient 0.4, p1's shadowed limb: 0.256 px at 2.3
+ * e, 0.23 px beyond it, a distance 2.60 mm off with sigma 0.05 + bound
+ * 2.39 mm: SCATTER_PX is 0.2, not 0.25, so that it is refused too (a
+ * clean contour is 0.02-0.04 px beyond e). Such a line says nothing
  * reliable about where the silhouette is, so neither its sigma nor a
  * bound computed from it would hold: the pose is not reported
  * (CDSP_E_NO_PIPE). J: the mean step of the contour's inliers
  * (ws->label == out->label[k]).
  */
 #define SCATTER_E 1.5
-#define SCATTER_PX 0.25
+#define SCATTER_PX 0.2
 static int contours_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, cdsp_real sigma)
 {
     int k;
