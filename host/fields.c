@@ -42,6 +42,19 @@
 #define F_SIGMA_DISTANCE                                                                           \
     {"sigma.distance", CDSP_HOST_FIELD_REAL, R(sigma_distance), 0,                                 \
      "standard deviation of distance"}
+/* issue 12: the systematic part, a bound and not a sigma (include/cdsp.h) */
+#define F_BOUND_POINT                                                                              \
+    {"bound.point", CDSP_HOST_FIELD_VEC3, R(bound_point), 0,                                       \
+     "systematic bound on point's error (not a sigma; 0 when not measured)"}
+#define F_BOUND_DIRECTION                                                                          \
+    {"bound.direction", CDSP_HOST_FIELD_VEC3, R(bound_direction), 0,                               \
+     "systematic bound on direction's error (not a sigma)"}
+#define F_BOUND_DISTANCE                                                                           \
+    {"bound.distance", CDSP_HOST_FIELD_REAL, R(bound_distance), 0,                                 \
+     "systematic bound on distance's error (not a sigma)"}
+#define F_BOUND_EDGE                                                                               \
+    {"bound.edge", CDSP_HOST_FIELD_PAIR, R(edge_bound), 0,                                         \
+     "systematic bound on each contour line's offset from its silhouette, px"}
 #define F_CONFIDENCE                                                                               \
     {"confidence", CDSP_HOST_FIELD_REAL, R(confidence), 0,                                         \
      "0..1, how sure libcdsp is that this is the pipe (include/cdsp.h, \"The pair score\")"}
@@ -58,6 +71,10 @@ static const cdsp_host_field pose_fields[] = {
     F_SIGMA_POINT,
     F_SIGMA_DIRECTION,
     F_SIGMA_DISTANCE,
+    F_BOUND_POINT,
+    F_BOUND_DIRECTION,
+    F_BOUND_DISTANCE,
+    F_BOUND_EDGE,
     {"edges", CDSP_HOST_FIELD_COUNT, R(n_edges), 0, "edge points considered"},
     {"tracked", CDSP_HOST_FIELD_FLAG, R(flags), CDSP_FLAG_TRACKED,
      "found in the bands around the previous frame's contours"},
@@ -77,6 +94,10 @@ static const cdsp_host_field pipe_fields[] = {
     F_SIGMA_POINT,
     F_SIGMA_DIRECTION,
     F_SIGMA_DISTANCE,
+    F_BOUND_POINT,
+    F_BOUND_DIRECTION,
+    F_BOUND_DISTANCE,
+    F_BOUND_EDGE,
     {"confidence", CDSP_HOST_FIELD_REAL, R(confidence), 0,
      "0..1, how sure libcdsp is that this band is a pipe (its evidence)"},
     F_LINES,

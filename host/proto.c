@@ -27,20 +27,26 @@ enum {
     /* version 2 */
     OFF_POINT_BODY = 320, OFF_DIR_BODY = 344, OFF_CONF = 368, OFF_END_V2 = 376,
     /* version 3: the pipe list's header, then the entries */
-    OFF_NPIPES = 376, OFF_PIPE_SIZE = 378, OFF_END = 380
+    OFF_NPIPES = 376, OFF_PIPE_SIZE = 378, OFF_END_V3 = 380,
+    /* version 4: the systematic bounds (issue 12), then the entries */
+    OFF_BOUND_P = 380, OFF_BOUND_D = 404, OFF_BOUND_DIST = 428, OFF_EDGE_BOUND = 436, OFF_END = 452
 };
 
 /* Offsets inside one pipe entry. */
 enum {
     PIPE_POINT = 0, PIPE_DIR = 24, PIPE_DIST = 48, PIPE_SEGMENT = 56, PIPE_SIG_P = 104,
     PIPE_SIG_D = 128, PIPE_SIG_DIST = 152, PIPE_CONF = 160, PIPE_LINES = 168, PIPE_INLIERS = 216,
-    PIPE_TRACK = 224, PIPE_RESERVED = 228, PIPE_END = 232
+    PIPE_TRACK = 224, PIPE_RESERVED = 228, PIPE_END_V3 = 232,
+    /* version 4 */
+    PIPE_BOUND_P = 232, PIPE_BOUND_D = 256, PIPE_BOUND_DIST = 280, PIPE_EDGE_BOUND = 288, PIPE_END = 304
 };
 
 typedef char proto_size_check[OFF_END == CDSPD_PROTO_SIZE ? 1 : -1];
 typedef char proto_size_v2_check[OFF_END_V2 == CDSPD_PROTO_SIZE_V2 ? 1 : -1];
 typedef char proto_pipe_check[PIPE_END == CDSPD_PROTO_PIPE_SIZE ? 1 : -1];
 typedef char proto_size_v1_check[OFF_END_V1 == CDSPD_PROTO_SIZE_V1 ? 1 : -1];
+typedef char proto_size_v3_check[OFF_END_V3 == CDSPD_PROTO_SIZE_V3 ? 1 : -1];
+typedef char proto_pipe_v3_check[PIPE_END_V3 == CDSPD_PROTO_PIPE_SIZE_V3 ? 1 : -1];
 
 const char *cdspd_status_token(int status)
 {
@@ -93,6 +99,13 @@ void cdspd_record_set_result(cdspd_record *r, const cdsp_result *res)
     r->inliers[1] = res->inliers[1];
     r->n_edges = res->n_edges;
     r->confidence = (double)res->confidence;
+    for (i = 0; i < 3; i++) {
+        r->bound_point[i] = (double)res->bound_point[i];
+        r->bound_direction[i] = (double)res->bound_direction[i];
+    }
+    r->bound_distance = (double)res->bound_distance;
+    r->edge_bound[0] = (double)res->edge_bound[0];
+    r->edge_bound[1] = (double)res->edge_bound[1];
     r->flags &= ~(CDSPD_FLAG_TRACKED | CDSPD_FLAG_FULL_SEARCH | CDSPD_FLAG_TRUNCATED);
     if (res->flags & CDSP_FLAG_TRACKED)
         r->flags |= CDSPD_FLAG_TRACKED;
@@ -125,6 +138,13 @@ void cdspd_record_to_result(const cdspd_record *r, cdsp_result *res)
     res->inliers[1] = r->inliers[1];
     res->n_edges = r->n_edges;
     res->confidence = (cdsp_real)r->confidence;
+    for (i = 0; i < 3; i++) {
+        res->bound_point[i] = (cdsp_real)r->bound_point[i];
+        res->bound_direction[i] = (cdsp_real)r->bound_direction[i];
+    }
+    res->bound_distance = (cdsp_real)r->bound_distance;
+    res->edge_bound[0] = (cdsp_real)r->edge_bound[0];
+    res->edge_bound[1] = (cdsp_real)r->edge_bound[1];
     if (r->flags & CDSPD_FLAG_TRACKED)
         res->flags |= CDSP_FLAG_TRACKED;
     if (r->flags & CDSPD_FLAG_FULL_SEARCH)
@@ -219,7 +239,12 @@ void cdspd_record_set_pipes(cdspd_record *r, const cdsp_result *res, size_t n)
             p->sigma_direction[i] = (double)s->sigma_direction[i];
             p->lines[0][i] = (double)s->lines[0][i];
             p->lines[1][i] = (double)s->lines[1][i];
+            p->bound_point[i] = (double)s->bound_point[i];
+            p->bound_direction[i] = (double)s->bound_direction[i];
         }
+        p->bound_distance = (double)s->bound_distance;
+        p->edge_bound[0] = (double)s->edge_bound[0];
+        p->edge_bound[1] = (double)s->edge_bound[1];
         p->distance = (double)s->distance;
         p->sigma_distance = (double)s->sigma_distance;
         p->confidence = (double)s->confidence;
@@ -242,7 +267,12 @@ void cdspd_pipe_to_result(const cdspd_pipe *p, cdsp_result *res)
         res->sigma_direction[i] = (cdsp_real)p->sigma_direction[i];
         res->lines[0][i] = (cdsp_real)p->lines[0][i];
         res->lines[1][i] = (cdsp_real)p->lines[1][i];
+        res->bound_point[i] = (cdsp_real)p->bound_point[i];
+        res->bound_direction[i] = (cdsp_real)p->bound_direction[i];
     }
+    res->bound_distance = (cdsp_real)p->bound_distance;
+    res->edge_bound[0] = (cdsp_real)p->edge_bound[0];
+    res->edge_bound[1] = (cdsp_real)p->edge_bound[1];
     res->distance = (cdsp_real)p->distance;
     res->sigma_distance = (cdsp_real)p->sigma_distance;
     res->confidence = (cdsp_real)p->confidence;
@@ -292,6 +322,10 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
     put_f64(b + OFF_CONF, r->confidence);
     put_u16(b + OFF_NPIPES, (uint16_t)np);
     put_u16(b + OFF_PIPE_SIZE, CDSPD_PROTO_PIPE_SIZE);
+    put_f64s(b + OFF_BOUND_P, r->bound_point, 3);
+    put_f64s(b + OFF_BOUND_D, r->bound_direction, 3);
+    put_f64(b + OFF_BOUND_DIST, r->bound_distance);
+    put_f64s(b + OFF_EDGE_BOUND, r->edge_bound, 2);
     for (k = 0; k < np; k++) {
         uint8_t *e = b + CDSPD_PROTO_SIZE + (size_t)k * CDSPD_PROTO_PIPE_SIZE;
         const cdspd_pipe *p = &r->pipe[k];
@@ -308,6 +342,10 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
         put_u32(e + PIPE_INLIERS + 4, p->inliers[1]);
         put_u32(e + PIPE_TRACK, p->track_id);
         put_u32(e + PIPE_RESERVED, 0);
+        put_f64s(e + PIPE_BOUND_P, p->bound_point, 3);
+        put_f64s(e + PIPE_BOUND_D, p->bound_direction, 3);
+        put_f64(e + PIPE_BOUND_DIST, p->bound_distance);
+        put_f64s(e + PIPE_EDGE_BOUND, p->edge_bound, 2);
     }
     return total;
 }
@@ -331,13 +369,15 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         *why = "not a cdspd datagram (no CDSP magic)";
         return -1;
     }
-    if (b[OFF_VERSION] != CDSPD_PROTO_VERSION && b[OFF_VERSION] != 2 && b[OFF_VERSION] != 1) {
+    if (b[OFF_VERSION] != CDSPD_PROTO_VERSION && b[OFF_VERSION] != 3 && b[OFF_VERSION] != 2 &&
+        b[OFF_VERSION] != 1) {
         *why = "unsupported protocol version";
         return -1;
     }
     length = get_u16(b + OFF_LENGTH);
     if (length < (b[OFF_VERSION] == 1   ? CDSPD_PROTO_SIZE_V1
                   : b[OFF_VERSION] == 2 ? CDSPD_PROTO_SIZE_V2
+                  : b[OFF_VERSION] == 3 ? CDSPD_PROTO_SIZE_V3
                                         : CDSPD_PROTO_SIZE) ||
         len < length) {
         *why = "truncated datagram";
@@ -381,16 +421,24 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         get_f64s(b + OFF_DIR_BODY, r->direction_body, 3);
         r->confidence = get_f64(b + OFF_CONF);
     }
+    if (r->version >= 4) {
+        get_f64s(b + OFF_BOUND_P, r->bound_point, 3);
+        get_f64s(b + OFF_BOUND_D, r->bound_direction, 3);
+        r->bound_distance = get_f64(b + OFF_BOUND_DIST);
+        get_f64s(b + OFF_EDGE_BOUND, r->edge_bound, 2);
+    }
     if (r->version >= 3) {
         uint16_t np = get_u16(b + OFF_NPIPES), esz = get_u16(b + OFF_PIPE_SIZE), k;
-        if (np > CDSP_MAX_PIPES || esz < CDSPD_PROTO_PIPE_SIZE ||
-            (size_t)length < CDSPD_PROTO_SIZE + (size_t)np * esz) {
+        /* version 3's entries follow its 380 bytes and are 232 long */
+        size_t fixed = r->version >= 4 ? CDSPD_PROTO_SIZE : CDSPD_PROTO_SIZE_V3;
+        uint16_t esz_min = r->version >= 4 ? CDSPD_PROTO_PIPE_SIZE : CDSPD_PROTO_PIPE_SIZE_V3;
+        if (np > CDSP_MAX_PIPES || esz < esz_min || (size_t)length < fixed + (size_t)np * esz) {
             *why = np > CDSP_MAX_PIPES ? "more pipes than a record holds" : "truncated pipe list";
             return -1;
         }
         r->n_pipes = np;
         for (k = 0; k < np; k++) {
-            const uint8_t *e = b + CDSPD_PROTO_SIZE + (size_t)k * esz;
+            const uint8_t *e = b + fixed + (size_t)k * esz;
             cdspd_pipe *p = &r->pipe[k];
             get_f64s(e + PIPE_POINT, p->point, 3);
             get_f64s(e + PIPE_DIR, p->direction, 3);
@@ -404,7 +452,14 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
             p->inliers[0] = get_u32(e + PIPE_INLIERS);
             p->inliers[1] = get_u32(e + PIPE_INLIERS + 4);
             p->track_id = get_u32(e + PIPE_TRACK);
-            if (!finite_n(p->point, 3) || !finite_n(p->direction, 3) || !finite_n(&p->distance, 1) ||
+            if (r->version >= 4) {
+                get_f64s(e + PIPE_BOUND_P, p->bound_point, 3);
+                get_f64s(e + PIPE_BOUND_D, p->bound_direction, 3);
+                p->bound_distance = get_f64(e + PIPE_BOUND_DIST);
+                get_f64s(e + PIPE_EDGE_BOUND, p->edge_bound, 2);
+            }
+            if (!finite_n(p->bound_point, 3) || !finite_n(p->bound_direction, 3) ||
+                !finite_n(&p->bound_distance, 1) || !finite_n(p->edge_bound, 2) || !finite_n(p->point, 3) || !finite_n(p->direction, 3) || !finite_n(&p->distance, 1) ||
                 !finite_n(&p->segment[0][0], 6) || !finite_n(p->sigma_point, 3) ||
                 !finite_n(p->sigma_direction, 3) || !finite_n(&p->sigma_distance, 1) ||
                 !finite_n(&p->confidence, 1) || !finite_n(&p->lines[0][0], 6)) {
@@ -432,7 +487,8 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         !finite_n(&r->segment[0][0], 6) || !finite_n(r->sigma_point, 3) ||
         !finite_n(r->sigma_direction, 3) || !finite_n(&r->sigma_distance, 1) ||
         !finite_n(r->rms, 2) || !finite_n(r->point_body, 3) || !finite_n(r->direction_body, 3) ||
-        !finite_n(&r->confidence, 1)) {
+        !finite_n(&r->confidence, 1) || !finite_n(r->bound_point, 3) || !finite_n(r->bound_direction, 3) ||
+        !finite_n(&r->bound_distance, 1) || !finite_n(r->edge_bound, 2)) {
         *why = "a number in the record is not finite";
         return -1;
     }
@@ -631,6 +687,17 @@ static int jcounts(json_object *o, cdspd_record *r)
     return json_object_object_get_ex(o, "edges", &x) && ju32_of(x, &r->n_edges);
 }
 
+/* "bound" (version 4, issue 12): absent from an older cdspd's datagram
+ * (then zero); when present, every member a finite number. */
+static int jbound(json_object *o, double point[3], double direction[3], double *distance, double edge[2])
+{
+    json_object *x;
+    if (!json_object_object_get_ex(o, "bound", &x))
+        return 1;
+    return json_object_is_type(x, json_type_object) && jkvec(x, "point", point, 3) &&
+           jkvec(x, "direction", direction, 3) && jnum(x, "distance", distance) && jkvec(x, "edge", edge, 2);
+}
+
 /* One entry of "pipes" (cdsp_host_pipe_fields' names). */
 static int jpipe(json_object *o, cdspd_pipe *p)
 {
@@ -642,6 +709,8 @@ static int jpipe(json_object *o, cdspd_pipe *p)
     if (!ok || !json_object_object_get_ex(o, "sigma", &x) ||
         !jkvec(x, "point", p->sigma_point, 3) || !jkvec(x, "direction", p->sigma_direction, 3) ||
         !jnum(x, "distance", &p->sigma_distance))
+        return 0;
+    if (!jbound(o, p->bound_point, p->bound_direction, &p->bound_distance, p->edge_bound))
         return 0;
     if (!json_object_object_get_ex(o, "inliers", &x) || !json_object_is_type(x, json_type_array) ||
         json_object_array_length(x) != 2 || !ju32_of(json_object_array_get_idx(x, 0), &p->inliers[0]) ||
@@ -722,7 +791,8 @@ int cdspd_proto_decode_json(const char *text, size_t len, cdspd_record *r, const
             r->flags |= CDSPD_FLAG_FULL_SEARCH;
         if (jbool(o, "truncated"))
             r->flags |= CDSPD_FLAG_TRUNCATED;
-        ok = ok && jnum(o, "confidence", &r->confidence);
+        ok = ok && jnum(o, "confidence", &r->confidence) &&
+             jbound(o, r->bound_point, r->bound_direction, &r->bound_distance, r->edge_bound);
     } else {
         int st = 0;
         if (strcmp(status, "error") || !error || !cdspd_status_from_token(error, &st) || st == 0)

@@ -18,13 +18,17 @@
 #include "cdsp.h"
 
 #define CDSPD_PROTO_MAGIC "CDSP"
-#define CDSPD_PROTO_VERSION 3
-#define CDSPD_PROTO_SIZE 380     /* bytes of a version-3 record without pipes */
+#define CDSPD_PROTO_VERSION 4
+#define CDSPD_PROTO_SIZE 452     /* bytes of a version-4 record without pipes */
+#define CDSPD_PROTO_SIZE_V3 380  /* bytes of a version-3 record without pipes (still decoded) */
 #define CDSPD_PROTO_SIZE_V2 376  /* bytes of a version-2 record (still decoded) */
 #define CDSPD_PROTO_SIZE_V1 320  /* bytes of a version-1 record (still decoded) */
 /* Version 3 (issue 13): after the version-2 fields, a pipe count and the
- * size of one pipe entry, then that many entries (docs/protocol.md). */
-#define CDSPD_PROTO_PIPE_SIZE 232
+ * size of one pipe entry, then that many entries (docs/protocol.md).
+ * Version 4 (issue 12): the systematic bounds appended to the fixed part
+ * (so the entries start at 452) and to each entry. */
+#define CDSPD_PROTO_PIPE_SIZE 304
+#define CDSPD_PROTO_PIPE_SIZE_V3 232
 #define CDSPD_PROTO_MAX_SIZE (CDSPD_PROTO_SIZE + CDSP_MAX_PIPES * CDSPD_PROTO_PIPE_SIZE)
 
 /* kind */
@@ -54,6 +58,8 @@ typedef struct {
     double lines[2][3];
     uint32_t inliers[2];
     uint32_t track_id;         /* kept from frame to frame while the pipe is in view */
+    /* version 4: cdsp_result's systematic bounds (not sigmas; 0 from older versions) */
+    double bound_point[3], bound_direction[3], bound_distance, edge_bound[2];
 } cdspd_pipe;
 
 typedef struct {
@@ -97,6 +103,10 @@ typedef struct {
      * (pipe[0] is the pose above); 0 pipes otherwise or without a pose */
     uint32_t n_pipes;
     cdspd_pipe pipe[CDSP_MAX_PIPES];
+    /* version 4: the systematic part of the error, a bound and not a sigma
+     * (cdsp_result.bound_*, edge_bound px); meaningful when status == 0,
+     * zero otherwise and from older versions */
+    double bound_point[3], bound_direction[3], bound_distance, edge_bound[2];
 } cdspd_record;
 
 /* Short stable token of a status: the library's (cdsp_status_token) or
@@ -122,9 +132,9 @@ void cdspd_pipe_to_result(const cdspd_pipe *p, cdsp_result *res);
 size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *buf, size_t cap);
 
 /* Binary: 0 and *r filled, or -1 with *why set ("bad magic", ...).
- * Accepts version 3 records (their length covering the pipe entries; a
- * larger entry size than CDSPD_PROTO_PIPE_SIZE is a later addition and
- * its tail is skipped), version 2 records of CDSPD_PROTO_SIZE_V2 bytes or
+ * Accepts version 4 and 3 records (their length covering the pipe
+ * entries; a larger entry size than the version's is a later addition and
+ * its tail is skipped; version 3 has no bounds), version 2 records of CDSPD_PROTO_SIZE_V2 bytes or
  * longer (no pipes), and version 1 records of CDSPD_PROTO_SIZE_V1 bytes or
  * longer (the body-frame fields then zero). */
 int cdspd_proto_decode(const uint8_t *buf, size_t len, cdspd_record *r, const char **why);

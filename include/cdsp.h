@@ -421,6 +421,21 @@ typedef struct {
                                 frame while it stays in view (1, 2, ...);
                                 0 without a tracker and from the single-pipe
                                 calls */
+    /* Since issue 12: the systematic part, a BOUND, NOT A SIGMA (frame path,
+     * CDSP_FLAG_BOUND; all 0 without it). edge_bound[k]: contour k's line
+     * may be off its silhouette by up to this, undistorted px
+     * (cdsp_profile_bound). The pose's bounds: the worst case of both
+     * contours shifted by up to their edge_bound through the pose's
+     * first-order Jacobian (the one cov uses): |d point[i]| <=
+     * bound_point[i] and |d distance| <= bound_distance (radius units),
+     * |d direction[i]| <= bound_direction[i] (unit vector components).
+     * The error of a pose is within sigma (random, ~68 % per component) plus
+     * the bound (systematic); the bound holds neither calibration nor the
+     * radius (README "Accuracy"). */
+    cdsp_real edge_bound[2];
+    cdsp_real bound_point[3];
+    cdsp_real bound_direction[3];
+    cdsp_real bound_distance;
 } cdsp_result;
 
 #define CDSP_FLAG_TRACKED 1u     /* found in the bands around the prior */
@@ -433,6 +448,9 @@ typedef struct {
 #define CDSP_FLAG_CAPPED 16u     /* max_lines lines were extracted while enough
                                     free points for another remained: a contour
                                     may not have been considered */
+#define CDSP_FLAG_BOUND 32u      /* edge_bound and bound_* were measured (frame
+                                    path: the edge-profile model fitted, or
+                                    tried, on both contours) */
 
 /*
  * The pair score (issue 10; lib/pair.c; docs/method.md §4). Every pair of
@@ -570,7 +588,9 @@ typedef struct {
     cdsp_real contrast;     /* pipe minus background at the silhouette, gray levels */
     cdsp_real half_width;   /* window half-width used, px */
     cdsp_real fit_chi2;     /* pipe side's chi-square per degree of freedom
-                               against the pixels' noise (<~1: the model fits) */
+                               against the pixels' noise, floored at 0.2 % of
+                               the step (<~1: the model fits; 1e6: no bins
+                               beyond the blur zone, not checked) */
     int flat;               /* 1: the limb term is not significant
                                (F-test): the pipe side is a straight ramp,
                                which the detector handles exactly */
@@ -580,6 +600,12 @@ typedef struct {
                                (ambient light only) from the silhouette to
                                this distance, px (the terminator); 0: lit
                                up to the limb */
+    /* Since issue 12 (the systematic bound, cdsp_profile_bound): */
+    cdsp_real noise;        /* the pixels' noise measured on the sides' bins,
+                               gray levels (sd of one pixel) */
+    int blur_clamped;       /* 1: the measured spread hit its largest value
+                               (a quarter of the profile's half-width): the
+                               edge is no blurred step this window holds */
 } cdsp_profile;
 
 /*
@@ -604,6 +630,16 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3],
  * 4.66, docs/method.md §2a); 0 keeps the detector's line. */
 int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp,
                          int detector_half_window);
+
+/* The systematic bound of a contour line (issue 12), px: how far the line
+ * the frame path reports (the detector's, or the model's when it moved it)
+ * may be from the silhouette for reasons the random part (cov, sigma_*)
+ * does not hold: the edge's shape. A bound, not a sigma: calibrated on
+ * make bench-accuracy's grid to cover the measured bias in >= 95 % of its
+ * cells (lib/profile.c gives the rule and the figures). pr: the profile
+ * fitted along the line (pr->rows == 0 or NULL: not fitted, the bound is
+ * then half of pp->max_half_width_px). 0 when pp is NULL. */
+cdsp_real cdsp_profile_bound(const cdsp_profile *pr, const cdsp_profile_params *pp);
 
 typedef struct {
     cdsp_edge_params edge;
@@ -728,6 +764,11 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius,
  * the frame); if that yields too few inliers or no pipe, a full search
  * follows. out->flags tells which path produced the result.
  * The frame's size must equal the calibration's (CDSP_E_ARG otherwise).
+ * CDSP_E_NO_PIPE also when a contour of the pose has points scattered
+ * beyond the frame's noise (rms above 1.5 x 3 sigma / step and more than
+ * 0.2 px beyond it, lib/frame.c): its line, and any sigma or bound from
+ * it, would not hold (issue 12: the shadowed limb at ambient 0.4).
+ * out->edge_bound and bound_* (CDSP_FLAG_BOUND): the systematic bound.
  */
 cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam,
                              cdsp_real radius, const cdsp_params *p,

@@ -130,6 +130,9 @@ void cdsp__axis_swap(cdsp_result *r)
         t = r->edge_blur[0];
         r->edge_blur[0] = r->edge_blur[1];
         r->edge_blur[1] = t;
+        t = r->edge_bound[0];
+        r->edge_bound[0] = r->edge_bound[1];
+        r->edge_bound[1] = t;
     }
     /* cov(point, direction) changes sign with the direction; so do the
      * factor's direction rows, and its columns follow their contour */

@@ -148,7 +148,8 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
  * line it could not model), and how many of the two it modelled. */
 typedef struct {
     cdsp_real offset[2], blur[2];
-    int profiled;
+    cdsp_real bound[2]; /* cdsp_result.edge_bound, valid when bounded */
+    int profiled, bounded;
 } cdsp__pair_refined;
 /* The ranking of set's scored pairs into cand (confidences included; the
  * best pair in *best, the candidates' number in *n_cand; CDSP_E_NO_PIPE when

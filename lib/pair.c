@@ -662,6 +662,37 @@ static void propagate(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp_l
     out->sigma_distance = R_SQRT(cov7[6][6]);
 }
 
+/* The systematic bound through the pose (issue 12): each contour k shifted
+ * along its normal by up to eb[k] px, worst case of the two, through the
+ * same first-order Jacobian as propagate() (axis_change, exact to first
+ * order for a shift of the homogeneous line). A bias the same at every
+ * point of a contour is a shift, not a turn, so only the offsets enter. */
+static void bound_propagate(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp_line *L[2],
+                            const cdsp_real eb[2], cdsp_result *out)
+{
+    cdsp_real acc[7] = {0, 0, 0, 0, 0, 0, 0}, u[3], w[3];
+    int k, i;
+    for (i = 0; i < 3; i++)
+        u[i] = ax->point[i] / ax->distance;
+    v3_cross(ax->direction, u, w);
+    for (k = 0; k < 2; k++) {
+        cdsp_real dl[3], J[7];
+        if (!(eb[k] > R(0)))
+            continue;
+        dl[0] = R(0);
+        dl[1] = R(0);
+        dl[2] = -eb[k]; /* l[2] -> l[2] - eb: the line moved by eb along its unit normal */
+        axis_change(cam, ax, L[k]->l, k, dl, u, w, J, J + 3, J + 6);
+        for (i = 0; i < 7; i++)
+            acc[i] += R_FABS(J[i]);
+    }
+    for (i = 0; i < 3; i++) {
+        out->bound_point[i] = acc[i];
+        out->bound_direction[i] = acc[3 + i];
+    }
+    out->bound_distance = acc[6];
+}
+
 /* Parameter s of the axis point closest to the ray through undistorted
  * pixel q (closest points of two lines). */
 static int axis_param_of_pixel(const cdsp_camera *cam, const cdsp_result *r, const cdsp_real q[2],
@@ -963,14 +994,18 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, size_t n
     out->label[1] = (uint8_t)(c->j + 1);
     out->n_edges = (uint32_t)n;
     out->flags = (set->capped ? CDSP_FLAG_CAPPED : 0u) |
-                 (ref && ref->profiled == 2 ? CDSP_FLAG_PROFILE : 0u);
+                 (ref && ref->profiled == 2 ? CDSP_FLAG_PROFILE : 0u) |
+                 (ref && ref->bounded ? CDSP_FLAG_BOUND : 0u);
     for (i = 0; i < 2; i++) {
         out->edge_offset[i] = ref ? ref->offset[i] : R(0);
         out->edge_blur[i] = ref ? ref->blur[i] : R(0);
+        out->edge_bound[i] = ref && ref->bounded ? ref->bound[i] : R(0);
     }
     out->score = c->score;
     out->n_lines = (uint32_t)set->nlines;
     propagate(cam, &ax, L, out);
+    if (ref && ref->bounded) /* the frame path's: the points carry no profile */
+        bound_propagate(cam, &ax, L, out->edge_bound, out);
     visible_segment(cam, L, out);
     return CDSP_OK;
 }

@@ -40,13 +40,16 @@ static const char listen_description[] =
     "    line per datagram:\n"
     "\n"
     "      #SEQ  frame N  ok  P_C (x y z) +-(sx sy sz)  v_L (x y z)  d D\n"
-    "            conf C  inliers n1/n2  solve T ms  latency T ms  [tracked]\n"
-    "            dropped K\n"
+    "            +-S bound B  conf C  inliers n1/n2  solve T ms  latency T ms\n"
+    "            [tracked]  dropped K\n"
     "\n"
     "    P_C is the foot of the perpendicular from the camera onto the pipe's\n"
     "    axis and v_L the axis direction, in the camera frame (X right, Y down,\n"
     "    Z forward), in the unit of the radius cdspd was given; +- are the\n"
-    "    standard deviations; \"tracked\" marks a frame solved in the bands\n"
+    "    standard deviations; S the distance's standard deviation and B the\n"
+    "    bound on its systematic error (a bound, not a sigma: the error is\n"
+    "    within about S + B; 0 from a cdspd older than protocol version 4);\n"
+    "    \"tracked\" marks a frame solved in the bands\n"
     "    around the previous pose. A frame without a pipe prints its status\n"
     "    token (no-pipe, few-points, bad-frame, ...) instead of a pose, and a\n"
     "    status datagram (no-frame: the source is open but silent;\n"
@@ -153,10 +156,10 @@ static void format_human(const cdspd_record *r, char *out, size_t cap)
     }
     snprintf(out, cap,
              "%s ok  P_C (%8.2f %8.2f %8.2f) +-(%.2f %.2f %.2f)  v_L (%6.3f %6.3f %6.3f)  d %7.2f  "
-             "conf %.2f  inliers %u/%u  solve %.2f ms  latency %.2f ms%s  dropped %lu",
+             "+-%.3f bound %.3f  conf %.2f  inliers %u/%u  solve %.2f ms  latency %.2f ms%s  dropped %lu",
              head, r->point[0], r->point[1], r->point[2], r->sigma_point[0], r->sigma_point[1],
              r->sigma_point[2], r->direction[0], r->direction[1], r->direction[2], r->distance,
-             r->confidence, r->inliers[0], r->inliers[1], r->proc_us * 1e-3, r->latency_us * 1e-3,
+             r->sigma_distance, r->bound_distance, r->confidence, r->inliers[0], r->inliers[1], r->proc_us * 1e-3, r->latency_us * 1e-3,
              (r->flags & CDSPD_FLAG_TRACKED) ? "  tracked" : "", (unsigned long)r->frames_dropped);
     if (r->flags & CDSPD_FLAG_MULTI) {
         /* every pipe, on the same line (a record is one line): rank,

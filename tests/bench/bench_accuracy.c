@@ -12,8 +12,11 @@
  *    the mean signed distance of the detector's points from the silhouette
  *    (px, + = into the pipe), and that of the line after the edge-profile
  *    model when the library has it. Every cell goes to a CSV file
- *    (argv[1], default build/bench/accuracy_cells.csv); the worst cells and
- *    the worst per factor are printed.
+ *    (argv[1], default build/bench/accuracy_cells.csv, with the profile's
+ *    fit and the systematic bound); the worst cells and the worst per
+ *    factor are printed, and the bound's coverage (issue 12: the cells
+ *    where |bias| <= cdsp_profile_bound, for the detector's line and the
+ *    moved one) with the median bound / |bias|.
  * 2. Effects on top of a shaded limb: a specular stripe, a saturation
  *    plateau, vignetting (per angle and bits).
  * 3. The paper's scene rendered at 2448 x 2048 (cdsp_render): axis RMSE (mm,
@@ -39,6 +42,11 @@ typedef struct {
     double line;  /* offset of the TLS line through them (at the frame centre), px */
     double model; /* offset of the line after the profile model, px (NAN: none) */
     int n;
+    int pst, applies;
+    cdsp_profile pr;
+    double rms, strength;
+    double bound; /* cdsp_profile_bound of the fitted profile, px (the same for
+                     the detector's line and the moved one) */
 } cell_result;
 
 /* Offsets of one rendered edge; 0 if the detector found too few points. */
@@ -47,45 +55,19 @@ static int measure_edge(const sup_edge_spec *e, cell_result *out)
     cdsp_image img;
     cdsp_edge_params ep;
     double npipe[2], lt[3], sum = 0;
-    size_t n, i, m = 0;
+    size_t i, m = 0;
     cdsp_line ln;
     void *buf = sup_edge_render(e, &img, npipe, lt);
     if (!buf)
         return 0;
-    cdsp_edge_params_default(&ep);
-    ep.min_contrast = (cdsp_real)0.03; /* 10 gray levels at 8 bit are to be found */
-    ep.step = 2;
-    if (cdsp_edges_detect(&img, &ep, pts, MAXPTS, &n) != CDSP_OK)
-        n = 0;
-    for (i = 0; i < n; i++) {
-        double u = sup_edge_u(e, (double)pts[i].x, (double)pts[i].y);
-        if (fabs(u) < 10) /* the contour's points (a blur of 15 px moves them by ~3) */
-            pts[m++] = pts[i];
-    }
+    cdsp_edge_params_default(&ep); /* the detector's window (half_window) for cdsp_profile_applies */
     out->model = NAN;
-    if (m < 20 || cdsp_line_fit(pts, NULL, m, &ln) != CDSP_OK) {
+    if (!sup_edge_line(e, &img, pts, MAXPTS, &m, &ln)) {
         free(buf);
         return 0;
     }
-    {
-        /* as RANSAC would: the points within inlier_px (1 px) of the line,
-         * trimmed in two rounds (2 px, then 1 px), refitted */
-        int round;
-        for (round = 0; round < 2; round++) {
-            size_t k = 0;
-            double lim = round ? 1.0 : 2.0;
-            for (i = 0; i < m; i++)
-                if (fabs((double)(ln.l[0] * pts[i].x + ln.l[1] * pts[i].y + ln.l[2])) < lim)
-                    pts[k++] = pts[i];
-            m = k;
-            if (m < 20 || cdsp_line_fit(pts, NULL, m, &ln) != CDSP_OK) {
-                free(buf);
-                return 0;
-            }
-        }
-        for (i = 0; i < m; i++)
-            sum += sup_edge_u(e, (double)pts[i].x, (double)pts[i].y);
-    }
+    for (i = 0; i < m; i++)
+        sum += sup_edge_u(e, (double)pts[i].x, (double)pts[i].y);
     out->n = (int)m;
     out->det = sum / (double)m;
     {
@@ -99,27 +81,43 @@ static int measure_edge(const sup_edge_spec *e, cell_result *out)
             /* the profile model along the line's inlier extent */
             cdsp_profile_params pp;
             cdsp_profile pr;
-            cdsp_real ends[2][2], pin[2];
-            int j;
             cdsp_profile_params_default(&pp);
-            for (j = 0; j < 2; j++) {
-                cdsp_real t = j ? ln.t_max : ln.t_min;
-                ends[j][0] = ln.centroid[0] + t * ln.dir[0];
-                ends[j][1] = ln.centroid[1] + t * ln.dir[1];
-            }
-            /* the pipe's middle: its distance is the limb's radius */
-            pin[0] = (cdsp_real)(c0[0] + e->radius_px * npipe[0]);
-            pin[1] = (cdsp_real)(c0[1] + e->radius_px * npipe[1]);
             /* as the frame path does: the model's offset where it fits and
              * is needed, else the detector's line */
-            if (cdsp_profile_fit(&img, ln.l, pin, (const cdsp_real(*)[2])ends, &pp, &fws.profile, &pr) == CDSP_OK)
-                out->model = out->line + (cdsp_profile_applies(&pr, &pp, ep.half_window) ? (double)pr.offset : 0);
-            else
+            memset(&pr, 0, sizeof pr);
+            out->rms = ln.rms;
+            out->strength = ln.strength;
+            out->applies = 0;
+            out->pst = sup_edge_profile(e, &img, &ln, npipe, &pp, &fws.profile, &pr);
+            if (out->pst == CDSP_OK) {
+                out->applies = cdsp_profile_applies(&pr, &pp, ep.half_window);
+                out->model = out->line + (out->applies ? (double)pr.offset : 0);
+            } else
                 out->model = out->line;
+            out->pr = pr;
+            /* what the frame path reports: a profile that did not fit has
+             * no rows (cdsp__profile_refine) */
+            if (out->pst != CDSP_OK)
+                pr.rows = 0;
+            out->bound = (double)cdsp_profile_bound(&pr, &pp);
         }
     }
     free(buf);
     return 1;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    if (n == 0)
+        return 0;
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 static const char *shade_name[] = {"flat", "amb0.6 front", "amb0.3 front", "amb0.3 side", "amb0.3 shadowed limb"};
@@ -158,12 +156,18 @@ static void grid(const char *csv_path)
     FILE *csv = fopen(csv_path, "w");
     int s, c, p, b, a, k, cells = 0, missing = 0, lines_ok = 0, within[2] = {0, 0}, within2[2] = {0, 0};
     double worst_det = 0, worst_line = 0, worst_model = 0;
+    /* the systematic bound (issue 12): cells where |bias| <= bound, for the
+     * detector's line (all cells) and the moved one (where the model
+     * applies); bound / |bias| over cells with |bias| > 0.01 px (below,
+     * the ratio says more of the bias than of the bound) */
+    int cov_n[2] = {0, 0}, cov_in[2] = {0, 0}, nrat[2] = {0, 0};
+    static double rat[2][2000];
     char wd[160] = "", wl[160] = "", wm[160] = "";
     double fw_det[5][8], fw_model[5][8]; /* worst |bias| per factor level */
     memset(fw_det, 0, sizeof fw_det);
     memset(fw_model, 0, sizeof fw_model);
     if (csv)
-        fprintf(csv, "shading,contrast,polarity,blur,angle_deg,bits,points,detector_px,line_px,model_px\n");
+        fprintf(csv, "shading,contrast,polarity,blur,angle_deg,bits,points,detector_px,line_px,model_px,pst,applies,offset,sigma_offset,blur_m,contrast_m,half_width,chi2,flat,saturated,shadow,rows,rms,clamped,noise,strength,bound_px\n");
     for (s = 0; s < NS; s++)
         for (c = 0; c < NC; c++)
             for (p = -1; p <= 1; p += 2)
@@ -195,9 +199,24 @@ static void grid(const char *csv_path)
                                 continue;
                             }
                             if (csv)
-                                fprintf(csv, "%s,%g,%d,%s,%g,%d,%d,%.5f,%.5f,%.5f\n", shade_name[s], contrasts[c],
-                                        p, blurs[b].name, angles[a], bitss[k], r.n, r.det, r.line, r.model);
+                                fprintf(csv, "%s,%g,%d,%s,%g,%d,%d,%.5f,%.5f,%.5f,%d,%d,%.5f,%.5f,%.4f,%.3f,%.3f,%.5g,%d,%d,%.3f,%u,%.5f,%d,%.4f,%.3f,%.4f\n", shade_name[s], contrasts[c],
+                                        p, blurs[b].name, angles[a], bitss[k], r.n, r.det, r.line, r.model, r.pst, r.applies,
+                                        (double)r.pr.offset, (double)r.pr.sigma_offset, (double)r.pr.blur, (double)r.pr.contrast,
+                                        (double)r.pr.half_width, (double)r.pr.fit_chi2, r.pr.flat, r.pr.saturated, (double)r.pr.shadow,
+                                        (unsigned)r.pr.rows, r.rms, r.pr.blur_clamped, (double)r.pr.noise, r.strength, r.bound);
                             lines_ok++;
+                            {
+                                int m;
+                                for (m = 0; m < 2; m++) {
+                                    double bias = fabs(m ? r.model : r.line);
+                                    if (m && !r.applies)
+                                        continue;
+                                    cov_n[m]++;
+                                    cov_in[m] += bias <= r.bound;
+                                    if (bias > 0.01 && nrat[m] < 2000)
+                                        rat[m][nrat[m]++] = r.bound / bias;
+                                }
+                            }
                             within[0] += fabs(r.line) <= 0.01;
                             within[1] += fabs(r.model) <= 0.01;
                             within2[0] += fabs(r.line) <= 0.05;
@@ -236,6 +255,15 @@ static void grid(const char *csv_path)
                worst_model, wm, worst_model <= 0.01 ? "met" : "MISSED");
     printf("  cells with a line within 0.01 px: detector %d, model %d; within 0.05 px: %d, %d (of %d)\n", within[0],
            within[1], within2[0], within2[1], lines_ok);
+    {
+        int m;
+        for (m = 0; m < 2; m++)
+            printf("  systematic bound (cdsp_profile_bound), %s: covers |bias| in %d of %d cells (%.1f %%, "
+                   "target >= 95 %%: %s); median bound / |bias| %.2f over the %d cells with |bias| > 0.01 px\n",
+                   m ? "line moved by the model" : "detector's line", cov_in[m], cov_n[m],
+                   cov_n[m] ? 100.0 * cov_in[m] / cov_n[m] : 0.0,
+                   cov_n[m] && cov_in[m] >= 0.95 * cov_n[m] ? "met" : "MISSED", median(rat[m], nrat[m]), nrat[m]);
+    }
     printf("\n  worst |line offset| per factor level (px): detector+line / + model\n");
     {
         int i;
@@ -263,7 +291,7 @@ static void grid(const char *csv_path)
 static void effects(void)
 {
     static const char *names[] = {"none", "specular stripe 4 px in", "saturation plateau", "vignetting 30 %"};
-    int fx, a, k;
+    int fx, a, k, eff_n = 0, eff_in = 0;
     printf("effects on a shaded limb (ambient 0.3, contrast +100, blur 0.7 px): line offset px, "
            "detector+line / + model, per angle (0.7 22.5 45 67.5 89.3) at 8 | 16 bit\n");
     for (fx = 0; fx < 4; fx++) {
@@ -288,14 +316,18 @@ static void effects(void)
                     e.pipe *= 2.2;
                 if (fx == 3)
                     e.vignette = 0.3;
-                if (measure_edge(&e, &r))
+                if (measure_edge(&e, &r)) {
                     printf(" %+.3f/%+.3f", r.line, r.model);
-                else
+                    eff_n++;
+                    eff_in += fabs(r.line) <= r.bound && fabs(r.model) <= r.bound;
+                } else
                     printf("     none    ");
             }
             printf(k == 0 ? "  |" : "\n");
         }
     }
+    printf("  systematic bound (cdsp_profile_bound): covers both lines' |bias| in %d of %d effect cells\n", eff_in,
+           eff_n);
     printf("\n");
 }
 
@@ -311,7 +343,8 @@ static double true_distance(const double P[3], const double v[3])
 /* The paper's scene rendered: mean axis RMSE over its four pipes and the
  * distance bias, for one light. */
 static void paper_scene(const char *what, double ambient, const double light[3], const cdsp_params *prm, int nok[2],
-                        double rmse[2], double dbias_mean[2], double dbias_worst[2])
+                        double rmse[2], double dbias_mean[2], double dbias_worst[2], int ncov[2], int nref[2],
+                        double bound_mean[2])
 {
     cdsp_camera cam;
     cdsp_rng rng;
@@ -319,8 +352,8 @@ static void paper_scene(const char *what, double ambient, const double light[3],
     sup_paper_camera(&cam, 0, 0);
     cdsp_rng_seed(&rng, 3, 3);
     for (k = 0; k < 2; k++) {
-        nok[k] = 0;
-        rmse[k] = dbias_mean[k] = dbias_worst[k] = 0;
+        nok[k] = ncov[k] = nref[k] = 0;
+        rmse[k] = dbias_mean[k] = dbias_worst[k] = bound_mean[k] = 0;
     }
     for (i = 0; i < 4; i++) {
         cdsp_scene s;
@@ -342,8 +375,15 @@ static void paper_scene(const char *what, double ambient, const double light[3],
         for (k = 0; k < 2; k++) {
             cdsp_params q = *prm;
             q.profile.enable = k; /* the same frame without and with the model */
-            if (px && cdsp_frame_solve(&img, &cam, 8, &q, NULL, &fws, &rng, &r) == CDSP_OK) {
+            cdsp_status st = px ? cdsp_frame_solve(&img, &cam, 8, &q, NULL, &fws, &rng, &r) : CDSP_E_ARG;
+            nref[k] += st == CDSP_E_NO_PIPE;
+            if (st == CDSP_OK) {
                 double db = 100 * ((double)r.distance / true_distance(P, v) - 1);
+                /* the systematic bound: the distance's error within
+                 * sigma + bound (issue 12) */
+                ncov[k] += fabs((double)r.distance - true_distance(P, v)) <=
+                           (double)r.sigma_distance + (double)r.bound_distance;
+                bound_mean[k] += (double)r.bound_distance;
                 sup_result_pose(&r, got, dir, seg);
                 rmse[k] += sup_axis_rmse(seg[0], seg[1], P, v, 100);
                 dbias_mean[k] += db;
@@ -358,6 +398,7 @@ static void paper_scene(const char *what, double ambient, const double light[3],
         if (nok[k]) {
             rmse[k] /= nok[k];
             dbias_mean[k] /= nok[k];
+            bound_mean[k] /= nok[k];
         }
     (void)what;
 }
@@ -383,12 +424,15 @@ static void paper(void)
     printf("the paper's scene rendered (2448 x 2048, 8 bit, blur 0.7 px, noise 0.5 gray level), 4 pipes:\n");
     printf("  %-44s %-30s %-34s\n", "light", "axis RMSE mm (detector|model)", "distance bias % mean/worst (detector|model)");
     for (i = 0; i < sizeof rows / sizeof rows[0]; i++) {
-        int nok[2], k;
-        double rmse[2], dbm[2], dbw[2];
+        int nok[2], k, ncov[2], nref[2];
+        double rmse[2], dbm[2], dbw[2], bm[2];
         fprintf(stderr, "rendering the paper's scene: %s...\n", rows[i].name);
-        paper_scene(rows[i].name, rows[i].ambient, rows[i].light, &prm, nok, rmse, dbm, dbw);
+        paper_scene(rows[i].name, rows[i].ambient, rows[i].light, &prm, nok, rmse, dbm, dbw, ncov, nref, bm);
         printf("  %-44s %.4f (%d/4) | %.4f (%d/4)   %+.3f/%+.3f | %+.3f/%+.3f\n", rows[i].name, rmse[0], nok[0],
                rmse[1], nok[1], dbm[0], dbw[0], dbm[1], dbw[1]);
+        printf("  %-44s distance error within sigma + bound: %d of %d | %d of %d (mean bound %.3f | %.3f mm); "
+               "refused as scattered or no pipe: %d | %d\n",
+               "", ncov[0], nok[0], ncov[1], nok[1], bm[0], bm[1], nref[0], nref[1]);
         for (k = 0; k < 2; k++)
             if (i > 0 && fabs(dbw[k]) > worst_shaded[k])
                 worst_shaded[k] = fabs(dbw[k]);

@@ -19,8 +19,9 @@
 static void random_record(cdsp_rng *g, cdspd_record *r, int ok)
 {
     double *d[] = {r->point, r->direction, &r->lines[0][0], &r->segment[0][0], r->sigma_point,
-                   r->sigma_direction, r->rms, r->point_body, r->direction_body};
-    int nd[] = {3, 3, 6, 6, 3, 3, 2, 3, 3}, i, k;
+                   r->sigma_direction, r->rms, r->point_body, r->direction_body, r->bound_point,
+                   r->bound_direction, r->edge_bound};
+    int nd[] = {3, 3, 6, 6, 3, 3, 2, 3, 3, 3, 3, 2}, i, k;
     memset(r, 0, sizeof *r);
     r->version = CDSPD_PROTO_VERSION;
     r->kind = ok ? CDSPD_KIND_FRAME : CDSPD_KIND_STATUS;
@@ -32,9 +33,10 @@ static void random_record(cdsp_rng *g, cdspd_record *r, int ok)
     r->t_host_us = ((uint64_t)cdsp_rng_u32(g) << 19) ^ cdsp_rng_u32(g);
     r->radius = 8.25;
     if (ok) {
-        for (i = 0; i < 9; i++)
+        for (i = 0; i < 12; i++)
             for (k = 0; k < nd[i]; k++)
                 d[i][k] = 1000 * ((double)cdsp_rng_uniform(g) - 0.5) / (1 + k);
+        r->bound_distance = 0.5 * (double)cdsp_rng_uniform(g);
         r->distance = 123.456789012345;
         r->alpha = 0.0375;
         r->sigma_distance = 1e-3 * (double)cdsp_rng_uniform(g);
@@ -84,6 +86,10 @@ static void assert_records_equal(const cdspd_record *a, const cdspd_record *b)
     assert_memory_equal(a->point_body, b->point_body, sizeof a->point_body);
     assert_memory_equal(a->direction_body, b->direction_body, sizeof a->direction_body);
     assert_memory_equal(&a->confidence, &b->confidence, sizeof a->confidence);
+    assert_memory_equal(a->bound_point, b->bound_point, sizeof a->bound_point);
+    assert_memory_equal(a->bound_direction, b->bound_direction, sizeof a->bound_direction);
+    assert_memory_equal(&a->bound_distance, &b->bound_distance, sizeof a->bound_distance);
+    assert_memory_equal(a->edge_bound, b->edge_bound, sizeof a->edge_bound);
 }
 
 /* The byte table of docs/protocol.md, checked with hand-made values. */
@@ -120,19 +126,28 @@ static void test_layout(void **state)
     r.point_body[1] = 1.0;
     r.direction_body[2] = -2.0;
     r.confidence = -2.0;
+    r.bound_point[0] = 1.0;
+    r.bound_direction[2] = -2.0;
+    r.bound_distance = 1.0;
+    r.edge_bound[1] = -2.0;
     assert_int_equal(cdspd_proto_encode(&r, b, CDSPD_PROTO_SIZE - 1), 0);
     assert_int_equal(cdspd_proto_encode(&r, b, sizeof b), CDSPD_PROTO_SIZE);
-    assert_int_equal(CDSPD_PROTO_SIZE, 380);
+    assert_int_equal(CDSPD_PROTO_SIZE, 452);
     assert_memory_equal(b, "CDSP", 4);
-    assert_int_equal(b[4], 3);
+    assert_int_equal(b[4], 4);
     assert_int_equal(b[5], CDSPD_KIND_FRAME);
-    assert_int_equal(b[6], 380 & 0xFF);
-    assert_int_equal(b[7], 380 >> 8);
-    /* version 3: no pipes, entries of 232 bytes */
+    assert_int_equal(b[6], 452 & 0xFF);
+    assert_int_equal(b[7], 452 >> 8);
+    /* version 3: no pipes; version 4: entries of 304 bytes */
     assert_int_equal(b[376], 0);
     assert_int_equal(b[377], 0);
-    assert_int_equal(b[378], 232 & 0xFF);
-    assert_int_equal(b[379], 232 >> 8);
+    assert_int_equal(b[378], 304 & 0xFF);
+    assert_int_equal(b[379], 304 >> 8);
+    /* version 4: the systematic bounds */
+    assert_memory_equal(b + 380, one_le, 8);    /* bound_point x */
+    assert_memory_equal(b + 420, minus2_le, 8); /* bound_direction z */
+    assert_memory_equal(b + 428, one_le, 8);    /* bound_distance */
+    assert_memory_equal(b + 444, minus2_le, 8); /* edge_bound[1] */
     assert_memory_equal(b + 368, minus2_le, 8); /* confidence (version 2) */
     assert_int_equal(b[8], 0x04);
     assert_int_equal(b[11], 0x01);
@@ -178,7 +193,7 @@ static void test_binary_round_trip(void **state)
         random_record(&g, &a, i % 3 != 0);
         assert_int_equal(cdspd_proto_encode(&a, buf, sizeof buf), CDSPD_PROTO_SIZE);
         assert_int_equal(cdspd_proto_decode(buf, sizeof buf, &b, &why), 0);
-        assert_int_equal(b.version, 3);
+        assert_int_equal(b.version, 4);
         assert_records_equal(&a, &b);
     }
 }
@@ -201,23 +216,36 @@ static void test_binary_rejects(void **state)
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     assert_non_null(strstr(why, "magic"));
     buf[0] = 'C';
-    buf[4] = 4;
+    buf[4] = 5;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     assert_non_null(strstr(why, "version"));
-    buf[4] = 3;
+    buf[4] = 4;
     buf[5] = 9;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     buf[5] = CDSPD_KIND_FRAME;
-    buf[6] = (uint8_t)(379 & 0xFF);
-    buf[7] = 379 >> 8;
+    buf[6] = (uint8_t)(451 & 0xFF);
+    buf[7] = 451 >> 8;
     assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1);
     /* a longer record of a later revision: fields appended, still read */
-    buf[6] = (uint8_t)(448 & 0xFF);
-    buf[7] = 448 >> 8;
+    buf[6] = (uint8_t)(520 & 0xFF);
+    buf[7] = 520 >> 8;
     memset(buf + CDSPD_PROTO_SIZE, 0x5A, 80);
-    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 448, has 380 */
-    assert_int_equal(cdspd_proto_decode(buf, 448, &b, &why), 0);
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE, &b, &why), -1); /* says 520, has 452 */
+    assert_int_equal(cdspd_proto_decode(buf, 520, &b, &why), 0);
     assert_records_equal(&a, &b);
+    /* a non-finite bound is refused, as every other number */
+    memset(buf + 428, 0xFF, 8);
+    assert_int_equal(cdspd_proto_decode(buf, 520, &b, &why), -1);
+    assert_non_null(strstr(why, "finite"));
+    /* a version-3 record (380 bytes) of the previous cdspd: read, bounds zero */
+    buf[4] = 3;
+    buf[6] = (uint8_t)(380 & 0xFF);
+    buf[7] = 380 >> 8;
+    assert_int_equal(cdspd_proto_decode(buf, CDSPD_PROTO_SIZE_V3, &b, &why), 0);
+    assert_int_equal(b.version, 3);
+    assert_true(b.bound_distance == 0 && b.bound_point[0] == 0 && b.edge_bound[1] == 0);
+    assert_memory_equal(a.point, b.point, sizeof a.point);
+    assert_memory_equal(&a.confidence, &b.confidence, sizeof a.confidence);
     /* a version-2 record (376 bytes) of the previous cdspd: read, no pipes */
     buf[4] = 2;
     buf[6] = (uint8_t)(376 & 0xFF);
@@ -252,9 +280,10 @@ static void random_pipes(cdsp_rng *g, cdspd_record *r, uint32_t n)
     for (k = 0; k < n; k++) {
         cdspd_pipe *p = &r->pipe[k];
         double *d[] = {p->point, p->direction, &p->segment[0][0], p->sigma_point,
-                       p->sigma_direction, &p->lines[0][0]};
-        int nd[] = {3, 3, 6, 3, 3, 6}, j;
-        for (i = 0; i < 6; i++)
+                       p->sigma_direction, &p->lines[0][0], p->bound_point, p->bound_direction, p->edge_bound};
+        int nd[] = {3, 3, 6, 3, 3, 6, 3, 3, 2}, j;
+        p->bound_distance = (double)cdsp_rng_uniform(g);
+        for (i = 0; i < 9; i++)
             for (j = 0; j < nd[i]; j++)
                 d[i][j] = 500 * ((double)cdsp_rng_uniform(g) - 0.5);
         p->distance = 300 + 100 * (double)cdsp_rng_uniform(g);
@@ -305,7 +334,7 @@ static void test_pipes_round_trip(void **state)
         assert_int_equal(pairs, (int)(n * (n - (n > 0)) / 2));
         if (n == 3) {
             /* hostile: too many pipes, a short list, NaN, and a later revision's larger entries */
-            uint8_t big[CDSPD_PROTO_SIZE + 3 * 240];
+            uint8_t big[CDSPD_PROTO_SIZE + 3 * 312];
             uint32_t k;
             buf[376] = CDSP_MAX_PIPES + 1;
             assert_int_equal(cdspd_proto_decode(buf, len, &b, &why), -1);
@@ -323,15 +352,41 @@ static void test_pipes_round_trip(void **state)
             memcpy(big, buf, CDSPD_PROTO_SIZE);
             cdspd_proto_encode(&a, buf, sizeof buf);
             for (k = 0; k < 3; k++) {
-                memcpy(big + CDSPD_PROTO_SIZE + k * 240, buf + CDSPD_PROTO_SIZE + k * CDSPD_PROTO_PIPE_SIZE,
+                memcpy(big + CDSPD_PROTO_SIZE + k * 312, buf + CDSPD_PROTO_SIZE + k * CDSPD_PROTO_PIPE_SIZE,
                        CDSPD_PROTO_PIPE_SIZE);
-                memset(big + CDSPD_PROTO_SIZE + k * 240 + CDSPD_PROTO_PIPE_SIZE, 0x5A, 8);
+                memset(big + CDSPD_PROTO_SIZE + k * 312 + CDSPD_PROTO_PIPE_SIZE, 0x5A, 8);
             }
-            big[378] = 240;
+            big[378] = (uint8_t)(312 & 0xFF);
+            big[379] = (uint8_t)(312 >> 8);
             big[6] = (uint8_t)(sizeof big & 0xFF);
             big[7] = (uint8_t)(sizeof big >> 8);
             assert_int_equal(cdspd_proto_decode(big, sizeof big, &b, &why), 0);
             assert_pipes_equal(&a, &b);
+            /* version 3 of the same pipes (entries of 232 bytes after 380):
+             * read, the bounds zero; a version-4 entry size below 304 is
+             * refused */
+            {
+                uint8_t v3[CDSPD_PROTO_SIZE_V3 + 3 * CDSPD_PROTO_PIPE_SIZE_V3];
+                memcpy(v3, buf, CDSPD_PROTO_SIZE_V3);
+                for (k = 0; k < 3; k++)
+                    memcpy(v3 + CDSPD_PROTO_SIZE_V3 + k * CDSPD_PROTO_PIPE_SIZE_V3,
+                           buf + CDSPD_PROTO_SIZE + k * CDSPD_PROTO_PIPE_SIZE, CDSPD_PROTO_PIPE_SIZE_V3);
+                v3[4] = 3;
+                v3[6] = (uint8_t)(sizeof v3 & 0xFF);
+                v3[7] = (uint8_t)(sizeof v3 >> 8);
+                v3[378] = CDSPD_PROTO_PIPE_SIZE_V3;
+                v3[379] = 0;
+                assert_int_equal(cdspd_proto_decode(v3, sizeof v3, &b, &why), 0);
+                assert_int_equal(b.n_pipes, 3);
+                for (k = 0; k < 3; k++) {
+                    assert_memory_equal(a.pipe[k].point, b.pipe[k].point, sizeof a.pipe[k].point);
+                    assert_int_equal(a.pipe[k].track_id, b.pipe[k].track_id);
+                    assert_true(b.pipe[k].bound_distance == 0 && b.pipe[k].edge_bound[0] == 0);
+                }
+                buf[378] = CDSPD_PROTO_PIPE_SIZE_V3;
+                buf[379] = 0;
+                assert_int_equal(cdspd_proto_decode(buf, len, &b, &why), -1);
+            }
         }
     }
 }

@@ -497,3 +497,52 @@ void *sup_edge_render(const sup_edge_spec *e, cdsp_image *img, double n_pipe[2],
     }
     return buf;
 }
+
+int sup_edge_line(const sup_edge_spec *e, const cdsp_image *img, cdsp_edge *pts, size_t cap, size_t *m,
+                  cdsp_line *ln)
+{
+    cdsp_edge_params ep;
+    size_t n, i, k = 0;
+    int round;
+    cdsp_edge_params_default(&ep);
+    ep.min_contrast = (cdsp_real)0.03; /* 10 gray levels at 8 bit are to be found */
+    ep.step = 2;
+    if (cdsp_edges_detect(img, &ep, pts, cap, &n) != CDSP_OK)
+        n = 0;
+    for (i = 0; i < n; i++)
+        if (fabs(sup_edge_u(e, (double)pts[i].x, (double)pts[i].y)) < 10)
+            pts[k++] = pts[i];
+    for (round = 0; round < 3; round++) {
+        size_t j = 0;
+        if (k < 20 || cdsp_line_fit(pts, NULL, k, ln) != CDSP_OK)
+            return 0;
+        if (round == 2)
+            break;
+        for (i = 0; i < k; i++)
+            if (fabs((double)(ln->l[0] * pts[i].x + ln->l[1] * pts[i].y + ln->l[2])) < (round ? 1.0 : 2.0))
+                pts[j++] = pts[i];
+        k = j;
+    }
+    *m = k;
+    return 1;
+}
+
+cdsp_status sup_edge_profile(const sup_edge_spec *e, const cdsp_image *img, const cdsp_line *ln,
+                             const double n_pipe[2], const cdsp_profile_params *pp, cdsp_profile_ws *ws,
+                             cdsp_profile *pr)
+{
+    double c0[2];
+    cdsp_real ends[2][2], pin[2];
+    int j;
+    c0[0] = (e->width - 1) / 2.0 + e->offset_px * n_pipe[0];
+    c0[1] = (e->height - 1) / 2.0 + e->offset_px * n_pipe[1];
+    for (j = 0; j < 2; j++) {
+        cdsp_real t = j ? ln->t_max : ln->t_min;
+        ends[j][0] = ln->centroid[0] + t * ln->dir[0];
+        ends[j][1] = ln->centroid[1] + t * ln->dir[1];
+    }
+    /* the pipe's middle: its distance is the limb's radius */
+    pin[0] = (cdsp_real)(c0[0] + e->radius_px * n_pipe[0]);
+    pin[1] = (cdsp_real)(c0[1] + e->radius_px * n_pipe[1]);
+    return cdsp_profile_fit(img, ln->l, pin, (const cdsp_real(*)[2])ends, pp, ws, pr);
+}

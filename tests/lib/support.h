@@ -121,6 +121,20 @@ void sup_edge_spec_default(sup_edge_spec *e);
 void *sup_edge_render(const sup_edge_spec *e, cdsp_image *img, double n_pipe[2], double l[3]);
 /* Signed distance of pixel (x, y) from the silhouette, toward the pipe. */
 double sup_edge_u(const sup_edge_spec *e, double x, double y);
+/* The detector's line on a rendered limb frame as the frame path gets it:
+ * the points (cdsp_edges_detect, min_contrast 0.03, step 2) within 10 px
+ * of the silhouette (a 15 px blur moves them by ~3), trimmed as RANSAC
+ * would (2 px, then inlier_px 1 px) and refitted. pts holds cap points;
+ * *m receives the line's points (pts[0..m)). 0 when fewer than 20. */
+int sup_edge_line(const sup_edge_spec *e, const cdsp_image *img, cdsp_edge *pts, size_t cap, size_t *m,
+                  cdsp_line *ln);
+/* The edge-profile model fitted along that line's extent (its inliers'
+ * t_min..t_max), the pipe's middle radius_px from the silhouette's point
+ * at the frame's centre along n_pipe (sup_edge_render's): as the frame
+ * path calls it. */
+cdsp_status sup_edge_profile(const sup_edge_spec *e, const cdsp_image *img, const cdsp_line *ln,
+                             const double n_pipe[2], const cdsp_profile_params *pp, cdsp_profile_ws *ws,
+                             cdsp_profile *pr);
 
 /* Monotonic time in seconds. */
 double sup_now(void);

@@ -536,6 +536,77 @@ static void test_huge_band(void **state)
     free(buf);
 }
 
+/*
+ * Issue 12: the systematic bound and the scattered-contour rule on the
+ * paper's scene (2448 x 2048, 8 bit, noise 0.5 gray level, pipes p1..p4,
+ * radius 8 mm, as make bench-accuracy renders it). At ambient 0.4 (the
+ * paper's experiment) the shadowed limb is nearly the background's level
+ * and its line, fitted to scattered points, put poses 13-170 mm off with
+ * confidence 0.97-0.999, beyond sigma plus the bound on p4 (170 mm, bound
+ * 31): every pose reported must now hold its error within 3 sigma plus
+ * the bound, per coordinate of P_C and on the distance (measured: all four
+ * are refused, CDSP_E_NO_PIPE). At ambient 0.85 (the renderer's default)
+ * every pose is reported (the rule does not refuse clean contours) with
+ * the same coverage; measured errors 0.018-0.051 mm on the distance, bounds
+ * 0.15-0.19 mm on p2 and p4 and 4.2 / 3.8 mm on p1 / p3 (one contour's
+ * model misfits there: the bound falls back to its blur zone), so the
+ * bound stays below 1.5 % of the distance (measured at most 1.16 %).
+ */
+static void test_paper_bound(void **state)
+{
+    static const double ambients[] = {0.4, 0.85};
+    cdsp_camera cam;
+    cdsp_rng rng;
+    int a, i, k;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_rng_seed(&rng, 3, 3);
+    for (a = 0; a < 2; a++)
+        for (i = 0; i < 4; i++) {
+            cdsp_scene s;
+            cdsp_image img;
+            cdsp_result r;
+            cdsp_params prm;
+            cdsp_status st;
+            double P[3], v[3], f[3], got[3], dir[3], dtrue;
+            void *px;
+            sup_paper_pipe(i, P, v);
+            sup_scene(&s, P, v, 8);
+            s.half_length = 250;
+            s.noise_sigma = (cdsp_real)0.002;
+            s.ambient = (cdsp_real)ambients[a];
+            px = sup_render(&s, &cam, 8, (uint64_t)(50 + i), &img);
+            assert_non_null(px);
+            cdsp_params_default(&prm);
+            st = cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r);
+            free(px);
+            foot(P, v, f);
+            dtrue = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+            if (getenv("CDSP_TEST_VERBOSE"))
+                print_message("ambient %.2f p%d: status %d d_err %+.4f sigma %.4f bound %.4f edge bounds %.3f %.3f\n",
+                              ambients[a], i + 1, st, st == CDSP_OK ? (double)r.distance - dtrue : 0,
+                              (double)r.sigma_distance, (double)r.bound_distance, (double)r.edge_bound[0],
+                              (double)r.edge_bound[1]);
+            if (a == 1)
+                assert_int_equal(st, CDSP_OK);
+            if (st != CDSP_OK) {
+                assert_int_equal(st, CDSP_E_NO_PIPE);
+                continue;
+            }
+            assert_true(r.flags & CDSP_FLAG_BOUND);
+            sup_result_pose(&r, got, dir, NULL);
+            if (!(fabs((double)r.distance - dtrue) <= 3 * (double)r.sigma_distance + (double)r.bound_distance))
+                fail_msg("ambient %.2f p%d: distance error %.4f beyond 3 sigma %.4f + bound %.4f", ambients[a], i + 1,
+                         (double)r.distance - dtrue, 3 * (double)r.sigma_distance, (double)r.bound_distance);
+            for (k = 0; k < 3; k++)
+                if (!(fabs(got[k] - f[k]) <= 3 * (double)r.sigma_point[k] + (double)r.bound_point[k]))
+                    fail_msg("ambient %.2f p%d: P_C[%d] error %.4f beyond 3 sigma %.4f + bound %.4f", ambients[a],
+                             i + 1, k, got[k] - f[k], 3 * (double)r.sigma_point[k], (double)r.bound_point[k]);
+            if (a == 1)
+                assert_true((double)r.bound_distance <= 0.015 * dtrue);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -549,6 +620,7 @@ int main(void)
         cmocka_unit_test(test_edge_buffer_full),
         cmocka_unit_test(test_args),
         cmocka_unit_test(test_huge_band),
+        cmocka_unit_test(test_paper_bound),
     };
     return cmocka_run_group_tests_name("frame", tests, NULL, NULL);
 }
