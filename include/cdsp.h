@@ -431,7 +431,12 @@ typedef struct {
      * |d direction[i]| <= bound_direction[i] (unit vector components).
      * The error of a pose is within sigma (random, ~68 % per component) plus
      * the bound (systematic); the bound holds neither calibration nor the
-     * radius (README "Accuracy"). */
+     * radius (README "Accuracy"). Tracked frames with the profile model
+     * off (its default) carry the prior's edge bounds, the larger of the
+     * two for both contours, instead of fitting again (the fit is ~3.4 M
+     * instructions on a 5 MP frame; the edge's shape changes with light
+     * and blur over many frames): a tracked pose's bound is that of the
+     * last full search's fit. */
     cdsp_real edge_bound[2];
     cdsp_real bound_point[3];
     cdsp_real bound_direction[3];

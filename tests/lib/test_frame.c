@@ -579,6 +579,20 @@ static void test_paper_bound(void **state)
             assert_non_null(px);
             cdsp_params_default(&prm);
             st = cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r);
+            if (st == CDSP_OK) {
+                /* the same frame tracked from this pose: the bounds are
+                 * carried (the larger for both contours), not fitted */
+                cdsp_result t;
+                double bmax = r.edge_bound[0] > r.edge_bound[1] ? r.edge_bound[0] : r.edge_bound[1];
+                assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, &r, &ws, &rng, &t), CDSP_OK);
+                assert_true(t.flags & CDSP_FLAG_TRACKED);
+                assert_true(t.flags & CDSP_FLAG_BOUND);
+                for (k = 0; k < 2; k++)
+                    assert_true((double)t.edge_bound[k] == bmax);
+                foot(P, v, f);
+                dtrue = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+                assert_true(fabs((double)t.distance - dtrue) <= 3 * (double)t.sigma_distance + (double)t.bound_distance);
+            }
             free(px);
             foot(P, v, f);
             dtrue = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
