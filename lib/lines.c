@@ -376,7 +376,9 @@ static void search_try(search *s, uint32_t a, uint32_t b)
     if (!hypothesis(&pts[a], &pts[b], s->cos2, l))
         return;
     if (s->list) {
-        for (j = 0; j < s->nlist; j++)
+        /* stops once even all the points left could not beat the best:
+         * only a higher count replaces it, so the choice is the same */
+        for (j = 0; j < s->nlist && sc + (s->nlist - j) > s->best_sub; j++)
             sc += (uint32_t)is_inlier(&pts[s->list[j]], l, s->thr, s->cos2);
     } else {
         for (i = 0, j = 0; j < s->nsub; j++, i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep)
