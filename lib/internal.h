@@ -126,6 +126,11 @@ static inline int img_px(const cdsp_image *img, int x, int y)
 }
 
 /* Internal entry points shared between modules (see their .c files). */
+/* cdsp_rng_below in two steps, for many draws with one n (RANSAC): the
+ * rejection threshold once, then draws that give the same stream as
+ * cdsp_rng_below(rng, n) with one division each instead of two. n > 0. */
+uint32_t cdsp__rng_threshold(uint32_t n);
+uint32_t cdsp__rng_below_t(cdsp_rng *rng, uint32_t n, uint32_t threshold);
 /* cos_tol = cos(p->normal_tol_deg): computed by the caller, which keeps the
  * trigonometry (and libm's deep range reduction) off this call's stack. */
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,

@@ -350,6 +350,65 @@ static size_t guided_partner(const cdsp_edge *pts, size_t n, const uint8_t *labe
     return pick;
 }
 
+/* One line search's state: the subsample (the golden-stride one, or the
+ * list of the free points once fewer than SUBSAMPLE are left) and the best
+ * hypothesis so far. */
+typedef struct {
+    const cdsp_edge *pts;
+    const uint8_t *label;
+    size_t n, nsub, sstep;
+    const uint32_t *list; /* free points when listed, else NULL */
+    size_t nlist;
+    cdsp_real thr, cos2, confidence;
+    long cap, need;
+    uint32_t sub_free, best_sub;
+    cdsp_real best[3], origin[2];
+} search;
+
+/* Score the sample (a, b) on the subsample and keep it if it beats the best
+ * so far, shrinking the iteration count to what the new inlier ratio needs. */
+static void search_try(search *s, uint32_t a, uint32_t b)
+{
+    const cdsp_edge *pts = s->pts;
+    cdsp_real l[3];
+    uint32_t sc = 0;
+    size_t i, j;
+    if (!hypothesis(&pts[a], &pts[b], s->cos2, l))
+        return;
+    if (s->list) {
+        /* stops once even all the points left could not beat the best:
+         * only a higher count replaces it, so the choice is the same */
+        for (j = 0; j < s->nlist && sc + (s->nlist - j) > s->best_sub; j++)
+            sc += (uint32_t)is_inlier(&pts[s->list[j]], l, s->thr, s->cos2);
+    } else {
+        for (i = 0, j = 0; j < s->nsub; j++, i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep)
+            sc += s->label[i] == LABEL_FREE && is_inlier(&pts[i], l, s->thr, s->cos2);
+    }
+    if (sc > s->best_sub) {
+        long nn;
+        s->best_sub = sc;
+        s->best[0] = l[0];
+        s->best[1] = l[1];
+        s->best[2] = l[2];
+        s->origin[0] = pts[a].x; /* moments are taken about a point on the data */
+        s->origin[1] = pts[a].y;
+        nn = needed_iterations((cdsp_real)sc / (cdsp_real)s->sub_free, s->confidence, s->cap);
+        if (nn < s->need)
+            s->need = nn;
+    }
+}
+
+/* Free points listed (indices into pts) once at most this many are left:
+ * drawing from the list makes every draw a sample of free points (drawing
+ * from all n, with 19 free points left among the paper frame's tracked
+ * points, took 6000 tries for 32 samples, and with none in the subsample
+ * the search stopped), and the list is the subsample. With at most
+ * max_iterations distinct pairs (25 points at the default 300) each pair is
+ * tried once. 32: above that bound at the defaults, and 128 bytes of
+ * stack, on the Cortex-M path that is over its stack budget already
+ * (README). */
+#define FREE_LIST 32u
+
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
                              cdsp_line *lines, int *nlines, int *capped)
@@ -357,63 +416,83 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
     cdsp_real cos2 = cos_tol * cos_tol, thr = p->inlier_px;
     size_t i, j, nfree = n;
     int k, max_lines = p->max_lines < CDSP_MAX_LINES ? p->max_lines : CDSP_MAX_LINES;
-    size_t nsub = n < SUBSAMPLE ? n : SUBSAMPLE, sstep = golden_stride(n);
+    uint32_t list[FREE_LIST];
+    search s;
 
     *nlines = 0;
     *capped = 0;
     for (i = 0; i < n; i++)
         label[i] = LABEL_FREE;
+    s.pts = pts;
+    s.label = label;
+    s.n = n;
+    s.nsub = n < SUBSAMPLE ? n : SUBSAMPLE;
+    s.sstep = golden_stride(n);
+    s.thr = thr;
+    s.cos2 = cos2;
+    s.confidence = p->confidence;
+    s.cap = p->max_iterations;
 
     for (k = 0; k < max_lines; k++) {
-        long it, need = p->max_iterations, tries = 0, max_tries = 20L * p->max_iterations;
-        uint32_t best_sub = 0, sub_free = 0, cnt = 0;
-        cdsp_real best[3] = {R(0), R(0), R(0)}, origin[2] = {R(0), R(0)};
+        long it, tries = 0, max_tries = 20L * p->max_iterations;
+        uint32_t cnt = 0, draw_n, draw_t;
         int pass;
         moments m;
 
         if (nfree < (size_t)p->min_inliers || nfree < 2)
             break;
-        for (i = 0, j = 0; j < nsub; j++, i = i + sstep >= n ? i + sstep - n : i + sstep)
-            sub_free += label[i] == LABEL_FREE;
-        if (sub_free == 0)
+        s.need = p->max_iterations;
+        s.best_sub = 0;
+        s.sub_free = 0;
+        s.best[0] = s.best[1] = s.best[2] = R(0);
+        s.origin[0] = s.origin[1] = R(0);
+        s.list = NULL;
+        s.nlist = 0;
+        if (nfree <= FREE_LIST) {
+            for (i = 0; i < n && s.nlist < FREE_LIST; i++)
+                if (label[i] == LABEL_FREE)
+                    list[s.nlist++] = (uint32_t)i;
+            s.list = list;
+            s.sub_free = (uint32_t)s.nlist;
+        } else {
+            for (i = 0, j = 0; j < s.nsub; j++, i = i + s.sstep >= n ? i + s.sstep - n : i + s.sstep)
+                s.sub_free += label[i] == LABEL_FREE;
+        }
+        if (s.sub_free == 0 || (s.list && s.nlist < (size_t)p->min_inliers))
             break;
 
-        for (it = 0; it < need && tries < max_tries; tries++) {
-            uint32_t a = cdsp_rng_below(rng, (uint32_t)n), b, sc = 0;
-            cdsp_real l[3];
-            if (tries & 1) {
-                size_t g;
-                if (label[a] != LABEL_FREE)
-                    continue;
-                g = guided_partner(pts, n, label, a, cos2);
-                if (g == n)
-                    continue; /* a has no partner in reach: not a sample */
-                b = (uint32_t)g;
-            } else {
-                b = cdsp_rng_below(rng, (uint32_t)n);
-            }
-            if (label[a] != LABEL_FREE || label[b] != LABEL_FREE || a == b)
-                continue; /* not a sample of the free points: does not count */
-            it++;
-            if (!hypothesis(&pts[a], &pts[b], cos2, l))
-                continue;
-            for (i = 0, j = 0; j < nsub; j++, i = i + sstep >= n ? i + sstep - n : i + sstep)
-                sc += label[i] == LABEL_FREE && is_inlier(&pts[i], l, thr, cos2);
-            if (sc > best_sub) {
-                long nn;
-                best_sub = sc;
-                best[0] = l[0];
-                best[1] = l[1];
-                best[2] = l[2];
-                origin[0] = pts[a].x; /* moments are taken about a point on the data */
-                origin[1] = pts[a].y;
-                nn = needed_iterations((cdsp_real)sc / (cdsp_real)sub_free, p->confidence,
-                                       p->max_iterations);
-                if (nn < need)
-                    need = nn;
+        if (s.list && (long)(s.nlist * (s.nlist - 1) / 2) <= p->max_iterations) {
+            /* No more distinct samples than iterations: try each once. */
+            for (i = 0; i < s.nlist; i++)
+                for (j = i + 1; j < s.nlist; j++)
+                    search_try(&s, list[i], list[j]);
+        } else {
+            draw_n = s.list ? (uint32_t)s.nlist : (uint32_t)n;
+            draw_t = cdsp__rng_threshold(draw_n);
+            for (it = 0; it < s.need && tries < max_tries; tries++) {
+                uint32_t a = cdsp__rng_below_t(rng, draw_n, draw_t), b;
+                if (s.list)
+                    a = list[a];
+                if (tries & 1) {
+                    size_t g;
+                    if (label[a] != LABEL_FREE)
+                        continue;
+                    g = guided_partner(pts, n, label, a, cos2);
+                    if (g == n)
+                        continue; /* a has no partner in reach: not a sample */
+                    b = (uint32_t)g;
+                } else {
+                    b = cdsp__rng_below_t(rng, draw_n, draw_t);
+                    if (s.list)
+                        b = list[b];
+                }
+                if (label[a] != LABEL_FREE || label[b] != LABEL_FREE || a == b)
+                    continue; /* not a sample of the free points: does not count */
+                it++;
+                search_try(&s, a, b);
             }
         }
-        if (best_sub == 0)
+        if (s.best_sub == 0)
             break;
 
         /* Refine: inliers of the current line -> TLS fit -> inliers again,
@@ -423,15 +502,15 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
         for (pass = 0; pass < REFINE_PASSES; pass++) {
             cdsp_line fit;
             uint32_t prev = cnt;
-            mom_init(&m, origin[0], origin[1]);
-            cnt = select_inliers(pts, n, label, best, thr, cos2, &m);
+            mom_init(&m, s.origin[0], s.origin[1]);
+            cnt = select_inliers(pts, n, label, s.best, thr, cos2, &m);
             if (cnt < 2 || mom_fit(&m, &fit) != CDSP_OK) {
                 cnt = 0;
                 break;
             }
-            best[0] = fit.l[0];
-            best[1] = fit.l[1];
-            best[2] = fit.l[2];
+            s.best[0] = fit.l[0];
+            s.best[1] = fit.l[1];
+            s.best[2] = fit.l[2];
             lines[*nlines] = fit;
             if (cnt == prev)
                 break;

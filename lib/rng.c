@@ -25,15 +25,25 @@ uint32_t cdsp_rng_u32(cdsp_rng *rng)
     return (xorshifted >> rot) | (xorshifted << ((32u - rot) & 31u));
 }
 
-uint32_t cdsp_rng_below(cdsp_rng *rng, uint32_t n)
+/* Reject the partial bucket at the bottom so every residue is equally
+ * likely: the 2^32 mod n lowest outputs, (2^32 - n) mod n in 32 bits. */
+uint32_t cdsp__rng_threshold(uint32_t n)
 {
-    /* Reject the partial bucket at the bottom so every residue is equally likely. */
-    uint32_t threshold = (uint32_t)(0u - n) % n;
+    return (uint32_t)(0u - n) % n;
+}
+
+uint32_t cdsp__rng_below_t(cdsp_rng *rng, uint32_t n, uint32_t threshold)
+{
     for (;;) {
         uint32_t r = cdsp_rng_u32(rng);
         if (r >= threshold)
             return r % n;
     }
+}
+
+uint32_t cdsp_rng_below(cdsp_rng *rng, uint32_t n)
+{
+    return cdsp__rng_below_t(rng, n, cdsp__rng_threshold(n));
 }
 
 cdsp_real cdsp_rng_uniform(cdsp_rng *rng)

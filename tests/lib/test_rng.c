@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <cmocka.h>
 #include "support.h"
+#include "../../lib/internal.h"
 
 static void test_reproducible(void **state)
 {
@@ -45,6 +46,30 @@ static void test_below(void **state)
     assert_int_equal(cdsp_rng_below(&r, 1), 0);
 }
 
+/* RANSAC computes the rejection threshold once per search: the draws must
+ * be cdsp_rng_below's, draw for draw, whatever n. The n include 1, small
+ * ones, the edge counts RANSAC sees and 2^31 + 1 and 2^32 - 1, whose
+ * thresholds (2^31 - 1, 1) make the rejection loop run (about every second
+ * draw for 2^31 + 1), so the two streams stay in step only if the rejection
+ * is the same. */
+static void test_below_threshold(void **state)
+{
+    static const uint32_t ns[] = {1, 2, 3, 7, 19, 160, 617, 16384, 4000037u, 2147483649u, 4294967295u};
+    size_t i;
+    int k;
+    (void)state;
+    for (i = 0; i < sizeof ns / sizeof ns[0]; i++) {
+        cdsp_rng a, b;
+        uint32_t t = cdsp__rng_threshold(ns[i]);
+        assert_int_equal(t, (uint32_t)((((uint64_t)1 << 32) - ns[i]) % ns[i]));
+        cdsp_rng_seed(&a, 99, (uint64_t)i);
+        cdsp_rng_seed(&b, 99, (uint64_t)i);
+        for (k = 0; k < 2000; k++)
+            assert_int_equal(cdsp__rng_below_t(&a, ns[i], t), cdsp_rng_below(&b, ns[i]));
+        assert_int_equal(a.state, b.state);
+    }
+}
+
 /* Mean and variance of 1e5 draws: standard errors 0.0029 (uniform mean),
  * 0.0032 (normal mean), 0.0045 (normal variance); 6 standard errors. */
 static void test_moments(void **state)
@@ -71,6 +96,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_reproducible),
         cmocka_unit_test(test_below),
+        cmocka_unit_test(test_below_threshold),
         cmocka_unit_test(test_moments),
     };
     return cmocka_run_group_tests_name("rng", tests, NULL, NULL);
