@@ -458,11 +458,12 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
                 p->bound_distance = get_f64(e + PIPE_BOUND_DIST);
                 get_f64s(e + PIPE_EDGE_BOUND, p->edge_bound, 2);
             }
-            if (!finite_n(p->bound_point, 3) || !finite_n(p->bound_direction, 3) ||
-                !finite_n(&p->bound_distance, 1) || !finite_n(p->edge_bound, 2) || !finite_n(p->point, 3) || !finite_n(p->direction, 3) || !finite_n(&p->distance, 1) ||
+            if (!finite_n(p->point, 3) || !finite_n(p->direction, 3) || !finite_n(&p->distance, 1) ||
                 !finite_n(&p->segment[0][0], 6) || !finite_n(p->sigma_point, 3) ||
                 !finite_n(p->sigma_direction, 3) || !finite_n(&p->sigma_distance, 1) ||
-                !finite_n(&p->confidence, 1) || !finite_n(&p->lines[0][0], 6)) {
+                !finite_n(&p->confidence, 1) || !finite_n(&p->lines[0][0], 6) ||
+                !finite_n(p->bound_point, 3) || !finite_n(p->bound_direction, 3) ||
+                !finite_n(&p->bound_distance, 1) || !finite_n(p->edge_bound, 2)) {
                 *why = "a number in the pipe list is not finite";
                 return -1;
             }

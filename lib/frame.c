@@ -311,8 +311,8 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
  * clean contour is 0.02-0.04 px beyond e). Such a line says nothing
  * reliable about where the silhouette is, so neither its sigma nor a
  * bound computed from it would hold: the pose is not reported
- * (CDSP_E_NO_PIPE). J: the mean step of the contour's inliers
- * (ws->label == out->label[k]).
+ * (CDSP_E_NO_PIPE). J: the mean step of the contour's inliers, its
+ * line's strength (cdsp_line; out->label[k] names the line in ws->pairs).
  */
 #define SCATTER_E 1.5
 #define SCATTER_PX 0.2
@@ -320,17 +320,13 @@ static int contours_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, c
 {
     int k;
     for (k = 0; k < 2; k++) {
-        cdsp_real sum = R(0), e, rms = out->rms[k];
-        uint32_t i, cnt = 0;
-        for (i = 0; i < out->n_edges && i < CDSP_MAX_EDGES; i++)
-            if (ws->label[i] == out->label[k]) {
-                const cdsp_edge *p = &ws->edge[i];
-                sum += R_SQRT(p->gx * p->gx + p->gy * p->gy);
-                cnt++;
-            }
-        if (cnt == 0 || !(sum > R(0)) || !(sigma > R(0)))
+        cdsp_real J, e, rms = out->rms[k];
+        if (out->label[k] == 0 || out->label[k] > ws->pairs.nlines)
             continue;
-        e = R(3) * sigma * (cdsp_real)cnt / sum;
+        J = ws->pairs.lines[out->label[k] - 1].strength;
+        if (!(J > R(0)) || !(sigma > R(0)))
+            continue;
+        e = R(3) * sigma / J;
         if (rms > R(SCATTER_E) * e && rms * rms - e * e > R(SCATTER_PX) * R(SCATTER_PX))
             return 1;
     }

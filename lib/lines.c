@@ -404,9 +404,8 @@ static void search_try(search *s, uint32_t a, uint32_t b)
  * points, took 6000 tries for 32 samples, and with none in the subsample
  * the search stopped), and the list is the subsample. With at most
  * max_iterations distinct pairs (25 points at the default 300) each pair is
- * tried once. 32: above that bound at the defaults, and 128 bytes of
- * stack, on the Cortex-M path that is over its stack budget already
- * (README). */
+ * tried once. 32: above that bound at the defaults, and only 128 bytes of
+ * stack (the Cortex-M budgets, docs/mcu.md). */
 #define FREE_LIST 32u
 
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,

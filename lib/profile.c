@@ -739,17 +739,23 @@ static int saturated(const cdsp_profile_ws *ws, const cdsp_image *img)
     return 0;
 }
 
+/* Whether the fitted model describes the edge (cdsp_profile_applies and
+ * cdsp_profile_bound): it fits (not a shadowed limb, a highlight, a
+ * plateau, an edge spread wider than the window holds), and its move is
+ * one a blur explains: the detector's line is off by at most ~0.7 blur
+ * sigma on a shaded limb (0.3-0.5 px at 0.76 px) and ~1 sigma under a
+ * motion blur wider than its window (4.2 px at 4.4 px); the model moved
+ * faint 8-bit lines by 1.4-10 px where its rounds had not settled (make
+ * bench's accuracy study). */
+static int model_describes(const cdsp_profile *pr, const cdsp_profile_params *pp)
+{
+    return pr->fit_chi2 <= pp->max_fit_chi2 && !pr->saturated && !pr->blur_clamped &&
+           R_FABS(pr->offset) <= R(2) * pr->blur + R(0.5);
+}
+
 int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp, int detector_h)
 {
-    if (!pr || !pp || !(pr->fit_chi2 <= pp->max_fit_chi2) || pr->saturated || pr->blur_clamped)
-        return 0; /* the model does not fit: a shadowed limb, a highlight, a
-                     plateau, an edge spread wider than the window holds */
-    /* a move no blur explains: the detector's line is off by at most ~0.7
-     * blur sigma on a shaded limb (0.3-0.5 px at 0.76 px) and ~1 sigma under
-     * a motion blur wider than its window (4.2 px at 4.4 px); the model
-     * moved faint 8-bit lines by 1.4-10 px where its rounds had not
-     * settled (make bench's accuracy study) */
-    if (!(R_FABS(pr->offset) <= R(2) * pr->blur + R(0.5)))
+    if (!pr || !pp || !model_describes(pr, pp))
         return 0;
     /* a straight pipe side (or one flat in the limb's shadow over the
      * detector's window and its margin, h + 1) and a blur the detector's
@@ -801,8 +807,7 @@ cdsp_real cdsp_profile_bound(const cdsp_profile *pr, const cdsp_profile_params *
     if (!pr || pr->rows == 0 || !R_FINITE(pr->offset) || !R_FINITE(pr->blur))
         return pp->max_half_width_px / R(2);
     d = R_FABS(pr->offset);
-    if (pr->fit_chi2 <= pp->max_fit_chi2 && !pr->saturated && !pr->blur_clamped &&
-        d <= R(2) * pr->blur + R(0.5))
+    if (model_describes(pr, pp))
         return d + R(BOUND_A0) + R(BOUND_A1) * pr->blur;
     return d + R(BOUND_B0) + R(BOUND_B1) * pr->blur;
 }
