@@ -77,80 +77,73 @@ int cdspd_status_from_token(const char *token, int *status)
     return 0;
 }
 
-void cdspd_record_set_result(cdspd_record *r, const cdsp_result *res)
+/* The fields cdspd_record and cdspd_pipe share with cdsp_result, with the
+ * number of values of each: the conversions and the finiteness checks
+ * below all walk this one list (X(field, count); an array field is read
+ * through its first element). */
+#define POSE_FIELDS(X)                                                                             \
+    X(point, 3) X(direction, 3) X(distance, 1) X(segment, 6) X(lines, 6) X(sigma_point, 3)         \
+    X(sigma_direction, 3) X(sigma_distance, 1) X(confidence, 1) X(bound_point, 3)                  \
+    X(bound_direction, 3) X(bound_distance, 1) X(edge_bound, 2)
+#define POSE_TO_DOUBLES(f, n) to_doubles((double *)&d->f, (const cdsp_real *)&s->f, n);
+#define POSE_TO_REALS(f, n) to_reals((cdsp_real *)&d->f, (const double *)&s->f, n);
+#define POSE_FINITE(f, n) &&finite_n((const double *)&x->f, n)
+
+static void to_doubles(double *d, const cdsp_real *s, int n)
 {
-    int i, k;
-    for (i = 0; i < 3; i++) {
-        r->point[i] = (double)res->point[i];
-        r->direction[i] = (double)res->direction[i];
-        r->sigma_point[i] = (double)res->sigma_point[i];
-        r->sigma_direction[i] = (double)res->sigma_direction[i];
-        for (k = 0; k < 2; k++) {
-            r->lines[k][i] = (double)res->lines[k][i];
-            r->segment[k][i] = (double)res->segment[k][i];
-        }
-    }
-    r->distance = (double)res->distance;
-    r->alpha = (double)res->alpha;
-    r->sigma_distance = (double)res->sigma_distance;
-    r->rms[0] = (double)res->rms[0];
-    r->rms[1] = (double)res->rms[1];
-    r->inliers[0] = res->inliers[0];
-    r->inliers[1] = res->inliers[1];
-    r->n_edges = res->n_edges;
-    r->confidence = (double)res->confidence;
-    for (i = 0; i < 3; i++) {
-        r->bound_point[i] = (double)res->bound_point[i];
-        r->bound_direction[i] = (double)res->bound_direction[i];
-    }
-    r->bound_distance = (double)res->bound_distance;
-    r->edge_bound[0] = (double)res->edge_bound[0];
-    r->edge_bound[1] = (double)res->edge_bound[1];
-    r->flags &= ~(CDSPD_FLAG_TRACKED | CDSPD_FLAG_FULL_SEARCH | CDSPD_FLAG_TRUNCATED);
-    if (res->flags & CDSP_FLAG_TRACKED)
-        r->flags |= CDSPD_FLAG_TRACKED;
-    if (res->flags & CDSP_FLAG_FULL_SEARCH)
-        r->flags |= CDSPD_FLAG_FULL_SEARCH;
-    if (res->flags & CDSP_FLAG_TRUNCATED)
-        r->flags |= CDSPD_FLAG_TRUNCATED;
+    int i;
+    for (i = 0; i < n; i++)
+        d[i] = (double)s[i];
 }
 
-void cdspd_record_to_result(const cdspd_record *r, cdsp_result *res)
+static void to_reals(cdsp_real *d, const double *s, int n)
 {
-    int i, k;
-    memset(res, 0, sizeof *res);
-    for (i = 0; i < 3; i++) {
-        res->point[i] = (cdsp_real)r->point[i];
-        res->direction[i] = (cdsp_real)r->direction[i];
-        res->sigma_point[i] = (cdsp_real)r->sigma_point[i];
-        res->sigma_direction[i] = (cdsp_real)r->sigma_direction[i];
-        for (k = 0; k < 2; k++) {
-            res->lines[k][i] = (cdsp_real)r->lines[k][i];
-            res->segment[k][i] = (cdsp_real)r->segment[k][i];
-        }
-    }
-    res->distance = (cdsp_real)r->distance;
-    res->alpha = (cdsp_real)r->alpha;
-    res->sigma_distance = (cdsp_real)r->sigma_distance;
-    res->rms[0] = (cdsp_real)r->rms[0];
-    res->rms[1] = (cdsp_real)r->rms[1];
-    res->inliers[0] = r->inliers[0];
-    res->inliers[1] = r->inliers[1];
-    res->n_edges = r->n_edges;
-    res->confidence = (cdsp_real)r->confidence;
-    for (i = 0; i < 3; i++) {
-        res->bound_point[i] = (cdsp_real)r->bound_point[i];
-        res->bound_direction[i] = (cdsp_real)r->bound_direction[i];
-    }
-    res->bound_distance = (cdsp_real)r->bound_distance;
-    res->edge_bound[0] = (cdsp_real)r->edge_bound[0];
-    res->edge_bound[1] = (cdsp_real)r->edge_bound[1];
-    if (r->flags & CDSPD_FLAG_TRACKED)
-        res->flags |= CDSP_FLAG_TRACKED;
-    if (r->flags & CDSPD_FLAG_FULL_SEARCH)
-        res->flags |= CDSP_FLAG_FULL_SEARCH;
-    if (r->flags & CDSPD_FLAG_TRUNCATED)
-        res->flags |= CDSP_FLAG_TRUNCATED;
+    int i;
+    for (i = 0; i < n; i++)
+        d[i] = (cdsp_real)s[i];
+}
+
+static int finite_n(const double *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return 0;
+    return 1;
+}
+
+void cdspd_record_set_result(cdspd_record *d, const cdsp_result *s)
+{
+    POSE_FIELDS(POSE_TO_DOUBLES)
+    d->alpha = (double)s->alpha;
+    to_doubles(d->rms, s->rms, 2);
+    d->inliers[0] = s->inliers[0];
+    d->inliers[1] = s->inliers[1];
+    d->n_edges = s->n_edges;
+    d->flags &= ~(CDSPD_FLAG_TRACKED | CDSPD_FLAG_FULL_SEARCH | CDSPD_FLAG_TRUNCATED);
+    if (s->flags & CDSP_FLAG_TRACKED)
+        d->flags |= CDSPD_FLAG_TRACKED;
+    if (s->flags & CDSP_FLAG_FULL_SEARCH)
+        d->flags |= CDSPD_FLAG_FULL_SEARCH;
+    if (s->flags & CDSP_FLAG_TRUNCATED)
+        d->flags |= CDSPD_FLAG_TRUNCATED;
+}
+
+void cdspd_record_to_result(const cdspd_record *s, cdsp_result *d)
+{
+    memset(d, 0, sizeof *d);
+    POSE_FIELDS(POSE_TO_REALS)
+    d->alpha = (cdsp_real)s->alpha;
+    to_reals(d->rms, s->rms, 2);
+    d->inliers[0] = s->inliers[0];
+    d->inliers[1] = s->inliers[1];
+    d->n_edges = s->n_edges;
+    if (s->flags & CDSPD_FLAG_TRACKED)
+        d->flags |= CDSP_FLAG_TRACKED;
+    if (s->flags & CDSPD_FLAG_FULL_SEARCH)
+        d->flags |= CDSP_FLAG_FULL_SEARCH;
+    if (s->flags & CDSPD_FLAG_TRUNCATED)
+        d->flags |= CDSP_FLAG_TRUNCATED;
 }
 
 /* ------------------------------------------------------------------------
@@ -223,62 +216,26 @@ static void get_f64s(const uint8_t *p, double *v, int n)
 void cdspd_record_set_pipes(cdspd_record *r, const cdsp_result *res, size_t n)
 {
     size_t k;
-    int i;
     r->flags |= CDSPD_FLAG_MULTI;
     r->n_pipes = (uint32_t)(n < CDSP_MAX_PIPES ? n : CDSP_MAX_PIPES);
     for (k = 0; k < r->n_pipes; k++) {
-        cdspd_pipe *p = &r->pipe[k];
+        cdspd_pipe *d = &r->pipe[k];
         const cdsp_result *s = &res[k];
-        memset(p, 0, sizeof *p);
-        for (i = 0; i < 3; i++) {
-            p->point[i] = (double)s->point[i];
-            p->direction[i] = (double)s->direction[i];
-            p->segment[0][i] = (double)s->segment[0][i];
-            p->segment[1][i] = (double)s->segment[1][i];
-            p->sigma_point[i] = (double)s->sigma_point[i];
-            p->sigma_direction[i] = (double)s->sigma_direction[i];
-            p->lines[0][i] = (double)s->lines[0][i];
-            p->lines[1][i] = (double)s->lines[1][i];
-            p->bound_point[i] = (double)s->bound_point[i];
-            p->bound_direction[i] = (double)s->bound_direction[i];
-        }
-        p->bound_distance = (double)s->bound_distance;
-        p->edge_bound[0] = (double)s->edge_bound[0];
-        p->edge_bound[1] = (double)s->edge_bound[1];
-        p->distance = (double)s->distance;
-        p->sigma_distance = (double)s->sigma_distance;
-        p->confidence = (double)s->confidence;
-        p->inliers[0] = s->inliers[0];
-        p->inliers[1] = s->inliers[1];
-        p->track_id = s->track_id;
+        memset(d, 0, sizeof *d);
+        POSE_FIELDS(POSE_TO_DOUBLES)
+        d->inliers[0] = s->inliers[0];
+        d->inliers[1] = s->inliers[1];
+        d->track_id = s->track_id;
     }
 }
 
-void cdspd_pipe_to_result(const cdspd_pipe *p, cdsp_result *res)
+void cdspd_pipe_to_result(const cdspd_pipe *s, cdsp_result *d)
 {
-    int i;
-    memset(res, 0, sizeof *res);
-    for (i = 0; i < 3; i++) {
-        res->point[i] = (cdsp_real)p->point[i];
-        res->direction[i] = (cdsp_real)p->direction[i];
-        res->segment[0][i] = (cdsp_real)p->segment[0][i];
-        res->segment[1][i] = (cdsp_real)p->segment[1][i];
-        res->sigma_point[i] = (cdsp_real)p->sigma_point[i];
-        res->sigma_direction[i] = (cdsp_real)p->sigma_direction[i];
-        res->lines[0][i] = (cdsp_real)p->lines[0][i];
-        res->lines[1][i] = (cdsp_real)p->lines[1][i];
-        res->bound_point[i] = (cdsp_real)p->bound_point[i];
-        res->bound_direction[i] = (cdsp_real)p->bound_direction[i];
-    }
-    res->bound_distance = (cdsp_real)p->bound_distance;
-    res->edge_bound[0] = (cdsp_real)p->edge_bound[0];
-    res->edge_bound[1] = (cdsp_real)p->edge_bound[1];
-    res->distance = (cdsp_real)p->distance;
-    res->sigma_distance = (cdsp_real)p->sigma_distance;
-    res->confidence = (cdsp_real)p->confidence;
-    res->inliers[0] = p->inliers[0];
-    res->inliers[1] = p->inliers[1];
-    res->track_id = p->track_id;
+    memset(d, 0, sizeof *d);
+    POSE_FIELDS(POSE_TO_REALS)
+    d->inliers[0] = s->inliers[0];
+    d->inliers[1] = s->inliers[1];
+    d->track_id = s->track_id;
 }
 
 size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
@@ -350,13 +307,18 @@ size_t cdspd_proto_encode(const cdspd_record *r, uint8_t *b, size_t cap)
     return total;
 }
 
-static int finite_n(const double *v, int n)
+/* cdspd sends finite numbers only (zeros without a pose); a NaN or Inf
+ * would reach the consumer as JSON null, which no decoder takes back
+ * (found by tests/fuzz listen). */
+static int pipe_finite(const cdspd_pipe *x)
 {
-    int i;
-    for (i = 0; i < n; i++)
-        if (!isfinite(v[i]))
-            return 0;
-    return 1;
+    return 1 POSE_FIELDS(POSE_FINITE);
+}
+
+static int record_finite(const cdspd_record *x)
+{
+    return finite_n(&x->radius, 1) && finite_n(&x->alpha, 1) && finite_n(x->rms, 2) &&
+           finite_n(x->point_body, 3) && finite_n(x->direction_body, 3) POSE_FIELDS(POSE_FINITE);
 }
 
 int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char **why)
@@ -458,12 +420,7 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
                 p->bound_distance = get_f64(e + PIPE_BOUND_DIST);
                 get_f64s(e + PIPE_EDGE_BOUND, p->edge_bound, 2);
             }
-            if (!finite_n(p->point, 3) || !finite_n(p->direction, 3) || !finite_n(&p->distance, 1) ||
-                !finite_n(&p->segment[0][0], 6) || !finite_n(p->sigma_point, 3) ||
-                !finite_n(p->sigma_direction, 3) || !finite_n(&p->sigma_distance, 1) ||
-                !finite_n(&p->confidence, 1) || !finite_n(&p->lines[0][0], 6) ||
-                !finite_n(p->bound_point, 3) || !finite_n(p->bound_direction, 3) ||
-                !finite_n(&p->bound_distance, 1) || !finite_n(p->edge_bound, 2)) {
+            if (!pipe_finite(p)) {
                 *why = "a number in the pipe list is not finite";
                 return -1;
             }
@@ -480,16 +437,7 @@ int cdspd_proto_decode(const uint8_t *b, size_t len, cdspd_record *r, const char
         *why = "a status record without a status";
         return -1;
     }
-    /* cdspd sends finite numbers only (zeros without a pose); a NaN or Inf
-     * would reach the consumer as JSON null, which no decoder takes back
-     * (found by tests/fuzz listen) */
-    if (!finite_n(&r->radius, 1) || !finite_n(r->point, 3) || !finite_n(r->direction, 3) ||
-        !finite_n(&r->distance, 1) || !finite_n(&r->alpha, 1) || !finite_n(&r->lines[0][0], 6) ||
-        !finite_n(&r->segment[0][0], 6) || !finite_n(r->sigma_point, 3) ||
-        !finite_n(r->sigma_direction, 3) || !finite_n(&r->sigma_distance, 1) ||
-        !finite_n(r->rms, 2) || !finite_n(r->point_body, 3) || !finite_n(r->direction_body, 3) ||
-        !finite_n(&r->confidence, 1) || !finite_n(r->bound_point, 3) || !finite_n(r->bound_direction, 3) ||
-        !finite_n(&r->bound_distance, 1) || !finite_n(r->edge_bound, 2)) {
+    if (!record_finite(r)) {
         *why = "a number in the record is not finite";
         return -1;
     }
