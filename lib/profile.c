@@ -112,16 +112,28 @@ static int accumulate(const cdsp_image *img, cdsp_profile_ws *ws, const cdsp_rea
     ext = horizontal ? img->width : img->height;
     if (lo < 0 || hi >= ext || hi - lo < 4)
         return 0;
-    for (s = lo; s <= hi; s++) {
-        int v = horizontal ? img_px(img, s, t) : img_px(img, t, s), b;
-        u = ((cdsp_real)s - q[s_ax]) * ns + ct;
-        b = (int)R_FLOOR((u + R(CDSP_PROFILE_RANGE_PX)) * R(BPP));
-        if (b < 0 || b >= NB)
-            continue;
-        ws->count[b]++;
-        ws->sum[b] += (uint32_t)v;
-        ws->sumsq[b] += (uint64_t)v * (uint64_t)v;
-        ws->sum_u[b] += u;
+    {
+        /* the scanline's pixels by pointer steps (a row: 1 pixel, a column:
+         * the stride), not img_px's multiply per pixel: the fit's cost is
+         * mostly here and in fit_pipe */
+        const unsigned char *base = (const unsigned char *)img->data;
+        size_t bpp = img->bits <= 8 ? 1 : 2, step = horizontal ? bpp : img->stride, o;
+        o = horizontal ? (size_t)t * img->stride + (size_t)lo * bpp : (size_t)lo * img->stride + (size_t)t * bpp;
+        for (s = lo; s <= hi; s++, o += step) {
+            int v = bpp == 1 ? base[o] : *(const uint16_t *)(const void *)(base + o), b;
+            cdsp_real x;
+            u = ((cdsp_real)s - q[s_ax]) * ns + ct;
+            /* the bin floor((u + RANGE) BPP), by truncation where that is
+             * >= 0 (floor's library call was a third of this loop) */
+            x = (u + R(CDSP_PROFILE_RANGE_PX)) * R(BPP);
+            if (!(x >= R(0)) || x >= R(NB))
+                continue;
+            b = (int)x;
+            ws->count[b]++;
+            ws->sum[b] += (uint32_t)v;
+            ws->sumsq[b] += (uint64_t)v * (uint64_t)v;
+            ws->sum_u[b] += u;
+        }
     }
     return 1;
 }
@@ -199,12 +211,12 @@ static cdsp_real pipe_at(const sides *m, cdsp_real s)
     return m->A + m->B * (s - m->St) + m->C * (sq_at(m, s) - sq_at(m, m->St));
 }
 
-/* sq'' (the curvature that the blur turns into a bias of the fit); 0 on the
- * shadowed part */
+/* sq'' (the curvature that the blur turns into a bias of the fit; the
+ * basis uses it only beyond the shadow, pipe_basis_h) */
 static cdsp_real sq_curv(const sides *m, cdsp_real s)
 {
     cdsp_real v = s * (R(2) * m->Rc - s);
-    return v > R(0) && s > m->St ? -m->Rc * m->Rc / (v * R_SQRT(v)) : R(0);
+    return v > R(0) ? -m->Rc * m->Rc / (v * R_SQRT(v)) : R(0);
 }
 
 /* int_0^X sq (the circular segment's area) */
@@ -235,8 +247,9 @@ static cdsp_real pipe_slope(const sides *m, cdsp_real X)
 
 /* Phi(t), the standard normal distribution, by Abramowitz and Stegun
  * 7.1.26 (|error| < 1.5e-7; exp only, which every libm the library is
- * built for has) */
-static cdsp_real norm_cdf(cdsp_real t)
+ * built for has), given g = exp(-t^2 / 2) (the caller has it for the
+ * density: one exp per blurred kink's bin, not two) */
+static cdsp_real norm_cdf_g(cdsp_real t, cdsp_real g)
 {
     cdsp_real x = R_FABS(t) / R(1.4142135623730951), k = R(1) / (R(1) + R(0.3275911) * x), e;
     e = R(1.061405429);
@@ -244,7 +257,7 @@ static cdsp_real norm_cdf(cdsp_real t)
     e = R(1.421413741) + k * e;
     e = R(-0.284496736) + k * e;
     e = R(0.254829592) + k * e;
-    e *= k * R_EXP(-x * x); /* erfc(x) */
+    e *= k * g; /* erfc(x), exp(-x^2) = g */
     return t >= R(0) ? R(1) - e / R(2) : e / R(2);
 }
 
@@ -255,30 +268,53 @@ static cdsp_real norm_cdf(cdsp_real t)
  * t = (x - St) / sigma; the sq term is its tangent there times that ramp
  * plus the (smooth, second-order) rest. The model's value is
  * A + B f[1] + C f[2]. */
-static void pipe_basis(const sides *m, cdsp_real x, cdsp_real s2, cdsp_real f[3])
+typedef struct {
+    cdsp_real sig, hs, q; /* sqrt(s2), h(St) = sq(St), sq'(St) */
+} pipe_kink;
+
+static void pipe_kink_at(const sides *m, cdsp_real s2, pipe_kink *k)
 {
-    cdsp_real hx, hs, sig, t;
+    k->sig = R_SQRT(s2);
+    k->hs = sq_at(m, m->St);
+    k->q = k->hs > R(0) ? (m->Rc - m->St) / k->hs : R(0);
+}
+
+/* pipe_basis with h(x) = sq(x) + (s2/2) sq''(x) given (fit_pipe's zone
+ * holds it per bin: it does not depend on St, so the terminator's search
+ * computes its square roots once, not once per trial) */
+static inline void pipe_basis_h(const sides *m, cdsp_real x, cdsp_real hx, const pipe_kink *k, cdsp_real f[3])
+{
+    cdsp_real t;
     f[0] = R(1);
-    hx = sq_at(m, x) + s2 / R(2) * sq_curv(m, x);
     if (!(m->St > R(0))) {
         f[1] = x;
         f[2] = hx;
         return;
     }
-    sig = R_SQRT(s2);
-    t = (x - m->St) / sig;
-    hs = sq_at(m, m->St);
+    t = (x - m->St) / k->sig;
     if (t >= R(4)) {
         f[1] = x - m->St;
-        f[2] = hx - hs;
+        f[2] = hx - k->hs;
     } else if (t <= R(-4)) {
         f[1] = f[2] = R(0);
     } else {
-        cdsp_real q = hs > R(0) ? (m->Rc - m->St) / hs : R(0); /* sq'(St) */
-        cdsp_real ramp = sig * R(0.3989422804014327) * R_EXP(-t * t / R(2)) + (x - m->St) * norm_cdf(t);
+        cdsp_real g = R_EXP(-t * t / R(2)), ramp = k->sig * R(0.3989422804014327) * g + (x - m->St) * norm_cdf_g(t, g);
         f[1] = ramp;
-        f[2] = q * ramp + (x > m->St ? hx - hs - q * (x - m->St) : R(0));
+        f[2] = k->q * ramp + (x > m->St ? hx - k->hs - k->q * (x - m->St) : R(0));
     }
+}
+
+/* h(x) of the basis (pipe_basis) */
+static cdsp_real pipe_h(const sides *m, cdsp_real x, cdsp_real s2)
+{
+    return sq_at(m, x) + s2 / R(2) * sq_curv(m, x);
+}
+
+static void pipe_basis(const sides *m, cdsp_real x, cdsp_real s2, cdsp_real f[3])
+{
+    pipe_kink k;
+    pipe_kink_at(m, s2, &k);
+    pipe_basis_h(m, x, pipe_h(m, x, s2), &k, f);
 }
 
 static cdsp_real pipe_fitted(const sides *m, cdsp_real x, cdsp_real s2)
@@ -298,28 +334,55 @@ static cdsp_real pipe_fitted(const sides *m, cdsp_real x, cdsp_real s2)
  * float too (1, x and sqrt are nearly collinear over a zone of a few px
  * and the levels reach 65535). Returns the weighted residual sum of
  * squares, or -1 when the zone holds too few bins. */
-static cdsp_real fit_pipe(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *mb, cdsp_real d,
-                          cdsp_real z, cdsp_real W, cdsp_real s2, cdsp_real St, sides *m)
+/* The pipe side's zone z <= u - d <= W of one fit_sides call (d and s2
+ * fixed there): the bins' index range that can hold it (the bins are
+ * disjoint intervals of u, so the zone is one run of them; one bin of
+ * margin each side for the mean's rounding) and h(x) per bin in it
+ * (pipe_basis_h) */
+typedef struct {
+    const cdsp_profile_ws *ws;
+    const cdsp_real *ub, *mb, *hb;
+    cdsp_real d, z, W, s2;
+    int b0, b1;
+} pipe_zone;
+
+static cdsp_real fit_pipe(const pipe_zone *zn, cdsp_real St, sides *m)
 {
     cdsp_real Np[3][3] = {{0}}, rp[3] = {0}, r0[3], yy = R(0), fc[3], mp0 = R(0);
-    int b, i, j, npp = 0;
+    const cdsp_real *ub = zn->ub, *mb = zn->mb, d = zn->d, z = zn->z, W = zn->W;
+    const uint32_t *count = zn->ws->count;
+    pipe_kink k;
+    int b, i, npp = 0;
     m->St = St;
-    pipe_basis(m, (z + W) / R(2), s2, fc);
-    for (b = 0; b < NB; b++) {
+    pipe_kink_at(m, zn->s2, &k);
+    pipe_basis(m, (z + W) / R(2), zn->s2, fc);
+    for (b = zn->b0; b <= zn->b1; b++) {
         cdsp_real w, x = ub[b] - d, f[3], y;
-        if (!ws->count[b] || x < z || x > W)
+        if (!count[b] || x < z || x > W)
             continue;
         if (!npp)
             mp0 = mb[b];
-        w = (cdsp_real)ws->count[b];
-        pipe_basis(m, x, s2, f);
+        w = (cdsp_real)count[b];
+        pipe_basis_h(m, x, zn->hb[b], &k, f);
         f[1] -= fc[1];
         f[2] -= fc[2];
         y = mb[b] - mp0;
-        for (i = 0; i < 3; i++) {
-            for (j = 0; j < 3; j++)
-                Np[i][j] += w * f[i] * f[j];
-            rp[i] += w * f[i] * y;
+        {
+            /* Np[i][j] += w f[i] f[j], rp[i] += w f[i] y with f[0] = 1 spelled
+             * out (the same products, in the same order) */
+            cdsp_real w1 = w * f[1], w2 = w * f[2];
+            Np[0][0] += w;
+            Np[0][1] += w1;
+            Np[0][2] += w2;
+            Np[1][0] += w1;
+            Np[1][1] += w1 * f[1];
+            Np[1][2] += w1 * f[2];
+            Np[2][0] += w2;
+            Np[2][1] += w2 * f[1];
+            Np[2][2] += w2 * f[2];
+            rp[0] += w * y;
+            rp[1] += w1 * y;
+            rp[2] += w2 * y;
         }
         yy += w * y * y;
         npp++;
@@ -344,17 +407,35 @@ static cdsp_real fit_pipe(const cdsp_profile_ws *ws, const cdsp_real *ub, const 
  * (search = 1; else refined about the last one) and kept when it is
  * significant: F = (RSS_0 - RSS_t) / (RSS_t / dof) > 10, as
  * the limb term's test in model_solve. */
-static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *mb, cdsp_real d,
-                     cdsp_real z, cdsp_real W, cdsp_real s2, int search, sides *m)
+static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *mb, cdsp_real *hb,
+                     cdsp_real d, cdsp_real z, cdsp_real W, cdsp_real s2, int search, sides *m)
 {
     cdsp_real Nb[3][3] = {{0}}, rb[3] = {0}, xb = -(z + W) / R(2), mb0 = R(0), rss0, best, bestSt, lo, hi, t;
     int b, i, j, nbg = 0, npp = 0;
     sides trial = *m;
+    pipe_zone zn;
+    zn.ws = ws;
+    zn.ub = ub;
+    zn.mb = mb;
+    zn.hb = hb;
+    zn.d = d;
+    zn.z = z;
+    zn.W = W;
+    zn.s2 = s2;
+    zn.b0 = NB;
+    zn.b1 = -1;
     for (b = 0; b < NB; b++) {
         cdsp_real w, x = ub[b] - d, f[2];
         if (!ws->count[b])
             continue;
-        npp += x >= z && x <= W;
+        if (x >= z && x <= W) {
+            /* the pipe side's zone: its run of bins and their h(x) */
+            npp++;
+            hb[b] = pipe_h(m, x, s2);
+            if (zn.b0 > b)
+                zn.b0 = b;
+            zn.b1 = b;
+        }
         if (!(x <= -z && x >= -W))
             continue;
         if (!nbg)
@@ -373,26 +454,26 @@ static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_
         return 0;
     m->E = rb[1];
     m->D = mb0 + rb[0] - rb[1] * xb;
-    rss0 = fit_pipe(ws, ub, mb, d, z, W, s2, R(0), &trial);
+    rss0 = fit_pipe(&zn, R(0), &trial);
     if (rss0 < R(0))
         return 0;
     best = rss0;
     bestSt = R(0);
     if ((!search && !(m->St > R(0))) || npp < 8) /* a terminator wants 8 bins at least */
-        return fit_pipe(ws, ub, mb, d, z, W, s2, R(0), m) >= R(0);
+        return fit_pipe(&zn, R(0), m) >= R(0);
     lo = z;
     hi = W - R(1.5); /* 6 bins beyond it at least */
     if (search) {
         /* the whole zone on a 1 px grid first */
         for (t = lo; t <= hi; t += R(1)) {
-            cdsp_real r = fit_pipe(ws, ub, mb, d, z, W, s2, t, &trial);
+            cdsp_real r = fit_pipe(&zn, t, &trial);
             if (r >= R(0) && r < best) {
                 best = r;
                 bestSt = t;
             }
         }
     } else {
-        best = fit_pipe(ws, ub, mb, d, z, W, s2, m->St, &trial);
+        best = fit_pipe(&zn, m->St, &trial);
         bestSt = m->St;
         if (best < R(0)) {
             best = rss0;
@@ -414,21 +495,21 @@ static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_
             xd = hi;
         x1 = xa + g * (xd - xa);
         x2 = xd - g * (xd - xa);
-        f1 = fit_pipe(ws, ub, mb, d, z, W, s2, x1, &trial);
-        f2 = fit_pipe(ws, ub, mb, d, z, W, s2, x2, &trial);
+        f1 = fit_pipe(&zn, x1, &trial);
+        f2 = fit_pipe(&zn, x2, &trial);
         while (xd - xa > R(0.01) && f1 >= R(0) && f2 >= R(0)) {
             if (f1 < f2) {
                 xd = x2;
                 x2 = x1;
                 f2 = f1;
                 x1 = xa + g * (xd - xa);
-                f1 = fit_pipe(ws, ub, mb, d, z, W, s2, x1, &trial);
+                f1 = fit_pipe(&zn, x1, &trial);
             } else {
                 xa = x1;
                 x1 = x2;
                 f1 = f2;
                 x2 = xd - g * (xd - xa);
-                f2 = fit_pipe(ws, ub, mb, d, z, W, s2, x2, &trial);
+                f2 = fit_pipe(&zn, x2, &trial);
             }
         }
         if (f1 >= R(0) && f1 < best) {
@@ -442,7 +523,7 @@ static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_
     }
     if (!(bestSt > R(0) && rss0 - best > R(10) * best / (cdsp_real)(npp - 4)))
         bestSt = R(0);
-    return fit_pipe(ws, ub, mb, d, z, W, s2, bestSt, m) >= R(0);
+    return fit_pipe(&zn, bestSt, m) >= R(0);
 }
 
 /* Trapezoid integral over [a, b] of the bins' (u, value) samples, the
@@ -571,7 +652,8 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
             z = W - R(3);
         if (W > z + R(PROFILE_FIT_ZONE))
             W = z + R(PROFILE_FIT_ZONE);
-        if (!(z >= R(1)) || !fit_sides(ws, ub, mb, d, z, W, s2, it < 3, &m))
+        /* (ws->sum_u, read into ub above, holds fit_sides's h(x) per bin) */
+        if (!(z >= R(1)) || !fit_sides(ws, ub, mb, ws->sum_u, d, z, W, s2, it < 3, &m))
             return CDSP_E_NOCONVERGE;
         a = d - W;
         /* a limb in shadow: the window ends on its flat part, clear of the
