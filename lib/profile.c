@@ -348,8 +348,14 @@ typedef struct {
 
 static cdsp_real fit_pipe(const pipe_zone *zn, cdsp_real St, sides *m)
 {
-    cdsp_real Np[3][3] = {{0}}, rp[3] = {0}, r0[3], yy = R(0), fc[3], mp0 = R(0);
-    const cdsp_real *ub = zn->ub, *mb = zn->mb, d = zn->d, z = zn->z, W = zn->W;
+    cdsp_real Np[3][3], rp[3], r0[3], yy = R(0), fc[3], mp0 = R(0);
+    const cdsp_real *ub = zn->ub, *mb = zn->mb, *hb = zn->hb, d = zn->d, z = zn->z, W = zn->W;
+    /* the normal equations' sums in scalars (kept in registers: Np's
+     * address goes to solve_small), Np[i][j] += w f[i] f[j] and
+     * rp[i] += w f[i] y with f[0] = 1 spelled out: the same products in
+     * the same order (N01 = N10 and N02 = N20 are one sum each) */
+    cdsp_real s00 = R(0), s01 = R(0), s02 = R(0), s11 = R(0), s12 = R(0), s21 = R(0), s22 = R(0);
+    cdsp_real q0 = R(0), q1 = R(0), q2 = R(0);
     const uint32_t *count = zn->ws->count;
     pipe_kink k;
     int b, i, npp = 0;
@@ -357,36 +363,41 @@ static cdsp_real fit_pipe(const pipe_zone *zn, cdsp_real St, sides *m)
     pipe_kink_at(m, zn->s2, &k);
     pipe_basis(m, (z + W) / R(2), zn->s2, fc);
     for (b = zn->b0; b <= zn->b1; b++) {
-        cdsp_real w, x = ub[b] - d, f[3], y;
+        cdsp_real w, x = ub[b] - d, f[3], y, w1, w2;
         if (!count[b] || x < z || x > W)
             continue;
         if (!npp)
             mp0 = mb[b];
         w = (cdsp_real)count[b];
-        pipe_basis_h(m, x, zn->hb[b], &k, f);
+        pipe_basis_h(m, x, hb[b], &k, f);
         f[1] -= fc[1];
         f[2] -= fc[2];
         y = mb[b] - mp0;
-        {
-            /* Np[i][j] += w f[i] f[j], rp[i] += w f[i] y with f[0] = 1 spelled
-             * out (the same products, in the same order) */
-            cdsp_real w1 = w * f[1], w2 = w * f[2];
-            Np[0][0] += w;
-            Np[0][1] += w1;
-            Np[0][2] += w2;
-            Np[1][0] += w1;
-            Np[1][1] += w1 * f[1];
-            Np[1][2] += w1 * f[2];
-            Np[2][0] += w2;
-            Np[2][1] += w2 * f[1];
-            Np[2][2] += w2 * f[2];
-            rp[0] += w * y;
-            rp[1] += w1 * y;
-            rp[2] += w2 * y;
-        }
+        w1 = w * f[1];
+        w2 = w * f[2];
+        s00 += w;
+        s01 += w1;
+        s02 += w2;
+        s11 += w1 * f[1];
+        s12 += w1 * f[2];
+        s21 += w2 * f[1];
+        s22 += w2 * f[2];
+        q0 += w * y;
+        q1 += w1 * y;
+        q2 += w2 * y;
         yy += w * y * y;
         npp++;
     }
+    Np[0][0] = s00;
+    Np[0][1] = Np[1][0] = s01;
+    Np[0][2] = Np[2][0] = s02;
+    Np[1][1] = s11;
+    Np[1][2] = s12;
+    Np[2][1] = s21;
+    Np[2][2] = s22;
+    rp[0] = q0;
+    rp[1] = q1;
+    rp[2] = q2;
     for (i = 0; i < 3; i++)
         r0[i] = rp[i];
     if (npp < 4 || !solve_small(Np, rp, 3))
@@ -404,7 +415,8 @@ static cdsp_real fit_pipe(const pipe_zone *zn, cdsp_real St, sides *m)
  * shadowed limb is the unclipped model's misfit (its chi-square reached
  * 0.6-1.2 on the paper's and the rack's scenes, with offsets of 0.2 px
  * and more); the terminator is searched on a 1 px grid over the zone
- * (search = 1; else refined about the last one) and kept when it is
+ * (search = 1; 2: +- 1 px about the last one; 0: +- 1/4 px about it)
+ * and kept when it is
  * significant: F = (RSS_0 - RSS_t) / (RSS_t / dof) > 10, as
  * the limb term's test in model_solve. */
 static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *mb, cdsp_real *hb,
@@ -464,7 +476,7 @@ static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_
         return fit_pipe(&zn, R(0), m) >= R(0);
     lo = z;
     hi = W - R(1.5); /* 6 bins beyond it at least */
-    if (search) {
+    if (search == 1) {
         /* the whole zone on a 1 px grid first */
         for (t = lo; t <= hi; t += R(1)) {
             cdsp_real r = fit_pipe(&zn, t, &trial);
@@ -576,7 +588,7 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
     /* start from a wide blur (fit zones at the window's ends), then adapt */
     cdsp_real d = R(0), s2 = (half / R(6)) * (half / R(6)), var_pix = R(0), dof = R(0), varM = R(0);
     sides m;
-    int b, it, ok = 0, clamped = 0, search, grid_seen = 0, grid_improved = 0;
+    int b, it, ok = 0, clamped = 0, search, grid_seen = 0, grid_improved = 0, improved;
     cdsp_real grid_d = R(0), grid_sig = R(0);
     m.Rc = radius_px;
     m.St = R(0);
@@ -668,9 +680,14 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
         if (search && grid_seen && !grid_improved && R_FABS(d - grid_d) < R(0.02) &&
             R_FABS(R_SQRT(s2) - grid_sig) < R(0.02))
             search = 0;
-        if (!(z >= R(1)) || !fit_sides(ws, ub, mb, ws->sum_u, d, z, W, s2, search, &m, &grid_improved))
+        /* a terminator found in an earlier round: searched again +- 1 px
+         * about it, not on the grid again */
+        if (search && m.St > R(0))
+            search = 2;
+        if (!(z >= R(1)) || !fit_sides(ws, ub, mb, ws->sum_u, d, z, W, s2, search, &m, &improved))
             return CDSP_E_NOCONVERGE;
-        if (search) {
+        if (search == 1) {
+            grid_improved = improved;
             grid_seen = 1;
             grid_d = d;
             grid_sig = R_SQRT(s2);
