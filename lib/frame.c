@@ -235,7 +235,7 @@ void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cds
             pp.max_rows = BOUND_ROWS;
         st = cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)(k + 1), pp.enable ? &set->lines[k] : &copy,
                                   c->p_in, &pp, p->edge.half_window, pws, &pr, &moved);
-        ref->bound[i] = cdsp_profile_bound(&pr, &p->profile);
+        ref->bound[i] = cdsp_profile_bound(&pr, &p->profile, p->edge.half_window);
         if (st == CDSP_OK && pp.enable) {
             ref->offset[i] = moved;
             ref->blur[i] = pr.blur;
