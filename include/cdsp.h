@@ -643,8 +643,13 @@ int cdsp_profile_applies(const cdsp_profile *pr, const cdsp_profile_params *pp,
  * make bench-accuracy's grid to cover the measured bias in >= 95 % of its
  * cells (lib/profile.c gives the rule and the figures). pr: the profile
  * fitted along the line (pr->rows == 0 or NULL: not fitted, the bound is
- * then half of pp->max_half_width_px). 0 when pp is NULL. */
-cdsp_real cdsp_profile_bound(const cdsp_profile *pr, const cdsp_profile_params *pp);
+ * then half of pp->max_half_width_px). detector_half_window: the
+ * detector's window h (cdsp_edge_params.half_window), as for
+ * cdsp_profile_applies: where the edge is in the detector's regime its
+ * floor is the detector's own error there (since the bound's tightening,
+ * issue 12). 0 when pp is NULL. */
+cdsp_real cdsp_profile_bound(const cdsp_profile *pr, const cdsp_profile_params *pp,
+                             int detector_half_window);
 
 typedef struct {
     cdsp_edge_params edge;

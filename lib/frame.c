@@ -209,9 +209,13 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
  * enabled and applicable (a contour it cannot model keeps the detector's
  * line), and gives the contour's systematic bound from the same fit (with
  * the model off it is fitted on a copy of the line, which stays the
- * detector's, from at most BOUND_ROWS scanlines: the bound needs the
- * offset to ~0.01 px, which 256 scanlines give (sigma_offset 1e-4-1e-3 px
- * at 2048), and the fit's cost goes with its scanlines). Here, not in
+ * detector's, from at most BOUND_ROWS scanlines: |offset| enters the
+ * bound, so its noise should stay at about half the bound's floor in the
+ * detector's regime (0.005 px on the paper's scene in flat light,
+ * cdsp_profile_bound): sigma_offset measured 0.005-0.009 px at 231-255
+ * scanlines on the paper's 5 MP frames, going as 1/sqrt(rows) (0.009-
+ * 0.013 at 128, 0.002-0.003 at 2048), so 256 is the fewest; the fit's
+ * cost goes with its scanlines, ~0.34 M instructions per contour). Here, not in
  * lib/pair.c, so that the points path links no profile code
  * (docs/mcu.md). */
 #define BOUND_ROWS 256
@@ -235,7 +239,7 @@ void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cds
             pp.max_rows = BOUND_ROWS;
         st = cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)(k + 1), pp.enable ? &set->lines[k] : &copy,
                                   c->p_in, &pp, p->edge.half_window, pws, &pr, &moved);
-        ref->bound[i] = cdsp_profile_bound(&pr, &p->profile);
+        ref->bound[i] = cdsp_profile_bound(&pr, &p->profile, p->edge.half_window);
         if (st == CDSP_OK && pp.enable) {
             ref->offset[i] = moved;
             ref->blur[i] = pr.blur;
@@ -267,8 +271,8 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
     if (tracking && !p->profile.enable && prior && (prior->flags & CDSP_FLAG_BOUND)) {
         /* Tracking with the model off: the contours' bounds are carried
          * from the prior, not fitted again. The fit (model_solve on the
-         * accumulated profile, about 3.4 M instructions a frame on the
-         * paper's 5 MP frames, against 2.8 M for the rest of a tracked
+         * accumulated profile, about 1.9 M instructions a frame on the
+         * paper's 5 MP frames, against 2.4 M for the rest of a tracked
          * frame) measures the edge's shape: light, blur and background,
          * which change over many frames, not one; the first frame after a
          * full search carries that search's fit. Each contour gets the

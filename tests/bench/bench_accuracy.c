@@ -99,7 +99,7 @@ static int measure_edge(const sup_edge_spec *e, cell_result *out)
              * no rows (cdsp__profile_refine) */
             if (out->pst != CDSP_OK)
                 pr.rows = 0;
-            out->bound = (double)cdsp_profile_bound(&pr, &pp);
+            out->bound = (double)cdsp_profile_bound(&pr, &pp, ep.half_window);
         }
     }
     free(buf);
