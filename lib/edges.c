@@ -613,30 +613,38 @@ static cdsp_status detect_full(const cdsp_image *img, const cdsp_edge_params *p,
 
 /*
  * The coarse pass (p->coarse = F >= 2; docs/method.md §2). The full
- * search's scanlines are t_j = first + j*step; the coarse lines are those
- * with j % F == 0, scanned exactly as the full search scans them, so their
- * edges are full-search edges. Then only the bands around those edges are
- * read at full resolution, with the full search's own scans on sub-ranges
- * of its lines, so every edge reported is one the full search reports, in
- * the full search's order. The bands: an edge owned by a family lies within
- * 45 degrees of that family's scan normal (refine's ownership test), so a
- * straight contour through an edge q on coarse line t_k stays within |t -
- * t_k| px of q along the scan on line t. Each fine line between coarse
- * lines k and k + 1 is therefore read around the edges of both, +- (that
- * distance + BAND_MARGIN px); a coarse line itself is taken as it was
- * scanned. For the columns, read in blocks of CHUNK columns whose order
- * must be kept, a block reads the rows within F*step + BAND_MARGIN of the
- * edges of every coarse column within F columns of it, all of its columns
- * at once. The guarantee: every edge of the full search whose contour
- * (straight, of that family) reaches a coarse line within F lines of it is
- * reported - every edge of a contour spanning at least F*step px across
- * its family's scanlines; tests/lib/test_edges_scan.c checks exactly that
- * on its table of frames. What can be missed is a short contour lying
- * wholly between two coarse lines; the frame path falls back to the full
- * search when the band edges do not give it a pipe (lib/frame.c).
- * The coarse edges are kept at the end of out while the bands are read
- * into its start; if the two would meet, or the coarse pass overflows,
- * the full search runs instead (its rule for a full buffer applies).
+ * search's rows are t_j = first + j*step; the coarse rows are those with
+ * j % F == 0, scanned exactly as the full search scans them, so their
+ * edges are full-search edges. Then only the bands around what they saw
+ * are read at full resolution, with the full search's own scans on
+ * sub-ranges of its lines, so every edge reported is one the full search
+ * reports, in the full search's order.
+ * - Rows: an edge owned by the row family lies within 45 degrees of
+ *   vertical (refine's ownership test), so a straight contour through an
+ *   edge q on coarse row t_k stays within |t - t_k| px of q along row t.
+ *   Each fine row between coarse rows k and k + 1 is read around the edges
+ *   of both, +- (that distance + BAND_MARGIN px); a coarse row itself is
+ *   taken as it was scanned.
+ * - Columns: no coarse columns. A column every F*step px read over every
+ *   row touches every 64-byte line of the frame at the default 32 px (the
+ *   coarse pass alone read 99.7 % of the paper frame, issue 17). A coarse
+ *   row's candidate owned by the column family is a hint (refine_core):
+ *   where a near-horizontal contour crosses that row, with its slope. A
+ *   block of CHUNK columns, whose order must be kept, reads the rows
+ *   within F*step of each coarse row where the lines through its hints
+ *   (slope within a tolerance) cross the block (band_cols).
+ * The guarantee: every row edge of the full search whose contour (straight,
+ * of that family) reaches a coarse row within F rows of it, and every
+ * column edge within F*step rows of a hint on the line through it, is
+ * reported; tests/lib/test_edges_scan.c checks exactly that on its table
+ * of frames. What can be missed is a short contour lying wholly between
+ * two coarse rows, or a near-horizontal one that makes no candidate on
+ * any; the frame path falls back to the full search when the band edges
+ * do not give it a pipe (lib/frame.c).
+ * The coarse rows' edges and hints are kept at the end of out while the
+ * bands are read into its start; if the two would meet, or the coarse
+ * pass overflows, the full search runs instead (its rule for a full
+ * buffer applies).
  */
 #define BAND_MARGIN 2
 
