@@ -214,14 +214,16 @@ typedef struct {
     cdsp_roi roi;           /* where to look; default whole frame; any
                                values (clipped to the frame, no overflow) */
     int coarse;             /* coarse pass, 0..CDSP_EDGE_MAX_COARSE: with
-                               F >= 2, every F-th row and column of the
-                               search is read first, then the others only
-                               within bands around the edges found there
-                               (docs/method.md §2: every edge of a contour
-                               spanning F*step px across its scanlines is
-                               still found, in the same order). 0 or 1: off,
-                               the whole roi (the default here; cdsp_params
-                               turns it on for the frame path) */
+                               F >= 2, every F-th row of the search is read
+                               first, then the other rows and the column
+                               blocks only within bands around the edges
+                               and the near-horizontal crossings ("hints")
+                               found there (docs/method.md §2: a subsequence
+                               of the full search's edges, in its order;
+                               every edge of a contour reaching a coarse
+                               row within F*step px is still found). 0 or
+                               1: off, the whole roi (the default here;
+                               cdsp_params turns it on for the frame path) */
 } cdsp_edge_params;
 
 /* Largest scanline spacing (a wider step than any frame reads one line). */
@@ -256,7 +258,9 @@ cdsp_status cdsp_edges_detect(const cdsp_image *img, const cdsp_edge_params *p,
  * The full search in strips, for callers that spread one frame over several
  * cores (the library itself starts no thread). Strip k (0 <= k < n <=
  * CDSP_EDGE_MAX_STRIPS) reads its share of the rows and of the column
- * blocks (with the coarse pass, the coarse lines around them too) and
+ * blocks (with the coarse pass, the coarse rows around them too, and
+ * every coarse row when it has column blocks: they take their bands from
+ * the coarse rows' hints, over the whole height) and
  * writes its row edges to out[0, *n_rows) and its column edges after them
  * (*n_cols); strips are independent (any order, any thread; out is the
  * caller's, one per strip). cdsp_edges_merge_strips then lists every

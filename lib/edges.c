@@ -137,8 +137,24 @@ static inline cdsp_real sample_at(const win_px *w, int k, cdsp_real pos, int lim
 /* Refine candidate (s, t): returns 1 and fills e when the partial-area
  * estimate is a valid edge owned by this scan direction. Internal entry
  * (internal.h): the reference scan of tests/lib/test_edges_scan.c calls it. */
+static inline int refine_core(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
+                              cdsp_edge *e, cdsp_edge *hint);
+
 int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
                        cdsp_edge *e)
+{
+    return refine_core(img, horizontal, s, t, h, min_step, e, NULL);
+}
+
+/* The refinement proper. hint (the coarse pass's rows, NULL elsewhere):
+ * when a row's candidate is owned by the column family and its Sobel
+ * component across the row, |gt|, is at least 2 thr (the column scan's
+ * candidate test needs a central difference of thr there, which a 3x3
+ * Sobel weighs about 4 times), *hint = (s, t, gs, gt) and 2 is returned:
+ * where a near-horizontal contour crosses the row, with its slope
+ * -gs / gt (docs/method.md §2). */
+static inline int refine_core(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
+                              cdsp_edge *e, cdsp_edge *hint)
 {
     int k, S[3], g[2], AB[2], A, B, gs, gt;
     cdsp_real diff, a, b, norm, gsn, gtn;
@@ -157,8 +173,16 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
     /* Which family owns the edge: compare the 3x3 Sobel-like components;
      * ties (45 degrees) go to the row family only, so no edge is reported
      * twice */
-    if (horizontal ? (iabs(gs) < iabs(gt)) : (iabs(gs) <= iabs(gt)))
-        return 0;
+    if (horizontal ? (iabs(gs) < iabs(gt)) : (iabs(gs) <= iabs(gt))) {
+        int thr = min_step / 2 > 0 ? min_step / 2 : 1;
+        if (!hint || iabs(gt) < 2 * thr)
+            return 0;
+        hint->x = (cdsp_real)s;
+        hint->y = (cdsp_real)t;
+        hint->gx = (cdsp_real)gs;
+        hint->gy = (cdsp_real)gt;
+        return 2;
+    }
     /* A, B: means of the three end pixels (kept as sums of 3 until here) */
     if (iabs(A - B) < 3 * min_step)
         return 0;
@@ -321,8 +345,22 @@ void cdsp__edges_gather_c(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst)
  * window fits: from - h - 1 >= 0, to + h + 1 <= extent, 1 <= line <= other
  * extent - 2. Returns points written (<= cap).
  */
+static inline size_t scan_segment(const cdsp_image *img, const cdsp_edge_params *p, int horizontal,
+                                  int line, int from, int to, cdsp_edge *out, size_t cap,
+                                  cdsp_edge *htop, size_t *nh);
+
 size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p, int horizontal,
                                 int line, int from, int to, cdsp_edge *out, size_t cap)
+{
+    return scan_segment(img, p, horizontal, line, from, to, out, cap, NULL, NULL);
+}
+
+/* The scan proper. htop (the coarse pass's rows; NULL elsewhere): the
+ * hints refine_core gives are written downward from it, htop[-1 - *nh],
+ * and count against cap with the edges (returned: edges + new hints). */
+static inline size_t scan_segment(const cdsp_image *img, const cdsp_edge_params *p, int horizontal,
+                                  int line, int from, int to, cdsp_edge *out, size_t cap,
+                                  cdsp_edge *htop, size_t *nh)
 {
     int h = p->half_window, s0;
     int full = (1 << img->bits) - 1;
@@ -333,6 +371,7 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
     ptrdiff_t es;
     flag_buf flag;
     uint8_t run[SEG_RUN + 4];
+    size_t nh0 = htop ? *nh : 0;
     if (to - from < 3 || cap == 0)
         return 0;
     for (s0 = 0; s0 < SEG_RUN / 8; s0++) /* no word is ever read unset */
@@ -365,14 +404,30 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
             for (i = 0; i < m; i++)
                 flag.b[i] = (uint8_t)is_peak(img, base, es, s0 + i, thr);
         }
-        /* bytes past m: zero, or flags of an earlier run, skipped by i < m */
-        for (k = 0; k < m; k += 8) {
+        /* bytes past m: zero, or flags of an earlier run, skipped by i < m;
+         * the plain scans' loop apart from the coarse rows' (one more
+         * branch per candidate there cost the tracked path 2 % more
+         * instructions) */
+        for (k = 0; k < m && !htop; k += 8) {
             if (!flag.w[k / 8])
                 continue;
             for (i = k; i < k + 8 && i < m; i++)
                 if (flag.b[i] && cdsp__edges_refine(img, horizontal, s0 + i, line, h, min_step, &out[n]) &&
                     ++n == cap)
                     return n;
+        }
+        for (k = 0; k < m && htop; k += 8) {
+            if (!flag.w[k / 8])
+                continue;
+            for (i = k; i < k + 8 && i < m; i++) {
+                int r = flag.b[i] ? refine_core(img, horizontal, s0 + i, line, h, min_step, &out[n],
+                                                &htop[-1 - (ptrdiff_t)*nh])
+                                  : 0;
+                n += r == 1;
+                *nh += r == 2;
+                if (r && n + (*nh - nh0) == cap)
+                    return n;
+            }
         }
     }
     return n;
@@ -567,30 +622,38 @@ static cdsp_status detect_full(const cdsp_image *img, const cdsp_edge_params *p,
 
 /*
  * The coarse pass (p->coarse = F >= 2; docs/method.md §2). The full
- * search's scanlines are t_j = first + j*step; the coarse lines are those
- * with j % F == 0, scanned exactly as the full search scans them, so their
- * edges are full-search edges. Then only the bands around those edges are
- * read at full resolution, with the full search's own scans on sub-ranges
- * of its lines, so every edge reported is one the full search reports, in
- * the full search's order. The bands: an edge owned by a family lies within
- * 45 degrees of that family's scan normal (refine's ownership test), so a
- * straight contour through an edge q on coarse line t_k stays within |t -
- * t_k| px of q along the scan on line t. Each fine line between coarse
- * lines k and k + 1 is therefore read around the edges of both, +- (that
- * distance + BAND_MARGIN px); a coarse line itself is taken as it was
- * scanned. For the columns, read in blocks of CHUNK columns whose order
- * must be kept, a block reads the rows within F*step + BAND_MARGIN of the
- * edges of every coarse column within F columns of it, all of its columns
- * at once. The guarantee: every edge of the full search whose contour
- * (straight, of that family) reaches a coarse line within F lines of it is
- * reported - every edge of a contour spanning at least F*step px across
- * its family's scanlines; tests/lib/test_edges_scan.c checks exactly that
- * on its table of frames. What can be missed is a short contour lying
- * wholly between two coarse lines; the frame path falls back to the full
- * search when the band edges do not give it a pipe (lib/frame.c).
- * The coarse edges are kept at the end of out while the bands are read
- * into its start; if the two would meet, or the coarse pass overflows,
- * the full search runs instead (its rule for a full buffer applies).
+ * search's rows are t_j = first + j*step; the coarse rows are those with
+ * j % F == 0, scanned exactly as the full search scans them, so their
+ * edges are full-search edges. Then only the bands around what they saw
+ * are read at full resolution, with the full search's own scans on
+ * sub-ranges of its lines, so every edge reported is one the full search
+ * reports, in the full search's order.
+ * - Rows: an edge owned by the row family lies within 45 degrees of
+ *   vertical (refine's ownership test), so a straight contour through an
+ *   edge q on coarse row t_k stays within |t - t_k| px of q along row t.
+ *   Each fine row between coarse rows k and k + 1 is read around the edges
+ *   of both, +- (that distance + BAND_MARGIN px); a coarse row itself is
+ *   taken as it was scanned.
+ * - Columns: no coarse columns. A column every F*step px read over every
+ *   row touches every 64-byte line of the frame at the default 32 px (the
+ *   coarse pass alone read 99.7 % of the paper frame, issue 17). A coarse
+ *   row's candidate owned by the column family is a hint (refine_core):
+ *   where a near-horizontal contour crosses that row, with its slope. A
+ *   block of CHUNK columns, whose order must be kept, reads the rows
+ *   within F*step of each coarse row where the lines through its hints
+ *   (slope within a tolerance) cross the block (band_cols).
+ * The guarantee: every row edge of the full search whose contour (straight,
+ * of that family) reaches a coarse row within F rows of it, and every
+ * column edge within F*step rows of a hint on the line through it, is
+ * reported; tests/lib/test_edges_scan.c checks exactly that on its table
+ * of frames. What can be missed is a short contour lying wholly between
+ * two coarse rows, or a near-horizontal one that makes no candidate on
+ * any; the frame path falls back to the full search when the band edges
+ * do not give it a pipe (lib/frame.c).
+ * The coarse rows' edges and hints are kept at the end of out while the
+ * bands are read into its start; if the two would meet, or the coarse
+ * pass overflows, the full search runs instead (its rule for a full
+ * buffer applies).
  */
 #define BAND_MARGIN 2
 
@@ -680,72 +743,86 @@ static size_t band_rows(const cdsp_image *img, const cdsp_edge_params *p, int F,
     return n;
 }
 
-/* First index of cc[from, ncc) with x >= xv: the coarse columns' blocks
- * come in x order, so the predicate is monotone. */
-static size_t first_at(const cdsp_edge *cc, size_t from, size_t ncc, cdsp_real xv)
+/* The slope tolerance of a hint (the Sobel components' ratio): +-(ABS +
+ * REL |m|) on m = -gs / gt. */
+#define HINT_SLOPE_ABS 0.1
+#define HINT_SLOPE_REL 0.25
+/* Rows beyond a hint's predicted band: the crossing's own +-1 px, the
+ * candidate row within 1 of the contour, and BAND_MARGIN. */
+#define HINT_MARGIN 3
+
+/* The rows, relative to the hint's row, where the contour through hint q
+ * (slope m = -gs / gt, within its tolerance) crosses the columns [xa, xb]:
+ * [*dlo, *dhi] (unclipped). */
+static void hint_reach(const cdsp_edge *q, cdsp_real xa, cdsp_real xb, cdsp_real *dlo, cdsp_real *dhi)
 {
-    while (from < ncc && cc[from].x < xv)
-        from++;
-    return from;
+    cdsp_real m = -q->gx / q->gy, am = R_FABS(m), d = R(HINT_SLOPE_ABS) + R(HINT_SLOPE_REL) * am;
+    cdsp_real ua = xa - q->x - R(1.5), ub = xb - q->x + R(1.5), c[4];
+    int i;
+    c[0] = (m - d) * ua;
+    c[1] = (m - d) * ub;
+    c[2] = (m + d) * ua;
+    c[3] = (m + d) * ub;
+    *dlo = *dhi = c[0];
+    for (i = 1; i < 4; i++) {
+        *dlo = c[i] < *dlo ? c[i] : *dlo;
+        *dhi = c[i] > *dhi ? c[i] : *dhi;
+    }
 }
 
-/* Fine column blocks in bands. cc[0, ncc): the coarse columns' edges as
- * scan_cols lists them (blocks of CHUNK coarse columns; row by row within
- * a block), so each coarse block's edges of any x range come sorted by
- * row. A fine block draws on coarse columns ka..kb (within F columns of
- * its own), which lie in at most two coarse blocks: two sorted streams,
- * merged by row. */
-static size_t band_cols(const cdsp_image *img, const cdsp_edge_params *p, int F, int b0, int b1, int c0,
-                        int x0, int y0, int x1, int y1, const cdsp_edge *cc, size_t ncc,
-                        cdsp_edge *out, size_t cap, int *full)
+/* Fine column blocks b in [b0, b1), read only where the coarse rows' hints
+ * (hint[-1 - i], i < nh, in row order; see detect_range) put a
+ * near-horizontal contour: for each coarse row t_k with hints, the hull
+ * of the rows within D = F*step of t_k where the contours through its
+ * hints (within their slope tolerance) cross the block's columns,
+ * HINT_MARGIN rows wider. Coarse rows in order, merged, rows already read
+ * never again: a block's rows ascending, the full search's order. */
+static size_t band_cols(const cdsp_image *img, const cdsp_edge_params *p, int F, int b0, int b1, int x0,
+                        int y0, int x1, int y1, const cdsp_edge *hint, size_t nh, cdsp_edge *out,
+                        size_t cap, int *full)
 {
-    int h = p->half_window, step = p->step, t, b, D = F * step;
+    int h = p->half_window, step = p->step, t, b;
     int first = first_line(x0, step);
     int last = (x1 - 1 < img->width - 1 ? x1 - 1 : img->width - 1);
     int from = y0 > h + 1 ? y0 : h + 1, to = y1 < img->height - h - 1 ? y1 : img->height - h - 1;
-    size_t n = 0, bstart = 0;
+    cdsp_real D = (cdsp_real)(F * step);
+    size_t n = 0;
     for (b = b0, t = first + b0 * CHUNK * step; t < last && from < to && b < b1; b++, t += CHUNK * step) {
-        int ncols = (last - 1 - t) / step + 1, ka, kb, i, cur_lo = 0, cur_hi = -1;
-        size_t cur[2], end[2];
-        cdsp_real xa, xb;
+        int ncols = (last - 1 - t) / step + 1, cur_lo = 0, cur_hi = -1, done = from - 1;
+        size_t ia = 0;
+        cdsp_real xa = (cdsp_real)t, xb;
         if (ncols > CHUNK)
             ncols = CHUNK;
-        ka = (b * CHUNK) / F;
-        kb = (b * CHUNK + ncols - 1) / F + 1;
-        xa = (cdsp_real)(first + ka * D);
-        xb = (cdsp_real)(first + kb * D);
-        /* the coarse blocks holding columns ka and kb (cc's blocks start
-         * at coarse column c0 <= ka) */
-        for (i = 0; i < 2; i++) {
-            int B = ((i == 0 ? ka : kb) - c0) / CHUNK;
-            size_t s0 = first_at(cc, i == 0 ? bstart : cur[0], ncc,
-                                 (cdsp_real)(first + (c0 + B * CHUNK) * D));
-            if (i == 0)
-                bstart = s0;
-            cur[i] = s0;
-            end[i] = first_at(cc, s0, ncc, (cdsp_real)(first + (c0 + (B + 1) * CHUNK) * D));
-            if (i == 1 && B == (ka - c0) / CHUNK)
-                cur[1] = end[1] = 0; /* one coarse block only */
-        }
-        /* merge by row the edges with x in [xa, xb]; bands +-D around each */
+        xb = (cdsp_real)(t + (ncols - 1) * step);
         for (;;) {
-            int best = -1, lo = 0, hi = -1;
-            for (i = 0; i < 2; i++) {
-                while (cur[i] < end[i] && (cc[cur[i]].x < xa || cc[cur[i]].x > xb))
-                    cur[i]++;
-                if (cur[i] < end[i] && (best < 0 || cc[cur[i]].y < cc[cur[best]].y))
-                    best = i;
-            }
-            if (best >= 0) {
-                band_of(cc[cur[best]].y, D, &lo, &hi);
-                cur[best]++;
-                if (cur_hi >= cur_lo && lo <= cur_hi + 1) {
-                    cur_hi = hi > cur_hi ? hi : cur_hi;
-                    continue;
+            int have = 0, lo = 0, hi = -1;
+            while (ia < nh && !have) { /* the next coarse row reaching the block */
+                cdsp_real yk = hint[-1 - (ptrdiff_t)ia].y, hl = D, hh = -D;
+                size_t u;
+                for (u = ia; u < nh && hint[-1 - (ptrdiff_t)u].y == yk; u++) {
+                    cdsp_real dl, dh;
+                    hint_reach(&hint[-1 - (ptrdiff_t)u], xa, xb, &dl, &dh);
+                    if (dh < -D || dl > D)
+                        continue;
+                    hl = dl < hl ? (dl < -D ? -D : dl) : hl;
+                    hh = dh > hh ? (dh > D ? D : dh) : hh;
+                    have = 1;
+                }
+                ia = u;
+                if (have) {
+                    lo = (int)R_FLOOR(yk + hl) - HINT_MARGIN;
+                    hi = (int)R_CEIL(yk + hh) + HINT_MARGIN;
+                    lo = lo <= done ? done + 1 : lo;
+                    have = hi >= lo;
                 }
             }
+            if (have && cur_hi >= cur_lo && lo <= cur_hi + 1) {
+                cur_lo = lo < cur_lo ? lo : cur_lo;
+                cur_hi = hi > cur_hi ? hi : cur_hi;
+                continue;
+            }
             if (cur_hi >= cur_lo) {
-                /* candidate rows [cur_lo, cur_hi]; scan_cols_block takes
+                /* candidate rows [cur_lo, cur_hi]: scan_cols_block takes
                  * candidates in [f, e - 1) */
                 int f = cur_lo < from ? from : cur_lo, e = cur_hi + 2 > to ? to : cur_hi + 2;
                 if (f < e) {
@@ -755,8 +832,9 @@ static size_t band_cols(const cdsp_image *img, const cdsp_edge_params *p, int F,
                         return n;
                     }
                 }
+                done = cur_hi;
             }
-            if (best < 0)
+            if (!have)
                 break;
             cur_lo = lo;
             cur_hi = hi;
@@ -787,7 +865,7 @@ static cdsp_status detect_range(const cdsp_image *img, const cdsp_edge_params *p
                                 int b1, cdsp_edge *out, size_t cap, size_t *nr, size_t *nc)
 {
     int x0, y0, x1, y1, F = p->coarse, step = p->step, full = 0, fr, fc;
-    size_t nrc = 0, ncc = 0;
+    size_t nrc = 0, nh = 0;
     cdsp__edges_clip_roi(img, &p->roi, &x0, &y0, &x1, &y1);
     fr = first_line(y0, step);
     fc = first_line(x0, step);
@@ -807,30 +885,33 @@ static cdsp_status detect_range(const cdsp_image *img, const cdsp_edge_params *p
         }
         return *nr + *nc == cap ? CDSP_E_CAPACITY : CDSP_OK;
     }
-    /* coarse rows (every F-th) around [j0, j1), coarse columns around the
-     * blocks, into out[0, nrc + ncc) */
-    if (j1 > j0) {
-        int ka = j0 / F, kb = (j1 - 1) / F + 1;
-        nrc = scan_rows(img, p, fr + ka * F * step, F * step, x0, x1,
-                        y1 < fr + kb * F * step + 2 ? y1 : fr + kb * F * step + 2, out, cap / 2);
-    }
-    if (b1 > b0 && nrc < cap / 2) {
-        /* coarse columns c0 .. ce inclusive: scan_cols_at's last is xe - 1 */
-        int c0 = (b0 * CHUNK) / F, ce = ((b1 * CHUNK - 1) / F + 1), xe = fc + ce * F * step + 2;
-        ncc = scan_cols_at(img, p, fc + c0 * F * step, F * step, y0, x1 < xe ? x1 : xe, y1, out + nrc,
-                           cap / 2 - nrc);
-    }
-    if (nrc + ncc >= cap / 2)
-        return CDSP_E_CAPACITY;
-    /* the coarse edges to the end of out; the bands into its start */
-    move_up(out + cap - (nrc + ncc), out, nrc + ncc);
+    /* coarse rows (every F-th): their edges into out[0, nrc), the hints
+     * for the column blocks downward from out + cap (nh); every coarse
+     * row of the roi when there are column blocks (a block spans all the
+     * rows), else those around [j0, j1) */
     {
-        const cdsp_edge *rc = out + cap - (nrc + ncc), *cc = rc + nrc;
-        size_t room = cap - (nrc + ncc);
+        int h = p->half_window, D = F * step, ka = 0, t, tend = y1 - 1 < img->height - 1 ? y1 - 1 : img->height - 1;
+        int from = x0 > h + 1 ? x0 : h + 1, to = x1 < img->width - h - 1 ? x1 : img->width - h - 1;
+        if (b1 <= b0) {
+            int kb = (j1 - 1) / F + 1;
+            ka = j0 / F;
+            tend = j1 > j0 && fr + kb * D + 1 < tend ? fr + kb * D + 1 : (j1 > j0 ? tend : fr);
+        }
+        for (t = fr + ka * D; t < tend; t += D) {
+            nrc += scan_segment(img, p, 1, t, from, to, out + nrc, cap / 2 - nrc - nh, out + cap, &nh);
+            if (nrc + nh >= cap / 2)
+                return CDSP_E_CAPACITY;
+        }
+    }
+    /* the coarse edges below the hints; the bands into out's start */
+    move_up(out + cap - nh - nrc, out, nrc);
+    {
+        const cdsp_edge *rc = out + cap - nh - nrc;
+        size_t room = cap - (nrc + nh);
         *nr = band_rows(img, p, F, j0, j1, x0, y0, x1, y1, rc, nrc, out, room, &full);
         *nc = full ? 0
-                   : band_cols(img, p, F, b0, b1, (b0 * CHUNK) / F, x0, y0, x1, y1, cc, ncc, out + *nr,
-                               room - *nr, &full);
+                   : band_cols(img, p, F, b0, b1, x0, y0, x1, y1, out + cap, nh, out + *nr, room - *nr,
+                               &full);
         if (full || *nr + *nc >= room)
             return CDSP_E_CAPACITY;
     }
