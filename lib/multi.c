@@ -455,11 +455,14 @@ static void track_update(cdsp_tracker *trk, const cdsp_camera *cam, cdsp_result 
 /* From the pairs select_pipes chose (chosen[0..nc-1]) to results (both
  * paths); ref: per chosen pair, what the frame path's edge-profile model
  * did to its lines (NULL on the points path, which so does not link
- * lib/profile.c). */
+ * lib/profile.c); fws: the frame path's workspace (its pair set is set),
+ * sigma the frame's noise, for the single path's scatter refusal (NULL on
+ * the points path: points carry no noise measure). */
 static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, size_t n,
                              const cdsp_pair_set *set, const int *chosen, int nc,
-                             const cdsp__pair_refined *ref, const cdsp_params *p, cdsp_real min_step,
-                             cdsp_tracker *trk, cdsp_result *out, size_t cap, size_t *n_out)
+                             const cdsp__pair_refined *ref, const cdsp_frame_ws *fws, cdsp_real sigma,
+                             const cdsp_params *p, cdsp_real min_step, cdsp_tracker *trk,
+                             cdsp_result *out, size_t cap, size_t *n_out)
 {
     int k;
     size_t m = 0, i;
@@ -473,6 +476,13 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, size_t n,
             continue;
         if (cdsp__pair_result(cam, radius, n, set, e, ref ? &ref[k] : NULL, r) != CDSP_OK)
             continue; /* the refined lines turned degenerate: not a pose */
+        /* a contour whose points are too scattered to be one edge says
+         * nothing reliable about the silhouette (lib/frame.c, issue 12):
+         * the single path refuses that pose, and so does every pipe here
+         * (the slot is reused; its contours stay free for no other pair,
+         * the matching is not redone) */
+        if (fws && cdsp__frame_scattered(fws, r, sigma))
+            continue;
         r->confidence = conf;
         if (cdsp__axis_wants_swap(r->direction))
             cdsp__axis_swap(r);
@@ -533,7 +543,8 @@ cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, 
                 cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, e, p,
                                    &ws->frame.profile, &ref[k]);
         }
-        st = solve_all(cam, radius, n, set, chosen, nc, ref, p, min_step, trk, out, cap, n_out);
+        st = solve_all(cam, radius, n, set, chosen, nc, ref, &ws->frame, sigma, p, min_step, trk, out,
+                       cap, n_out);
     } else if (trk)
         track_update(trk, cam, out, 0); /* no pipe this frame: every track ages */
     for (i = 0; i < *n_out; i++) {
@@ -567,8 +578,8 @@ cdsp_status cdsp_points_solve_all(const cdsp_camera *cam, cdsp_real radius, cons
     if (st == CDSP_OK) {
         int chosen[MAX_CHOSEN];
         int nc = select_pipes(&ws->points.pairs, cam, trk, trk ? trk->gate_px : R(1), chosen);
-        return solve_all(cam, radius, n, &ws->points.pairs, chosen, nc, NULL, p, R(0), trk, out, cap,
-                         n_out);
+        return solve_all(cam, radius, n, &ws->points.pairs, chosen, nc, NULL, NULL, R(0), p, R(0), trk,
+                         out, cap, n_out);
     }
     if (trk)
         track_update(trk, cam, out, 0);
