@@ -320,7 +320,7 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
  */
 #define SCATTER_E 1.5
 #define SCATTER_PX 0.2
-static int contours_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, cdsp_real sigma)
+int cdsp__frame_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, cdsp_real sigma)
 {
     int k;
     for (k = 0; k < 2; k++) {
@@ -382,7 +382,7 @@ static cdsp_status full_search(const cdsp_image *img, const cdsp_camera *cam, cd
     }
     if (st != CDSP_OK)
         return st;
-    if (contours_scattered(ws, out, fe->sigma))
+    if (cdsp__frame_scattered(ws, out, fe->sigma))
         return CDSP_E_NO_PIPE;
     out->flags |= flags;
     out->noise = fe->sigma;
@@ -473,7 +473,7 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
         n = track_edges(img, cam, p, &edge, prior, ws->edge, CDSP_MAX_EDGES, &truncated);
         st = solve_edges(img, cam, radius, ws, n, p, min_step, prior, 1, rng, out);
         if (st == CDSP_OK && out->inliers[0] >= (uint32_t)p->track_min_inliers &&
-            out->inliers[1] >= (uint32_t)p->track_min_inliers && !contours_scattered(ws, out, sigma)) {
+            out->inliers[1] >= (uint32_t)p->track_min_inliers && !cdsp__frame_scattered(ws, out, sigma)) {
             out->flags |= CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u);
             out->noise = sigma;
             out->min_step = min_step;

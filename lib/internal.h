@@ -213,6 +213,11 @@ int cdsp__points_finite(const cdsp_edge *e, size_t n);
 cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_frame_ws *ws, size_t *n, cdsp_real *sigma, cdsp_real *min_step,
                               uint32_t *flags);
+/* frame.c: whether a contour of pose out (its lines named by out->label in
+ * ws->pairs) has points too scattered to be one edge for the frame's noise
+ * sigma (issue 12; the rule and its figures at its definition). The single
+ * path and cdsp_frame_solve_all refuse such a pose. */
+int cdsp__frame_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, cdsp_real sigma);
 /* frame.c: the edge-profile model on pair c's two lines of set (moved in
  * place when modelled; the moves in *ref), with scratch pws; nothing when
  * p->profile.enable is 0. Only the frame paths call it, so the points path

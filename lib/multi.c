@@ -449,17 +449,189 @@ static void track_update(cdsp_tracker *trk, const cdsp_camera *cam, cdsp_result 
     }
 }
 
+/*
+ * Crossing members (issue 13: the support columns of the paper's rack).
+ * A pipe of radius r and a bar or column of radius r' < r at r' / r of its
+ * distance give the same two contours: one frame cannot tell them apart
+ * alone (docs/method.md §9), and a column solved as a pipe of radius r
+ * lands at r / r' of its distance (the paper's 12.68 mm columns under its
+ * 16 mm pipes: 1.26 x, inside a distance range of x [0.8, 1.25] about the
+ * pipes). Where it crosses a pipe in the image, though, the two must agree
+ * on which is in front. In the image, the one behind has no edge points on
+ * its contours within the other's band (occluded), the one in front keeps
+ * them. In 3D, at the axes' closest approach X_C (on C) and X_P (on P),
+ * the one in front is nearer the camera. So C, crossing P at more than
+ * 30 degrees and seen in front of P, but solved farther than P, is not a
+ * pipe of radius r (a thinner bar in front, solved too far); and, with a
+ * distance range (the caller says where the pipes are: a rack), C seen
+ * behind P but solved more than CROSS_GAP r beyond touching it (axes more
+ * than 2 r + CROSS_GAP r apart) is taken for a support of the rack, not a
+ * pipe of radius r floating behind it: such a member touches the pipes it
+ * carries, and a column of radius r' touching P solves r / r' of its
+ * distance away (the paper's: about 160 mm behind a 16 mm pipe at 600 mm),
+ * where a pipe of radius r lying on the rack solves touching it (axes 2 r
+ * apart, within its sigma: a fraction of r at the rack's distances). */
+#define CROSS_COS 0.8660254 /* cos 30 degrees */
+#define CROSS_GAP 1
+/* below this fraction of a contour's mean inlier density over the other's
+ * band (edge points on its line there), the contour is taken as occluded */
+#define CROSS_HIDDEN 0.25
+
+/* Parameters along line L (from its centroid, along dir) where it meets
+ * lines a and b, ordered; 0 when L is near parallel to either. */
+static int line_span(const cdsp_line *L, const cdsp_real a[3], const cdsp_real b[3], cdsp_real *t0,
+                     cdsp_real *t1)
+{
+    cdsp_real da = a[0] * L->dir[0] + a[1] * L->dir[1], db = b[0] * L->dir[0] + b[1] * L->dir[1];
+    cdsp_real ta, tb;
+    if (R_FABS(da) < R(0.2) || R_FABS(db) < R(0.2))
+        return 0;
+    ta = -(a[0] * L->centroid[0] + a[1] * L->centroid[1] + a[2]) / da;
+    tb = -(b[0] * L->centroid[0] + b[1] * L->centroid[1] + b[2]) / db;
+    *t0 = ta < tb ? ta : tb;
+    *t1 = ta < tb ? tb : ta;
+    return 1;
+}
+
+/* The contours of result c that cross the band of result q with edge
+ * points there (*vis) and without (*hid: occluded); a contour that ends
+ * in the band or runs along it counts in neither. Any edge point on the
+ * contour's line counts, of either polarity and not only its inliers: a
+ * contour crossing something brighter than itself flips its step there
+ * (the bar's against a lit pipe), and one seen in front still has its
+ * points. The margin (EDGE_MARGIN px inside the band's edges) keeps the
+ * other's own contour points out. Expected over the band: the contour's
+ * inlier density along its extent. */
+#define CROSS_NEAR_PX 1.5
+#define CROSS_NORMAL_COS 0.94 /* cos 20 degrees, the line finder's default tolerance */
+#define CROSS_MARGIN_PX 5
+static void contours_over(const cdsp_pair_set *set, const cdsp_edge *pts, size_t n,
+                          const cdsp_result *c, const cdsp_result *q, int *vis, int *hid)
+{
+    int k;
+    *vis = *hid = 0;
+    for (k = 0; k < 2; k++) {
+        const cdsp_line *L;
+        cdsp_real t0, t1, inside = R(0), dens;
+        size_t i;
+        if (c->label[k] == 0 || c->label[k] > set->nlines)
+            continue;
+        L = &set->lines[c->label[k] - 1];
+        if (!line_span(L, q->lines[0], q->lines[1], &t0, &t1) || t0 < L->t_min || t1 > L->t_max ||
+            !(L->t_max > L->t_min))
+            continue;
+        t0 += R(CROSS_MARGIN_PX);
+        t1 -= R(CROSS_MARGIN_PX);
+        if (!(t1 > t0))
+            continue;
+        for (i = 0; i < n; i++) {
+            const cdsp_edge *e = &pts[i];
+            cdsp_real d = L->l[0] * e->x + L->l[1] * e->y + L->l[2], g, t;
+            if (R_FABS(d) > R(CROSS_NEAR_PX))
+                continue;
+            g = L->l[0] * e->gx + L->l[1] * e->gy;
+            if (g * g < R(CROSS_NORMAL_COS) * R(CROSS_NORMAL_COS) * (e->gx * e->gx + e->gy * e->gy))
+                continue;
+            t = (e->x - L->centroid[0]) * L->dir[0] + (e->y - L->centroid[1]) * L->dir[1];
+            inside += t >= t0 && t <= t1 ? R(1) : R(0);
+        }
+        dens = (cdsp_real)L->count / (L->t_max - L->t_min);
+        if (inside < R(CROSS_HIDDEN) * dens * (t1 - t0))
+            ++*hid;
+        else
+            ++*vis;
+    }
+}
+
+/* Closest points of the axes of a and b (X_a on a, X_b on b); 0 when they
+ * are near parallel. */
+static int axes_closest(const cdsp_result *a, const cdsp_result *b, cdsp_real Xa[3], cdsp_real Xb[3])
+{
+    cdsp_real w[3], d = v3_dot(a->direction, b->direction), e, f, den, s, t;
+    int i;
+    for (i = 0; i < 3; i++)
+        w[i] = a->point[i] - b->point[i];
+    e = v3_dot(a->direction, w);
+    f = v3_dot(b->direction, w);
+    den = R(1) - d * d;
+    if (!(den > R(0.25))) /* within 30 degrees: not a crossing */
+        return 0;
+    s = (d * f - e) / den;
+    t = (f - d * e) / den;
+    for (i = 0; i < 3; i++) {
+        Xa[i] = a->point[i] + s * a->direction[i];
+        Xb[i] = b->point[i] + t * b->direction[i];
+    }
+    return 1;
+}
+
+/* Whether result c, crossing result q, is no pipe of radius r (see above). */
+static int crossing_inconsistent(const cdsp_pair_set *set, const cdsp_edge *pts, size_t n,
+                                 const cdsp_result *c, const cdsp_result *q, cdsp_real radius, int ranged)
+{
+    cdsp_real Xc[3], Xq[3], dv[3], behind;
+    int i, vis_c, hid_c, vis_q, hid_q;
+    if (R_FABS(v3_dot(c->direction, q->direction)) > R(CROSS_COS) || !axes_closest(c, q, Xc, Xq))
+        return 0;
+    /* in front: a contour seen over the other's band, and both of the
+     * other's hidden there (one contour of the one in front may be missing
+     * too: a shaded limb against a brighter member behind has no step) */
+    contours_over(set, pts, n, c, q, &vis_c, &hid_c);
+    contours_over(set, pts, n, q, c, &vis_q, &hid_q);
+    for (i = 0; i < 3; i++)
+        dv[i] = Xc[i] - Xq[i];
+    behind = v3_norm(Xc) - v3_norm(Xq); /* > 0: c solved farther than q */
+    if (vis_c >= 1 && hid_q == 2) /* c in front in the image */
+        return behind > R(0);
+    if (hid_c == 2 && vis_q >= 1) /* c behind q in the image */
+        return ranged && behind > R(0) && v3_norm(dv) > (R(2) + R(CROSS_GAP)) * radius;
+    return 0;
+}
+
+/* Drops every result that crosses a result of a parallel family at least
+ * as large inconsistently (the crossing member, not the rack's pipes: a
+ * smaller family never removes a larger one's member; in a tie the rules
+ * above name at most one of the two). */
+static size_t drop_crossing(const cdsp_pair_set *set, const cdsp_edge *pts, size_t n, cdsp_real radius,
+                            int ranged, cdsp_result *out, size_t m)
+{
+    uint8_t drop[CDSP_MAX_PIPES], fam[CDSP_MAX_PIPES];
+    cdsp_real par = R(CROSS_COS);
+    size_t i, j, k = 0;
+    for (i = 0; i < m; i++) {
+        fam[i] = 0;
+        for (j = 0; j < m; j++)
+            fam[i] += R_FABS(v3_dot(out[i].direction, out[j].direction)) > par;
+    }
+    for (i = 0; i < m; i++) {
+        drop[i] = 0;
+        for (j = 0; j < m && !drop[i]; j++)
+            drop[i] = j != i && fam[j] >= fam[i] &&
+                      crossing_inconsistent(set, pts, n, &out[i], &out[j], radius, ranged);
+    }
+    for (i = 0; i < m; i++)
+        if (!drop[i]) {
+            if (k != i)
+                out[k] = out[i];
+            k++;
+        }
+    return k;
+}
+
 /* Pipes select_pipes chooses at most. */
 #define MAX_CHOSEN (CDSP_MAX_LINES / 2 + 1)
 
 /* From the pairs select_pipes chose (chosen[0..nc-1]) to results (both
  * paths); ref: per chosen pair, what the frame path's edge-profile model
  * did to its lines (NULL on the points path, which so does not link
- * lib/profile.c). */
-static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, size_t n,
-                             const cdsp_pair_set *set, const int *chosen, int nc,
-                             const cdsp__pair_refined *ref, const cdsp_params *p, cdsp_real min_step,
-                             cdsp_tracker *trk, cdsp_result *out, size_t cap, size_t *n_out)
+ * lib/profile.c); fws: the frame path's workspace (its pair set is set),
+ * sigma the frame's noise, for the single path's scatter refusal (NULL on
+ * the points path: points carry no noise measure). */
+static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
+                             size_t n, const cdsp_pair_set *set, const int *chosen, int nc,
+                             const cdsp__pair_refined *ref, const cdsp_frame_ws *fws, cdsp_real sigma,
+                             const cdsp_params *p, cdsp_real min_step, cdsp_tracker *trk,
+                             cdsp_result *out, size_t cap, size_t *n_out)
 {
     int k;
     size_t m = 0, i;
@@ -473,11 +645,20 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, size_t n,
             continue;
         if (cdsp__pair_result(cam, radius, n, set, e, ref ? &ref[k] : NULL, r) != CDSP_OK)
             continue; /* the refined lines turned degenerate: not a pose */
+        /* a contour whose points are too scattered to be one edge says
+         * nothing reliable about the silhouette (lib/frame.c, issue 12):
+         * the single path refuses that pose, and so does every pipe here
+         * (the slot is reused; its contours stay free for no other pair,
+         * the matching is not redone) */
+        if (fws && cdsp__frame_scattered(fws, r, sigma))
+            continue;
         r->confidence = conf;
         if (cdsp__axis_wants_swap(r->direction))
             cdsp__axis_swap(r);
         m++;
     }
+    m = drop_crossing(set, pts, n, radius, p->pair.min_distance > R(0) || p->pair.max_distance > R(0),
+                      out, m);
     for (i = 0; i < m; i++)
         out[i].n_candidates = (uint32_t)m;
     if (trk)
@@ -533,7 +714,8 @@ cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, 
                 cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, e, p,
                                    &ws->frame.profile, &ref[k]);
         }
-        st = solve_all(cam, radius, n, set, chosen, nc, ref, p, min_step, trk, out, cap, n_out);
+        st = solve_all(cam, radius, ws->frame.edge, n, set, chosen, nc, ref, &ws->frame, sigma, p,
+                       min_step, trk, out, cap, n_out);
     } else if (trk)
         track_update(trk, cam, out, 0); /* no pipe this frame: every track ages */
     for (i = 0; i < *n_out; i++) {
@@ -567,8 +749,8 @@ cdsp_status cdsp_points_solve_all(const cdsp_camera *cam, cdsp_real radius, cons
     if (st == CDSP_OK) {
         int chosen[MAX_CHOSEN];
         int nc = select_pipes(&ws->points.pairs, cam, trk, trk ? trk->gate_px : R(1), chosen);
-        return solve_all(cam, radius, n, &ws->points.pairs, chosen, nc, NULL, p, R(0), trk, out, cap,
-                         n_out);
+        return solve_all(cam, radius, pts, n, &ws->points.pairs, chosen, nc, NULL, NULL, R(0), p,
+                         R(0), trk, out, cap, n_out);
     }
     if (trk)
         track_update(trk, cam, out, 0);

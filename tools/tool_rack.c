@@ -172,6 +172,9 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
     /* per pipe, model off / on: the distance bias (%) and the direction
      * error (mrad), what the spacing is made of */
     double bias2[2] = {0, 0}, bias_worst[2] = {0, 0}, dir2[2] = {0, 0};
+    /* the same errors in units of the pose's own first-order sigma (the
+     * random error of its edge points): near 1, the error is that noise */
+    double zdist2[2] = {0, 0}, zdir2[2] = {0, 0};
     long npipe[2] = {0, 0};
     int arr, g, f, prof, i;
     char path[4200];
@@ -284,6 +287,14 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
                             bias_worst[prof] = bias;
                         dot = fabs(dot) < 1 ? acos(fabs(dot)) * 1e3 : 0;
                         dir2[prof] += dot * dot;
+                        {
+                            double sd = 1e3 * sqrt((double)o->sigma_direction[0] * o->sigma_direction[0] +
+                                                   (double)o->sigma_direction[1] * o->sigma_direction[1] +
+                                                   (double)o->sigma_direction[2] * o->sigma_direction[2]);
+                            double zd = ((double)o->distance - dd) / (double)o->sigma_distance;
+                            zdir2[prof] += sd > 0 ? dot * dot / (sd * sd) : 0;
+                            zdist2[prof] += isfinite(zd) ? zd * zd : 0;
+                        }
                         npipe[prof]++;
                     }
                     for (i = 0; i < 2; i++) {
@@ -323,6 +334,11 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
                "direction error RMS %.3f mrad (%ld pipes)\n",
                prof ? "on " : "off", npipe[prof] ? sqrt(bias2[prof] / (double)npipe[prof]) : NAN, bias_worst[prof],
                npipe[prof] ? sqrt(dir2[prof] / (double)npipe[prof]) : NAN, npipe[prof]);
+    for (prof = 0; prof < 2; prof++)
+        printf("model %s: errors / their own sigma (RMS): distance %.2f, direction %.2f (near 1: the edge "
+               "points' noise)\n",
+               prof ? "on " : "off", npipe[prof] ? sqrt(zdist2[prof] / (double)npipe[prof]) : NAN,
+               npipe[prof] ? sqrt(zdir2[prof] / (double)npipe[prof]) : NAN);
     printf("target: <= 0.05 mm: model off %s, model on %s\n",
            sqrt(total2[0] / (2 * RACK_GROUPS)) <= 0.05 ? "met" : "NOT met",
            sqrt(total2[1] / (2 * RACK_GROUPS)) <= 0.05 ? "met" : "NOT met");

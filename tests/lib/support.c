@@ -546,3 +546,12 @@ cdsp_status sup_edge_profile(const sup_edge_spec *e, const cdsp_image *img, cons
     pin[1] = (cdsp_real)(c0[1] + e->radius_px * n_pipe[1]);
     return cdsp_profile_fit(img, ln->l, pin, (const cdsp_real(*)[2])ends, pp, ws, pr);
 }
+
+void sup_paper_bound_scene(cdsp_scene *s, int i, double ambient, double point[3], double dir[3])
+{
+    sup_paper_pipe(i, point, dir);
+    sup_scene(s, point, dir, 8);
+    s->half_length = 250;
+    s->noise_sigma = (cdsp_real)0.002;
+    s->ambient = (cdsp_real)ambient;
+}

@@ -78,6 +78,11 @@ void *sup_render(const cdsp_scene *s, const cdsp_camera *cam, int bits, uint64_t
 /* A scene with the pipe (point, dir, radius) and the default look. */
 void sup_scene(cdsp_scene *s, const double point[3], const double dir[3], double radius);
 
+/* Issue 12's paper scene (test_frame's bound test, test_multi's scatter
+ * refusal): pipe i of the paper (radius 8 mm, half length 250 mm) at the
+ * given ambient, noise 0.5 gray level; its axis in point, dir. */
+void sup_paper_bound_scene(cdsp_scene *s, int i, double ambient, double point[3], double dir[3]);
+
 /* Add a clutter bar (a cylinder between camera-frame points a and b, mm)
  * of half_width (mm) and level (0..1) to s; ignored when s is full. */
 void sup_add_bar(cdsp_scene *s, const double a[3], const double b[3], double half_width, double level);

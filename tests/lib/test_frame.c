@@ -570,11 +570,7 @@ static void test_paper_bound(void **state)
             cdsp_status st;
             double P[3], v[3], f[3], got[3], dir[3], dtrue;
             void *px;
-            sup_paper_pipe(i, P, v);
-            sup_scene(&s, P, v, 8);
-            s.half_length = 250;
-            s.noise_sigma = (cdsp_real)0.002;
-            s.ambient = (cdsp_real)ambients[a];
+            sup_paper_bound_scene(&s, i, ambients[a], P, v);
             px = sup_render(&s, &cam, 8, (uint64_t)(50 + i), &img);
             assert_non_null(px);
             cdsp_params_default(&prm);
