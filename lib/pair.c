@@ -895,7 +895,7 @@ static int flips_on(const score_ctx *sc, const cdsp_line *A, const cdsp_line *X,
  * go on with its polarity flipped (a background ramp crossing the pipe's
  * level also leaves the level outside near the pipe's). */
 #define JUNCTION_SAME 0.25
-#define JUNCTION_PAST 0
+#define JUNCTION_PAST 0.4
 static int band_junction(const score_ctx *sc, const cdsp_line *A, const cdsp_line *B, const cdsp_real p_in[2],
                          cdsp_real loA, cdsp_real hiA, cdsp_real loB, cdsp_real hiB, cdsp_real width)
 {
