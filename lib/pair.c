@@ -838,12 +838,13 @@ static int level_at(const score_ctx *sc, const cdsp_real und[2], cdsp_real *v)
 
 /* Mean level of JUNCTION_N samples at parameters t0 + sgn * k w / (N + 1)
  * (k = 1..N, along A's direction from A's centroid) on line X moved by
- * off px along X's unit normal; 0 when a sample is outside the frame. */
+ * off px along X's unit normal, and their range (max - min); 0 when a sample
+ * is outside the frame. */
 #define JUNCTION_N 3
 static int level_along(const score_ctx *sc, const cdsp_line *A, const cdsp_line *X, cdsp_real t0,
-                       cdsp_real sgn, cdsp_real w, cdsp_real off, cdsp_real *mean)
+                       cdsp_real sgn, cdsp_real w, cdsp_real off, cdsp_real *mean, cdsp_real *spread)
 {
-    cdsp_real sum = R(0);
+    cdsp_real sum = R(0), mn = R_MAX, mx = -R_MAX;
     int k;
     for (k = 1; k <= JUNCTION_N; k++) {
         cdsp_real t = t0 + sgn * w * (cdsp_real)k / (cdsp_real)(JUNCTION_N + 1), q[2], dq, v;
@@ -855,8 +856,11 @@ static int level_along(const score_ctx *sc, const cdsp_line *A, const cdsp_line 
         if (!level_at(sc, q, &v))
             return 0;
         sum += v;
+        mn = v < mn ? v : mn;
+        mx = v > mx ? v : mx;
     }
     *mean = sum / (cdsp_real)JUNCTION_N;
+    *spread = mx - mn;
     return 1;
 }
 
@@ -908,19 +912,20 @@ static int band_junction(const score_ctx *sc, const cdsp_line *A, const cdsp_lin
         const cdsp_line *X = e & 1 ? B : A;
         cdsp_real sgn = e & 2 ? R(1) : R(-1), te = e & 2 ? (e & 1 ? hiB : hiA) : (e & 1 ? loB : loA);
         cdsp_real sx = X->l[0] * p_in[0] + X->l[1] * p_in[1] + X->l[2], out = sx > R(0) ? -clear : clear;
-        cdsp_real in, before, past, at_mid;
+        cdsp_real in, before, past, at_mid, spread;
         /* the interior: X moved half the band's width toward p_in */
-        if (!level_along(sc, A, X, te, -sgn, half, sx > R(0) ? half : -half, &in) ||
-            !level_along(sc, A, X, te, -sgn, half, out, &before) ||
+        if (!level_along(sc, A, X, te, -sgn, half, sx > R(0) ? half : -half, &in, &spread) ||
+            !level_along(sc, A, X, te, -sgn, half, out, &before, &spread) ||
             !level_along(sc, A, X, te + sgn * R(JUNCTION_PAST) * width, sgn, R(JUNCTION_PAST) * width, out,
-                         &past))
+                         &past, &spread))
             continue;
         if (R_FABS(in - before) < R(2) * sc->step_ref ||
-            !(R_FABS(past - in) < R(JUNCTION_SAME) * R_FABS(in - before)))
+            !(R_FABS(past - in) < R(JUNCTION_SAME) * R_FABS(in - before)) ||
+            !(spread < R(JUNCTION_SAME) * R_FABS(in - before)))
             continue;
         /* the interior near the end is the band's own object, as at the
          * middle of the common stretch, not an occluder in front of it */
-        if (!level_along(sc, A, X, mid, -sgn, half, sx > R(0) ? half : -half, &at_mid) ||
+        if (!level_along(sc, A, X, mid, -sgn, half, sx > R(0) ? half : -half, &at_mid, &spread) ||
             !(R_FABS(at_mid - in) < R(JUNCTION_SAME) * R_FABS(in - before)))
             continue;
         if (!flips_on(sc, A, X, te, sgn))
