@@ -19,7 +19,8 @@
  * holds one object, not two and the gap between them (see band_split),
  * (ix) on the single path, it is an object, not the gap beside one (see
  * edge_of_neighbour), (x) on the frame path, its interior is smooth (see
- * frame_filter). The survivors are scored and ranked as documented in
+ * frame_filter), (xi) on the frame path, it is no corner of a flat frame
+ * (see band_junction). The survivors are scored and ranked as documented in
  * include/cdsp.h ("The pair score"): the evidence of the weaker contour
  * (inliers on the common stretch, contrast over the step threshold up to
  * CONTRAST_CLEAR, spread of the support) times the band's width squared
