@@ -473,7 +473,10 @@ typedef struct {
  * strong one opposing its nearer contour without a stripe's other side of
  * half its strength, no strong one continuing its nearer contour's step
  * with nothing of the other polarity beyond it (a staircase onto an object
- * beside), and, on the single-pipe path, not the gap between two objects)
+ * beside), on the single-pipe path not the gap between two objects, and on
+ * the frame path no corner of a flat frame: where a contour ends inside
+ * the frame, the level just past its end outside the band is not the
+ * band's own, as at a door post meeting its lintel)
  * is scored by its weaker contour times its width squared and an angle prior
  *   S = min(n1 c1 q1, n2 c2 q2) * (w / w0)^2 * exp(-sin(a) / 0.4) * T
  * with, per contour k: n_k its inliers on the common stretch, c_k its mean

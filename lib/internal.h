@@ -193,7 +193,8 @@ cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known);
 enum {
     CDSP__PAIR_PASSED, CDSP__PAIR_ANGLE, CDSP__PAIR_STAIRCASE, CDSP__PAIR_POLARITY, CDSP__PAIR_CLOSE,
     CDSP__PAIR_OVERLAP, CDSP__PAIR_MEET, CDSP__PAIR_AXIS, CDSP__PAIR_RANGE, CDSP__PAIR_WIDTH,
-    CDSP__PAIR_SUPPORT, CDSP__PAIR_SPLIT, CDSP__PAIR_GAP, CDSP__PAIR_BUSY, CDSP__PAIR_NTESTS
+    CDSP__PAIR_SUPPORT, CDSP__PAIR_SPLIT, CDSP__PAIR_GAP, CDSP__PAIR_BUSY, CDSP__PAIR_JUNCTION,
+    CDSP__PAIR_NTESTS
 };
 /* The confidence model (lib/pair.c): features of candidate k among the nc
  * ranked ones, and the confidence they give. */

@@ -19,7 +19,8 @@
  * holds one object, not two and the gap between them (see band_split),
  * (ix) on the single path, it is an object, not the gap beside one (see
  * edge_of_neighbour), (x) on the frame path, its interior is smooth (see
- * frame_filter). The survivors are scored and ranked as documented in
+ * frame_filter), (xi) on the frame path, it is no corner of a flat frame
+ * (see band_junction). The survivors are scored and ranked as documented in
  * include/cdsp.h ("The pair score"): the evidence of the weaker contour
  * (inliers on the common stretch, contrast over the step threshold up to
  * CONTRAST_CLEAR, spread of the support) times the band's width squared
@@ -801,7 +802,9 @@ static void score_init(score_ctx *sc, const cdsp_camera *cam, cdsp_real radius, 
  * without a range, seeds 1 / 2: the same 85.7 % / 86.0 % as without the
  * test (more than two steps of one threshold: 81.0 / 81.7 %). */
 #define BUSY_STEPS 4
-static int pair_busy(const score_ctx *sc, pair_choice *c)
+static int band_junction(const score_ctx *sc, const cdsp_line *A, const cdsp_line *B, const cdsp_real p_in[2],
+                         cdsp_real loA, cdsp_real hiA, cdsp_real loB, cdsp_real hiB, cdsp_real width);
+static int pair_busy(const score_ctx *sc, pair_choice *c, int *why)
 {
     const cdsp_line *A = &sc->lines[c->i], *B = &sc->lines[c->j];
     cdsp_real lo, hi, loA, hiA, loB, hiB;
@@ -811,20 +814,138 @@ static int pair_busy(const score_ctx *sc, pair_choice *c)
     lo = loA > loB ? loA : loB;
     hi = hiA < hiB ? hiA : hiB;
     c->shade = band_shade(sc, A, B, lo, hi, c->width, &steps);
-    return steps > BUSY_STEPS;
+    if (steps > BUSY_STEPS)
+        return (*why = CDSP__PAIR_BUSY, 1);
+    if (band_junction(sc, A, B, c->p_in, loA, hiA, loB, hiB, c->width))
+        return (*why = CDSP__PAIR_JUNCTION, 1);
+    return 0;
+}
+
+/* The frame's level at undistorted pixel und (nearest pixel of its
+ * distorted position); 0 when outside the frame. */
+static int level_at(const score_ctx *sc, const cdsp_real und[2], cdsp_real *v)
+{
+    cdsp_real dis[2];
+    int x, y;
+    if (cdsp_camera_distort(sc->cam, und, dis) != CDSP_OK)
+        return 0;
+    x = (int)R_FLOOR(dis[0] + R(0.5));
+    y = (int)R_FLOOR(dis[1] + R(0.5));
+    if (!(dis[0] > R(-0.5)) || !(dis[1] > R(-0.5)) || x >= sc->img->width || y >= sc->img->height)
+        return 0;
+    *v = (cdsp_real)img_px(sc->img, x, y);
+    return 1;
+}
+
+/* Mean level of JUNCTION_N samples at parameters t0 + sgn * k w / (N + 1)
+ * (k = 1..N, along A's direction from A's centroid) on line X moved by
+ * off px along X's unit normal, and their range (max - min); 0 when a sample
+ * is outside the frame. */
+#define JUNCTION_N 3
+static int level_along(const score_ctx *sc, const cdsp_line *A, const cdsp_line *X, cdsp_real t0,
+                       cdsp_real sgn, cdsp_real w, cdsp_real off, cdsp_real *mean, cdsp_real *spread)
+{
+    cdsp_real sum = R(0), mn = R_MAX, mx = -R_MAX;
+    int k;
+    for (k = 1; k <= JUNCTION_N; k++) {
+        cdsp_real t = t0 + sgn * w * (cdsp_real)k / (cdsp_real)(JUNCTION_N + 1), q[2], dq, v;
+        q[0] = A->centroid[0] + t * A->dir[0];
+        q[1] = A->centroid[1] + t * A->dir[1];
+        dq = X->l[0] * q[0] + X->l[1] * q[1] + X->l[2] - off; /* onto X moved by off */
+        q[0] -= dq * X->l[0];
+        q[1] -= dq * X->l[1];
+        if (!level_at(sc, q, &v))
+            return 0;
+        sum += v;
+        mn = v < mn ? v : mn;
+        mx = v > mx ? v : mx;
+    }
+    *mean = sum / (cdsp_real)JUNCTION_N;
+    *spread = mx - mn;
+    return 1;
+}
+
+/* Whether a line of the opposite polarity continues line X (within
+ * SPLIT_DEG, its centroid within 2 px of X) beyond parameter te in
+ * direction sgn along A: the background crossed the object's level there
+ * and the contour goes on with its contrast flipped. */
+static int flips_on(const score_ctx *sc, const cdsp_line *A, const cdsp_line *X, cdsp_real te, cdsp_real sgn)
+{
+    cdsp_real cos_split = R_COS(R(SPLIT_DEG) * R_PI / R(180));
+    int k;
+    for (k = 0; k < sc->nlines; k++) {
+        const cdsp_line *K = &sc->lines[k];
+        cdsp_real klo, khi;
+        if (!(K->l[0] * X->l[0] + K->l[1] * X->l[1] < -cos_split) ||
+            R_FABS(X->l[0] * K->centroid[0] + X->l[1] * K->centroid[1] + X->l[2]) > R(2))
+            continue;
+        extent_on(K, A->dir, A->centroid, &klo, &khi);
+        if (sgn > R(0) ? khi > te : klo < te)
+            return 1;
+    }
+    return 0;
+}
+
+/* (xi) on the frame path: the band is a cylinder, not a corner of a flat
+ * frame (a door post meeting its lintel, the lintel over its posts). Where
+ * a contour X ends inside the frame, a cylinder's X ends at an end cap, a
+ * bar in front or a contrast flip of the background: beyond X's end, just
+ * outside the band, the frame holds the background, the cap's rim or the
+ * occluder. A post ends in the lintel: there, outside X, the level is the
+ * band's own (the object turns the corner and goes on sideways). Rejected
+ * when, over the half band width past X's end, the level just outside X
+ * (clear of the edge window) is within JUNCTION_SAME of X's contrast from
+ * the band's interior level, both measured over the half band width before
+ * the end, where X's step is at least two step thresholds, and X does not
+ * go on with its polarity flipped (a background ramp crossing the pipe's
+ * level also leaves the level outside near the pipe's). */
+#define JUNCTION_SAME 0.25
+#define JUNCTION_PAST 0.4
+static int band_junction(const score_ctx *sc, const cdsp_line *A, const cdsp_line *B, const cdsp_real p_in[2],
+                         cdsp_real loA, cdsp_real hiA, cdsp_real loB, cdsp_real hiB, cdsp_real width)
+{
+    cdsp_real clear = (sc->min_band_px + R(2)) / R(2), half = width / R(2);
+    cdsp_real mid = ((loA > loB ? loA : loB) + (hiA < hiB ? hiA : hiB)) / R(2) + width / R(4);
+    int e;
+    if (!sc->img || width < R(2) * clear + R(2))
+        return 0;
+    for (e = 0; e < 4; e++) {
+        const cdsp_line *X = e & 1 ? B : A;
+        cdsp_real sgn = e & 2 ? R(1) : R(-1), te = e & 2 ? (e & 1 ? hiB : hiA) : (e & 1 ? loB : loA);
+        cdsp_real sx = X->l[0] * p_in[0] + X->l[1] * p_in[1] + X->l[2], out = sx > R(0) ? -clear : clear;
+        cdsp_real in, before, past, at_mid, spread;
+        /* the interior: X moved half the band's width toward p_in */
+        if (!level_along(sc, A, X, te, -sgn, half, sx > R(0) ? half : -half, &in, &spread) ||
+            !level_along(sc, A, X, te, -sgn, half, out, &before, &spread) ||
+            !level_along(sc, A, X, te + sgn * R(JUNCTION_PAST) * width, sgn, R(JUNCTION_PAST) * width, out,
+                         &past, &spread))
+            continue;
+        if (R_FABS(in - before) < R(2) * sc->step_ref ||
+            !(R_FABS(past - in) < R(JUNCTION_SAME) * R_FABS(in - before)) ||
+            !(spread < R(JUNCTION_SAME) * R_FABS(in - before)))
+            continue;
+        /* the interior near the end is the band's own object, as at the
+         * middle of the common stretch, not an occluder in front of it */
+        if (!level_along(sc, A, X, mid, -sgn, half, sx > R(0) ? half : -half, &at_mid, &spread) ||
+            !(R_FABS(at_mid - in) < R(JUNCTION_SAME) * R_FABS(in - before)))
+            continue;
+        if (!flips_on(sc, A, X, te, sgn))
+            return 1;
+    }
+    return 0;
 }
 
 static void frame_filter(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
                          const cdsp_params *p, cdsp_real min_step, cdsp_pair_set *set)
 {
     score_ctx sc;
-    int k, m = 0;
+    int k, m = 0, why;
     if (!img || !(min_step > R(0)))
         return;
     score_init(&sc, cam, radius, p, min_step, NULL, set->lines, set->nlines);
     sc.img = img;
     for (k = 0; k < set->npairs; k++)
-        if (!pair_busy(&sc, &set->pair[k]))
+        if (!pair_busy(&sc, &set->pair[k], &why))
             set->pair[m++] = set->pair[k];
     set->npairs = m;
 }
@@ -902,8 +1023,8 @@ int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pt
     c.i = i < j ? i : j;
     c.j = i < j ? j : i;
     if (pair_score(&sc, &set->lines[c.i], &set->lines[c.j], mask[c.i], mask[c.j], &c, &why) > R(0) &&
-        sc.img && pair_busy(&sc, &c))
-        why = CDSP__PAIR_BUSY;
+        sc.img)
+        (void)pair_busy(&sc, &c, &why);
     return why;
 }
 

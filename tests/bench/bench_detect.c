@@ -578,6 +578,23 @@ static double cand_width(const cdsp_candidate *c)
     return 2 * fabs((double)(c->lines[0][0] * c->p_in[0] + c->lines[0][1] * c->p_in[1] + c->lines[0][2]));
 }
 
+/* BENCH_DETECT_WHY: each false positive (a pose on a negative frame) with
+ * its kind and the evidence of the band reported, to group them by what
+ * they are (issue 10: the vehicle-safety item). */
+static void diagnose_negative(int i, int ranged, const frame_spec *f, cdsp_status st, const cdsp_result *r,
+                              const cdsp_frame_ws *w)
+{
+    const cdsp_candidate *c = &w->cand[0];
+    if (st != CDSP_OK)
+        return;
+    fprintf(stderr,
+            "N %d %s %s %dx%d: d %.1f (range %.1f..%.1f) conf %.3f cands %u width %.1f support %.0f contrast %.2f"
+            " shade %.2f sin %.4f score %.0f\n",
+            i, ranged ? "ranged" : "plain", f->kind, f->cam.width, f->cam.height, (double)r->distance, f->range[0],
+            f->range[1], CONFIDENCE(*r), (unsigned)r->n_candidates, cand_width(c), (double)c->support,
+            (double)c->contrast, (double)c->shade, (double)c->sin_angle, (double)c->score);
+}
+
 static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cdsp_params *prm, cdsp_status st,
                      const cdsp_result *r, const cdsp_frame_ws *w)
 {
@@ -989,6 +1006,8 @@ int main(int argc, char **argv)
             explain_lines(&f, &img, &prm, i);
         if (getenv("BENCH_DETECT_WHY") && pos && !(st == CDSP_OK && right(&f, &r)))
             diagnose(i, &f, &img, &prm, st, &r, &ws);
+        if (getenv("BENCH_DETECT_WHY") && !pos)
+            diagnose_negative(i, 0, &f, st, &r, &ws);
         prm.pair.min_distance = (cdsp_real)f.range[0];
         prm.pair.max_distance = (cdsp_real)f.range[1];
         cdsp_rng_seed(&rng, (uint64_t)i, 3);
@@ -999,6 +1018,8 @@ int main(int argc, char **argv)
             return 1;
         }
         record(&ranged, &f, pos, st, &r);
+        if (getenv("BENCH_DETECT_WHY") && !pos)
+            diagnose_negative(i, 1, &f, st, &r, &ws);
         if (getenv("BENCH_DETECT_FEATURES"))
             features(i, 1, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_ONLY"))
