@@ -357,7 +357,8 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
 
 /* The scan proper. htop (the coarse pass's rows; NULL elsewhere): the
  * hints refine_core gives are written downward from it, htop[-1 - *nh],
- * and count against cap with the edges (returned: edges + new hints). */
+ * and count against cap with the edges (the scan stops when edges + new
+ * hints reach cap); returns the edges written. */
 static inline size_t scan_segment(const cdsp_image *img, const cdsp_edge_params *p, int horizontal,
                                   int line, int from, int to, cdsp_edge *out, size_t cap,
                                   cdsp_edge *htop, size_t *nh)

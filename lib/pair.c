@@ -893,10 +893,14 @@ static int flips_on(const score_ctx *sc, const cdsp_line *A, const cdsp_line *X,
  * outside the band, the frame holds the background, the cap's rim or the
  * occluder. A post ends in the lintel: there, outside X, the level is the
  * band's own (the object turns the corner and goes on sideways). Rejected
- * when, over the half band width past X's end, the level just outside X
- * (clear of the edge window) is within JUNCTION_SAME of X's contrast from
- * the band's interior level, both measured over the half band width before
- * the end, where X's step is at least two step thresholds, and X does not
+ * when, at 0.5, 0.6 and 0.7 band widths w past X's end (JUNCTION_PAST w
+ * beyond it, over the next JUNCTION_PAST w), the level just outside X
+ * (clear of the edge window) is within JUNCTION_SAME of X's contrast of
+ * the band's interior level and the samples' spread is below it (the
+ * contrast and the interior level measured over the half band width
+ * before the end), where X's step is at least two step thresholds, the
+ * interior there is the band's own (as at the middle of the common
+ * stretch: no occluder in front), and X does not
  * go on with its polarity flipped (a background ramp crossing the pipe's
  * level also leaves the level outside near the pipe's). */
 #define JUNCTION_SAME 0.25
