@@ -464,7 +464,10 @@ typedef struct {
 /*
  * The pair score (issue 10; lib/pair.c; docs/method.md §4). Every pair of
  * candidate lines that passes the plausibility tests (opposite polarity
- * forming a band, within max_contour_angle, overlapping by min_overlap, not
+ * forming a band, or on the frame path the same polarity across a band
+ * whose shading crosses the one background's level, a pipe lit from one
+ * side with its shaded limb darker than the background; within
+ * max_contour_angle, overlapping by min_overlap, not
  * crossing inside their stretch, a band at least as wide as the edge window
  * 2 half_window + 1, each contour's support covering min_support of the
  * overlap, the closed form's distance inside [min_distance, max_distance],

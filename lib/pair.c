@@ -5,7 +5,9 @@
  *
  * A pair is a pipe's contour only if (i) the polarities are opposite (the
  * gradients point toward each other when the pipe is brighter, away from each
- * other when darker: a stripe, not a staircase), (ii) the lines are within
+ * other when darker: a stripe, not a staircase), or on the frame path the
+ * same across a band the frame shows shaded through the background's level
+ * (see shaded_across), (ii) the lines are within
  * max_contour_angle of each other, (iii) they overlap along the pipe by
  * min_overlap of the shorter one (both contours span the same stretch of
  * pipe, an end cap's or a support's edge does not), (iv) they do not meet
@@ -131,7 +133,9 @@ typedef struct {
     const cdsp_image *img;  /* the frame (band profile), NULL on the points path */
     int single;             /* the single-pipe path: test (ix), gaps (a rack's
                                matching, lib/multi.c, tells pipes from gaps
-                               by what the whole rack explains instead) */
+                               by what the whole rack explains instead);
+                               2 on the frame path: same-polarity pairs too,
+                               checked on the frame (shaded_across) */
     int nlines;
 } score_ctx;
 
@@ -407,18 +411,25 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     cdsp_real dotn = A->l[0] * B->l[0] + A->l[1] * B->l[1];
     cdsp_real w0 = B->centroid[0] - A->centroid[0], w1 = B->centroid[1] - A->centroid[1];
     cdsp_real sa, sb, loA, hiA, loB, hiB, lo, hi, ov, shorter, X[3], tmid, q[2], dq;
-    int ends;
+    int ends, same;
     cdsp__axis tmp;
     const cdsp_real *o = A->centroid, *d = A->dir;
 
-    /* (i), (ii): opposite polarity within the contour angle */
-    if (!(dotn < -R_COS(p->max_contour_angle_deg * R_PI / R(180))))
+    /* (i), (ii): opposite polarity within the contour angle; on the frame
+     * path also the same polarity (a pipe lit from one side whose shaded
+     * limb is darker than the background, its lit one brighter: its
+     * profile is checked against the frame, shaded_across) */
+    same = sc->single == 2 && dotn > R_COS(p->max_contour_angle_deg * R_PI / R(180));
+    if (!(dotn < -R_COS(p->max_contour_angle_deg * R_PI / R(180))) && !same)
         return (*why = CDSP__PAIR_ANGLE, R(0));
-    /* stripe, not staircase: both normals point inward, or both outward */
+    /* stripe, not staircase: both normals point inward, or both outward
+     * (a same-polarity pair is a staircase by its normals) */
     sa = A->l[0] * w0 + A->l[1] * w1;
     sb = -(B->l[0] * w0 + B->l[1] * w1);
-    if ((sa > R(0)) != (sb > R(0)))
+    if (!same && (sa > R(0)) != (sb > R(0)))
         return (*why = CDSP__PAIR_STAIRCASE, R(0));
+    if (p->polarity != 0 && same) /* neither brighter nor darker */
+        return (*why = CDSP__PAIR_POLARITY, R(0));
     if (p->polarity > 0 && !(sa > R(0)))
         return (*why = CDSP__PAIR_POLARITY, R(0));
     if (p->polarity < 0 && !(sa < R(0)))
@@ -804,6 +815,8 @@ static void score_init(score_ctx *sc, const cdsp_camera *cam, cdsp_real radius, 
 #define BUSY_STEPS 4
 static int band_junction(const score_ctx *sc, const cdsp_line *A, const cdsp_line *B, const cdsp_real p_in[2],
                          cdsp_real loA, cdsp_real hiA, cdsp_real loB, cdsp_real hiB, cdsp_real width);
+static int shaded_across(const score_ctx *sc, const cdsp_line *A, const cdsp_line *B, cdsp_real lo,
+                         cdsp_real hi, cdsp_real width);
 static int pair_busy(const score_ctx *sc, pair_choice *c, int *why)
 {
     const cdsp_line *A = &sc->lines[c->i], *B = &sc->lines[c->j];
@@ -816,6 +829,8 @@ static int pair_busy(const score_ctx *sc, pair_choice *c, int *why)
     c->shade = band_shade(sc, A, B, lo, hi, c->width, &steps);
     if (steps > BUSY_STEPS)
         return (*why = CDSP__PAIR_BUSY, 1);
+    if (A->l[0] * B->l[0] + A->l[1] * B->l[1] > R(0) && !shaded_across(sc, A, B, lo, hi, c->width))
+        return (*why = CDSP__PAIR_STAIRCASE, 1);
     if (band_junction(sc, A, B, c->p_in, loA, hiA, loB, hiB, c->width))
         return (*why = CDSP__PAIR_JUNCTION, 1);
     return 0;
@@ -835,6 +850,74 @@ static int level_at(const score_ctx *sc, const cdsp_real und[2], cdsp_real *v)
         return 0;
     *v = (cdsp_real)img_px(sc->img, x, y);
     return 1;
+}
+
+/* A same-polarity pair (test (i) on the frame path) is a pipe lit from one
+ * side whose shaded limb is darker than the background and its lit limb
+ * brighter: going across, the background, a step onto the lit limb, the
+ * Lambert shading falling smoothly through the background's level, a step
+ * back up (or down) onto the same background. A staircase (two objects
+ * side by side, an object's edge and a neighbour's, a shadow's edge) has
+ * another background on each side, or one object's flat face ending in a
+ * step inside. At SHADE_AT positions along the common stretch, SHADE_N
+ * samples across the interior (clear of both edge windows, as band_shade)
+ * and one just outside each contour: the position agrees when the two
+ * outside levels differ by less than CROSS_BG of the smaller contour step
+ * (one background), the interior's ends lie on opposite sides of it, and
+ * no step between neighbouring interior samples exceeds CROSS_JUMP of the
+ * interior's end-to-end fall (smooth shading, not a flat face and a step:
+ * a linear ramp has 1/8 of it per step, a cosine ramp at most about 1/4).
+ * Kept when most measured positions agree (a bar in front covers a few). */
+#define CROSS_BG 0.5
+#define CROSS_JUMP 0.5
+static int shaded_across(const score_ctx *sc, const cdsp_line *A, const cdsp_line *B, cdsp_real lo,
+                         cdsp_real hi, cdsp_real width)
+{
+    cdsp_real clear = (sc->min_band_px + R(2)) / R(2), bg_lo = R_MAX, bg_hi = -R_MAX, step_lo = R_MAX;
+    int s, u, m = 0, agree = 0;
+    if (!sc->img || width < R(2) * clear + R(2))
+        return 0;
+    for (s = 0; s < SHADE_AT; s++) {
+        cdsp_real t = lo + (hi - lo) * ((cdsp_real)s + R(0.5)) / (cdsp_real)SHADE_AT, q[2], dq;
+        cdsp_real v[SHADE_N + 2], bg, jump = R(0), stepA, stepB;
+        int got = 1;
+        q[0] = A->centroid[0] + t * A->dir[0];
+        q[1] = A->centroid[1] + t * A->dir[1];
+        dq = B->l[0] * q[0] + B->l[1] * q[1] + B->l[2];
+        /* v[0] outside A, v[1..SHADE_N] the interior from A to B, v[SHADE_N + 1] outside B */
+        for (u = 0; u < SHADE_N + 2 && got; u++) {
+            cdsp_real f = u == 0 ? -clear / width
+                          : u == SHADE_N + 1
+                              ? R(1) + clear / width
+                              : (clear + (width - R(2) * clear) * (cdsp_real)(u - 1) / (cdsp_real)(SHADE_N - 1)) /
+                                    width;
+            cdsp_real und[2];
+            und[0] = q[0] - f * dq * B->l[0];
+            und[1] = q[1] - f * dq * B->l[1];
+            got = level_at(sc, und, &v[u]);
+        }
+        if (!got)
+            continue;
+        m++;
+        bg = (v[0] + v[SHADE_N + 1]) / R(2);
+        stepA = R_FABS(v[1] - v[0]);
+        stepB = R_FABS(v[SHADE_N] - v[SHADE_N + 1]);
+        for (u = 1; u < SHADE_N; u++)
+            if (R_FABS(v[u + 1] - v[u]) > jump)
+                jump = R_FABS(v[u + 1] - v[u]);
+        if (R_FABS(v[0] - v[SHADE_N + 1]) < R(CROSS_BG) * (stepA < stepB ? stepA : stepB) &&
+            (v[1] - bg) * (v[SHADE_N] - bg) < R(0) && jump < R(CROSS_JUMP) * R_FABS(v[1] - v[SHADE_N])) {
+            agree++;
+            bg_lo = bg < bg_lo ? bg : bg_lo;
+            bg_hi = bg > bg_hi ? bg : bg_hi;
+            step_lo = stepA < step_lo ? stepA : step_lo;
+            step_lo = stepB < step_lo ? stepB : step_lo;
+        }
+    }
+    /* and one background along the stretch too: where it ramps (a
+     * contrast flip along the contours) the limbs' steps change with it
+     * and the shading's crossing says nothing */
+    return m >= SHADE_AT / 2 && 2 * agree > m && bg_hi - bg_lo < R(CROSS_BG) * step_lo;
 }
 
 /* Mean level of JUNCTION_N samples at parameters t0 + sgn * k w / (N + 1)
@@ -1004,7 +1087,8 @@ cdsp_status cdsp__pair_score_frame(const cdsp_camera *cam, cdsp_real radius, con
                                    const cdsp_result *prior, cdsp_rng *rng, const cdsp_image *img,
                                    cdsp_pair_set *set)
 {
-    cdsp_status st = score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, 1, set);
+    cdsp_status st = score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng,
+                                 img && min_step > R(0) ? 2 : 1, set);
     if (st != CDSP_OK)
         return st;
     frame_filter(img, cam, radius, p, min_step, set);
@@ -1024,6 +1108,7 @@ int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pt
     support_masks(pts, n, label, set->lines, set->nlines, mask);
     score_init(&sc, cam, radius, p, min_step, NULL, set->lines, set->nlines);
     sc.img = min_step > R(0) ? img : NULL;
+    sc.single = sc.img ? 2 : 1;
     c.i = i < j ? i : j;
     c.j = i < j ? j : i;
     if (pair_score(&sc, &set->lines[c.i], &set->lines[c.j], mask[c.i], mask[c.j], &c, &why) > R(0) &&

@@ -182,7 +182,8 @@ typedef struct {
     const char *what;
     double pipe, bg, ambient, specular; /* levels, ambient light, highlight */
     int clutter; /* 0 none, 1 wide bar in front at 30 deg, 2 long narrow dark bar beside,
-                    3 bright bar beside (a gap between), 4 a door frame and no pipe */
+                    3 bright bar beside (a gap between), 4 a door frame and no pipe,
+                    5 a flat bar between a dark wall and the background, no pipe */
     double half_length; /* the pipe's, mm (0: beyond the frame; 100: both end caps in view) */
 } frame_case;
 
@@ -199,7 +200,7 @@ static void frame_case_run(const frame_case *c)
     void *buf;
     int k, m;
     sup_camera(&cam, W, H, F, -0.1, 0.01);
-    if (c->clutter == 4) {
+    if (c->clutter >= 4) {
         const double far[3] = {1e7, 1e7, 1000}, up[3] = {0, 1, 0};
         sup_scene(&s, far, up, 12); /* the pipe far out of view */
     } else {
@@ -240,6 +241,16 @@ static void frame_case_run(const frame_case *c)
         sup_add_bar(&s, p0, p1, 12, c->pipe);
         sup_add_bar(&s, q0, q1, 12, c->pipe);
         sup_add_bar(&s, t0, t1, 12, c->pipe);
+    } else if (c->clutter == 5) {
+        /* a bar 48 px wide (a pipe of the radius at 400 mm) of the pipe's
+         * level, flat, with a dark wall (level 0.1) behind its left edge
+         * and the background beyond its right one: both its edges step
+         * up, a staircase of one polarity whose interior neither crosses
+         * the background's level nor has one background on both sides */
+        const double a[3] = {0, -400, 400}, b[3] = {0, 400, 400}, w0[3] = {-305, -400, 420},
+                     w1[3] = {-305, 400, 420};
+        sup_add_bar(&s, a, b, 12, c->pipe);
+        sup_add_bar(&s, w0, w1, 300, 0.1);
     }
     buf = sup_render(&s, &cam, 8, 11, &img);
     assert_non_null(buf);
@@ -247,6 +258,12 @@ static void frame_case_run(const frame_case *c)
     cdsp_rng_seed(&rng, 11, 3);
     st = cdsp_frame_solve(&img, &cam, 12, &prm, NULL, &fws, &rng, &r);
     free(buf);
+    if (c->clutter == 5) {
+        if (st != CDSP_E_NO_PIPE)
+            fail_msg("%s: %s, distance %.1f (a one-polarity staircase taken for a shaded pipe)", c->what,
+                     cdsp_status_token(st), st == CDSP_OK ? (double)r.distance : 0.0);
+        return;
+    }
     if (c->clutter == 4) {
         /* its posts and lintel are flat bands of the radius' width: test
          * (xi) rejects each (c60e351 reported a post as a pipe at 400 mm) */
@@ -278,9 +295,16 @@ static void test_rendered_cues(void **state)
     static const frame_case cases[] = {
         {"bar in front at 30 degrees", 0.7, 0.3, 0.6, 0, 1, 0},
         {"dark pipe, specular stripe off centre", 0.15, 0.6, 0.8, 0.5, 0, 0},
-        /* the shaded limb 0.8 x 0.35 = 0.28 stays above the background: a
-         * limb below it would flip that contour's polarity (not handled, §4) */
+        /* the shaded limb 0.8 x 0.35 = 0.28 stays above the background */
         {"lit from one side", 0.8, 0.15, 0.35, 0, 0, 0},
+        /* test (i) on the frame path: the shaded limb 0.8 x 0.2 = 0.16 below
+         * the background 0.4, the lit one 0.8 x (0.2 + 0.8 x 0.8) = 0.67
+         * above it: both contours step the same way (rejected as a
+         * staircase before shaded_across), and a flat bar between two
+         * backgrounds, whose edges step the same way too, is no pipe */
+        {"lit from one side, shaded limb below the background", 0.8, 0.4, 0.2, 0, 0, 0},
+        {"dimmer pipe lit from one side, shaded limb below the background", 0.5, 0.3, 0.2, 0, 0, 0},
+        {"flat bar between a dark wall and the background, no pipe", 0.45, 0.7, 1, 0, 5, 0},
         {"longer, narrower, darker bar beside", 0.6, 0.3, 0.7, 0, 2, 0},
         {"bright bar beside: the gap between", 0.75, 0.25, 0.8, 0, 3, 0},
         /* test (xi): a flat frame's corner is no pipe; an evenly lit pipe
