@@ -525,11 +525,14 @@ static void explain(const frame_spec *f, cdsp_status st, const cdsp_result *r, c
     fprintf(stderr, " conf %.3f noise %.2f step %.1f lines %u flags %x\n", (double)r->confidence,
             (double)r->noise, (double)r->min_step, (unsigned)r->n_lines, (unsigned)r->flags);
     for (k = 0; st == CDSP_OK && k < r->n_candidates && k < CDSP_MAX_CANDIDATES; k++)
-        fprintf(stderr, "  cand %u score %.1f conf %.3f (%.3f %.3f %.1f) (%.3f %.3f %.1f)\n", k,
-                (double)w->cand[k].score, (double)w->cand[k].confidence, (double)w->cand[k].lines[0][0],
+        fprintf(stderr,
+                "  cand %u score %.1f conf %.3f (%.3f %.3f %.1f) (%.3f %.3f %.1f) width %.1f support %.0f"
+                " contrast %.2f shade %.2f\n",
+                k, (double)w->cand[k].score, (double)w->cand[k].confidence, (double)w->cand[k].lines[0][0],
                 (double)w->cand[k].lines[0][1], (double)w->cand[k].lines[0][2],
                 (double)w->cand[k].lines[1][0], (double)w->cand[k].lines[1][1],
-                (double)w->cand[k].lines[1][2]);
+                (double)w->cand[k].lines[1][2], (double)w->cand[k].width, (double)w->cand[k].support,
+                (double)w->cand[k].contrast, (double)w->cand[k].shade);
 #else
     (void)w;
     (void)k;
