@@ -93,10 +93,10 @@ static void show(const char *what, cdsp_status st, const cdsp_result *out, size_
     size_t k;
     printf("%s: %s, %zu pipes\n", what, cdsp_strerror(st), n);
     for (k = 0; k < n; k++)
-        printf("  #%zu distance %.3f mm, flags 0x%x (%s), %u edge points, inliers %u %u, id %u\n", k,
+        printf("  #%zu distance %.3f mm, flags 0x%x (%s), %u edge points, inliers %u %u, rms %.3f %.3f px, id %u\n", k,
                (double)out[k].distance, out[k].flags,
                out[k].flags & CDSP_FLAG_TRACKED ? "tracked" : "full search", out[k].n_edges, out[k].inliers[0],
-               out[k].inliers[1], out[k].track_id);
+               out[k].inliers[1], (double)out[k].rms[0], (double)out[k].rms[1], out[k].track_id);
 }
 
 /* The one solve counted (callgrind --toggle-collect=measured_solve),
