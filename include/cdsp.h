@@ -905,11 +905,17 @@ void cdsp_tracker_init(cdsp_tracker *t);
  * Frame -> every pipe in view, best score first: writes up to cap (at most
  * CDSP_MAX_PIPES are ever found) full results to out and their number to
  * *n_out; each has its own confidence, uncertainty, segment and (with a
- * tracker) track_id. A full search of p->edge.roi every frame (the band
- * search of cdsp_frame_solve's tracking is for one pipe); with a tracker,
- * each pipe is matched to the track whose contours are nearest (within
- * gate_px), keeps its id and its direction's sign, and new pipes get new
- * ids. Returns CDSP_OK with *n_out >= 1, or the single path's statuses
+ * tracker) track_id. Without a tracker, or when a live track was not
+ * seen the frame before, a full search of p->edge.roi; with a tracker
+ * whose every live track was seen the frame before, only bands of
+ * +-track_band_px around each track's predicted contours are read (as
+ * cdsp_frame_solve's tracking; results flagged CDSP_FLAG_TRACKED), and
+ * when a track is not found there (within gate_px, track_min_inliers on
+ * each contour) the full search runs instead. A pipe entering the view
+ * while every track is held is found at the next full search. With a
+ * tracker, each pipe is matched to the track whose contours are nearest
+ * (within gate_px), keeps its id and its direction's sign, and new pipes
+ * get new ids. Returns CDSP_OK with *n_out >= 1, or the single path's statuses
  * (CDSP_E_NO_PIPE when there is none; *n_out = 0 then). cdsp_frame_solve's
  * results are not changed by this call's existence.
  */

@@ -21,8 +21,8 @@
  * scanline `line` (a row when horizontal, else a column): fixed point on the
  * across-coordinate, 4 rounds (distortion moves a point by a small fraction
  * of a pixel per pixel, so each round gains more than a digit). */
-static int crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal, int line,
-                    cdsp_real *s_out)
+int cdsp__frame_crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal, int line,
+                         cdsp_real *s_out)
 {
     cdsp_real target = (cdsp_real)line, t = target, und[2], dist[2];
     int it;
@@ -167,7 +167,7 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
         for (t = (lo > 1 ? lo : 1) + step / 2; t < hi - 1 && t < other - 1; t += step) {
             cdsp_real sc, f, e;
             int from, to;
-            if (!crossing(cam, l, horizontal, t, &sc))
+            if (!cdsp__frame_crossing(cam, l, horizontal, t, &sc))
                 continue;
             if (sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band)
                 continue;

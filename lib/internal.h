@@ -214,6 +214,11 @@ int cdsp__points_finite(const cdsp_edge *e, size_t n);
 cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_frame_ws *ws, size_t *n, cdsp_real *sigma, cdsp_real *min_step,
                               uint32_t *flags);
+/* frame.c: the distorted-frame position where undistorted line l crosses
+ * scanline `line` (a row when horizontal, else a column), for the bands
+ * of lib/multi.c's tracked solve; 0 when it cannot be computed. */
+int cdsp__frame_crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal, int line,
+                         cdsp_real *s_out);
 /* frame.c: whether a contour of pose out (its lines named by out->label in
  * ws->pairs) has points too scattered to be one edge for the frame's noise
  * sigma (issue 12; the rule and its figures at its definition). The single

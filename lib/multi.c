@@ -28,7 +28,10 @@
  * (constant velocity, times the frames since it was seen): without it a
  * rack panning by about a gap's width per frame puts the gap where a pipe
  * was, and the gap would inherit the pipe's track. A track not seen for
- * more than max_missed frames is dropped.
+ * more than max_missed frames is dropped. When every live track was seen
+ * the frame before, the frame path reads only the bands around the
+ * tracks' predicted contours (tracked_all below) and falls back to the
+ * full search when a track is not found there.
  */
 #include "internal.h"
 
@@ -630,8 +633,8 @@ static size_t drop_crossing(const cdsp_pair_set *set, const cdsp_edge *pts, size
 static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                              size_t n, const cdsp_pair_set *set, const int *chosen, int nc,
                              const cdsp__pair_refined *ref, const cdsp_frame_ws *fws, cdsp_real sigma,
-                             const cdsp_params *p, cdsp_real min_step, cdsp_tracker *trk,
-                             cdsp_result *out, size_t cap, size_t *n_out)
+                             const cdsp_params *p, cdsp_real min_step, cdsp_result *out,
+                             size_t cap, size_t *n_out)
 {
     int k;
     size_t m = 0, i;
@@ -661,8 +664,6 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cds
                       out, m);
     for (i = 0; i < m; i++)
         out[i].n_candidates = (uint32_t)m;
-    if (trk)
-        track_update(trk, cam, out, m);
     *n_out = m;
     return m ? CDSP_OK : CDSP_E_NO_PIPE;
 }
@@ -674,13 +675,205 @@ static cdsp_status tracker_check(const cdsp_tracker *trk)
     return CDSP_OK;
 }
 
+/* The frame path's pipes from the pair set scored on ws->frame.edge[0..n):
+ * the matching, the edge-profile model on every chosen pair solve_all may
+ * return (the pairs share no line, so the order does not matter; beyond
+ * cap the model runs for nothing, which a caller asking for all
+ * CDSP_MAX_PIPES never sees), the results. */
+static cdsp_status frame_pipes(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                               const cdsp_params *p, const cdsp_tracker *trk, cdsp_frame_all_ws *ws,
+                               size_t n, cdsp_real sigma, cdsp_real min_step, cdsp_result *out,
+                               size_t cap, size_t *n_out)
+{
+    cdsp_pair_set *set = &ws->frame.pairs;
+    cdsp__pair_refined ref[MAX_CHOSEN];
+    int chosen[MAX_CHOSEN], nc, k;
+    nc = select_pipes(set, cam, trk, trk ? trk->gate_px : R(1), chosen);
+    for (k = 0; k < nc; k++) {
+        const cdsp_pair_eval *e = &set->pair[chosen[k]];
+        if (cdsp__pair_evidence(e, min_step > R(0)) >= p->min_confidence)
+            cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, e, p,
+                               &ws->frame.profile, &ref[k]);
+    }
+    return solve_all(cam, radius, ws->frame.edge, n, set, chosen, nc, ref, &ws->frame, sigma, p,
+                     min_step, out, cap, n_out);
+}
+
+/*
+ * The tracked solve (cdsp_frame_solve_all with live tracks): as the single
+ * path's tracking (lib/frame.c), only scanline segments of +-track_band_px
+ * around each track's predicted contours are read, at the full search's
+ * step and on its scanlines (so a contour's points are the ones the full
+ * search would have found on it), all tracks' bands in one buffer. On one
+ * scanline the bands of neighbouring contours may overlap (a gap or a
+ * pipe narrower than 2 track_band_px): they are merged, so that no edge is
+ * read twice (a duplicated point would count twice in its line's fit and
+ * halve its variance). When the bands hold more than cap edges, all are
+ * read again at twice the step until they fit (*truncated set), as in
+ * lib/frame.c. Returns the edges written.
+ */
+#define BAND_LINES (2 * CDSP_MAX_TRACKS)
+static size_t bands_at(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                       const cdsp_edge_params *edge, const cdsp_real (*lines)[3], int nl, int step,
+                       cdsp_edge *out, size_t cap)
+{
+    int x0, y0, x1, y1, fam, h = p->edge.half_window;
+    /* a real until clipped (track_band_px may exceed INT_MAX), as lib/frame.c */
+    cdsp_real band = R_CEIL(p->track_band_px);
+    size_t n = 0;
+    cdsp__edges_clip_roi(img, &p->edge.roi, &x0, &y0, &x1, &y1);
+    for (fam = 0; fam < 2; fam++) {
+        /* fam 0: rows, for near-vertical contours (|a| >= |b|); 1: columns */
+        int horizontal = fam == 0, lo = horizontal ? y0 : x0, hi = horizontal ? y1 : x1;
+        int ext = horizontal ? img->width : img->height, other = horizontal ? img->height : img->width;
+        int smin = horizontal ? x0 : y0, smax = horizontal ? x1 : y1, t, k, any = 0;
+        for (k = 0; k < nl; k++)
+            any |= (R_FABS(lines[k][0]) >= R_FABS(lines[k][1])) == horizontal;
+        if (!any)
+            continue;
+        for (t = (lo > 1 ? lo : 1) + step / 2; t < hi - 1 && t < other - 1; t += step) {
+            int from[BAND_LINES], to[BAND_LINES], ns = 0, a, b;
+            for (k = 0; k < nl; k++) {
+                cdsp_real sc, f, e;
+                int fr, tt;
+                if ((R_FABS(lines[k][0]) >= R_FABS(lines[k][1])) != horizontal ||
+                    !cdsp__frame_crossing(cam, lines[k], horizontal, t, &sc) ||
+                    sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band)
+                    continue;
+                f = R_FLOOR(sc) - band;
+                e = R_FLOOR(sc) + band + R(1);
+                fr = f < (cdsp_real)smin ? smin : (int)f;
+                tt = e > (cdsp_real)smax ? smax : (int)e;
+                if (fr < h + 1)
+                    fr = h + 1;
+                if (tt > ext - h - 1)
+                    tt = ext - h - 1;
+                /* insertion by start (at most BAND_LINES segments) */
+                for (a = ns; a > 0 && from[a - 1] > fr; a--) {
+                    from[a] = from[a - 1];
+                    to[a] = to[a - 1];
+                }
+                from[a] = fr;
+                to[a] = tt;
+                ns++;
+            }
+            /* a segment [f, t] tests the candidates f + 1 .. t - 2 (lib/edges.c):
+             * two whose candidates meet or overlap (f' <= t - 2) are read as
+             * one, [f, max(t, t')], which tests exactly their union */
+            for (a = 0; a < ns; a = b) {
+                int tt = to[a];
+                for (b = a + 1; b < ns && from[b] <= tt - 2; b++)
+                    tt = to[b] > tt ? to[b] : tt;
+                n += cdsp__edges_scan_segment(img, edge, horizontal, t, from[a], tt, out + n, cap - n);
+                if (n == cap)
+                    return n;
+            }
+        }
+    }
+    return n;
+}
+
+static size_t band_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                         const cdsp_edge_params *edge, const cdsp_real (*lines)[3], int nl,
+                         cdsp_edge *out, size_t cap, int *truncated)
+{
+    int step = p->edge.step, extent = img->width > img->height ? img->width : img->height;
+    size_t n;
+    *truncated = 0;
+    while ((n = bands_at(img, cam, p, edge, lines, nl, step, out, cap)) == cap && step <= extent / 2) {
+        step *= 2;
+        *truncated = 1;
+    }
+    return n;
+}
+
+/* Whether every live track has a pipe among out[0..n): within the gate of
+ * its prediction, with track_min_inliers on each contour (the single
+ * path's test of a tracked pose), each pipe for one track. */
+static int tracks_found(const cdsp_tracker *trk, const cdsp_camera *cam, const cdsp_params *p,
+                        const cdsp_result *out, size_t n)
+{
+    uint8_t taken[CDSP_MAX_PIPES];
+    size_t i;
+    int t;
+    for (i = 0; i < n; i++)
+        taken[i] = 0;
+    for (t = 0; t < CDSP_MAX_TRACKS; t++) {
+        cdsp_real pr[2][3], best = trk->gate_px;
+        size_t bi = n;
+        if (!trk->track[t].id)
+            continue;
+        track_predict(&trk->track[t], pr);
+        for (i = 0; i < n; i++) {
+            cdsp_real q[2], e;
+            if (taken[i] || out[i].inliers[0] < (uint32_t)p->track_min_inliers ||
+                out[i].inliers[1] < (uint32_t)p->track_min_inliers)
+                continue;
+            result_mid(cam, &out[i], q);
+            e = track_offset(out[i].lines[0], out[i].lines[1], q, pr[0], pr[1]);
+            if (e <= best) {
+                best = e;
+                bi = i;
+            }
+        }
+        if (bi == n)
+            return 0;
+        taken[bi] = 1;
+    }
+    return 1;
+}
+
+/* The tracked solve (above): 1 with the pipes in out when every live track
+ * was found in the bands; 0 when a full search must run (a track lost,
+ * one seen last frame no more, or no live track). The frame's noise is
+ * measured every frame (cdsp_frame_prepare: the tracker keeps no noise
+ * figure, which the single path takes from its prior). */
+static int tracked_all(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                       const cdsp_params *p, const cdsp_tracker *trk, cdsp_frame_all_ws *ws,
+                       cdsp_rng *rng, cdsp_result *out, size_t cap, size_t *n_out, cdsp_real *sigma,
+                       cdsp_real *min_step, uint32_t *flags)
+{
+    cdsp_real lines[BAND_LINES][3];
+    cdsp_frame_edges fe;
+    int nl = 0, t, k, truncated;
+    size_t n;
+    for (t = 0; t < CDSP_MAX_TRACKS; t++) {
+        cdsp_real pr[2][3];
+        if (!trk->track[t].id)
+            continue;
+        if (trk->track[t].missed != 0)
+            return 0;
+        track_predict(&trk->track[t], pr);
+        for (k = 0; k < 3; k++) {
+            lines[nl][k] = pr[0][k];
+            lines[nl + 1][k] = pr[1][k];
+        }
+        nl += 2;
+    }
+    if (nl == 0 || cdsp_frame_prepare(img, p, &fe) != CDSP_OK)
+        return 0;
+    n = band_edges(img, cam, p, &fe.edge, (const cdsp_real(*)[3])lines, nl, ws->frame.edge,
+                   CDSP_MAX_EDGES, &truncated);
+    if (cdsp_camera_undistort_edges(cam, ws->frame.edge, &n) != CDSP_OK ||
+        cdsp__pair_score_all(cam, radius, ws->frame.edge, n, ws->frame.label, p, fe.min_step, NULL, rng,
+                             &ws->frame.pairs) != CDSP_OK ||
+        frame_pipes(img, cam, radius, p, trk, ws, n, fe.sigma, fe.min_step, out, cap, n_out) != CDSP_OK ||
+        !tracks_found(trk, cam, p, out, *n_out))
+        return 0;
+    *sigma = fe.sigma;
+    *min_step = fe.min_step;
+    *flags = CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u);
+    return 1;
+}
+
 cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
                                  const cdsp_params *p, cdsp_tracker *trk, cdsp_frame_all_ws *ws,
                                  cdsp_rng *rng, cdsp_result *out, size_t cap, size_t *n_out)
 {
     cdsp_status st;
     size_t n = 0, i;
-    uint32_t flags;
+    uint32_t flags = 0;
+    int tracked = 0;
     cdsp_real sigma = R(0), min_step = R(0);
     if (!img || !cam || !p || !ws || !rng || !out || !n_out || cap == 0)
         return CDSP_E_ARG;
@@ -695,29 +888,27 @@ cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, 
         return st;
     if (img->width != cam->width || img->height != cam->height)
         return CDSP_E_ARG;
-    st = cdsp__frame_edges(img, cam, p, &ws->frame, &n, &sigma, &min_step, &flags);
-    if (st == CDSP_OK)
-        st = cdsp__pair_score_all(cam, radius, ws->frame.edge, n, ws->frame.label, p, min_step, NULL,
-                                  rng, &ws->frame.pairs);
-    if (st == CDSP_OK) {
-        cdsp_pair_set *set = &ws->frame.pairs;
-        cdsp__pair_refined ref[MAX_CHOSEN];
-        int chosen[MAX_CHOSEN], nc, k;
-        nc = select_pipes(set, cam, trk, trk ? trk->gate_px : R(1), chosen);
-        /* every chosen pair solve_all may return is modelled first (the
-         * pairs share no line, so the order does not matter; beyond cap
-         * the model runs for nothing, which a caller asking for all
-         * CDSP_MAX_PIPES never sees) */
-        for (k = 0; k < nc; k++) {
-            const cdsp_pair_eval *e = &set->pair[chosen[k]];
-            if (cdsp__pair_evidence(e, min_step > R(0)) >= p->min_confidence)
-                cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, e, p,
-                                   &ws->frame.profile, &ref[k]);
+    if (trk) {
+        /* the generator's state on entry: a fallback full search starts
+         * from it again, so it gives exactly what a search without the
+         * band attempt gives */
+        cdsp_rng rng0 = *rng;
+        tracked = tracked_all(img, cam, radius, p, trk, ws, rng, out, cap, n_out, &sigma, &min_step, &flags);
+        if (!tracked) {
+            *rng = rng0;
+            *n_out = 0;
         }
-        st = solve_all(cam, radius, ws->frame.edge, n, set, chosen, nc, ref, &ws->frame, sigma, p,
-                       min_step, trk, out, cap, n_out);
-    } else if (trk)
-        track_update(trk, cam, out, 0); /* no pipe this frame: every track ages */
+    }
+    if (!tracked) {
+        st = cdsp__frame_edges(img, cam, p, &ws->frame, &n, &sigma, &min_step, &flags);
+        if (st == CDSP_OK)
+            st = cdsp__pair_score_all(cam, radius, ws->frame.edge, n, ws->frame.label, p, min_step, NULL,
+                                      rng, &ws->frame.pairs);
+        if (st == CDSP_OK)
+            st = frame_pipes(img, cam, radius, p, trk, ws, n, sigma, min_step, out, cap, n_out);
+    }
+    if (trk)
+        track_update(trk, cam, out, *n_out); /* no pipe this frame: every track ages */
     for (i = 0; i < *n_out; i++) {
         out[i].flags |= flags;
         out[i].noise = sigma;
@@ -749,8 +940,11 @@ cdsp_status cdsp_points_solve_all(const cdsp_camera *cam, cdsp_real radius, cons
     if (st == CDSP_OK) {
         int chosen[MAX_CHOSEN];
         int nc = select_pipes(&ws->points.pairs, cam, trk, trk ? trk->gate_px : R(1), chosen);
-        return solve_all(cam, radius, pts, n, &ws->points.pairs, chosen, nc, NULL, NULL, R(0), p,
-                         R(0), trk, out, cap, n_out);
+        st = solve_all(cam, radius, pts, n, &ws->points.pairs, chosen, nc, NULL, NULL, R(0), p, R(0),
+                       out, cap, n_out);
+        if (trk)
+            track_update(trk, cam, out, *n_out);
+        return st;
     }
     if (trk)
         track_update(trk, cam, out, 0);

@@ -22,7 +22,10 @@
  * the edge-profile model (cdsp_params.profile.enable) off and on, with
  * what the spacing is made of: each pipe's distance bias (a scale common
  * to both pipes moves the spacing by that fraction) and its direction
- * error (which tilts one axis against the other); and the rack detection
+ * error (which tilts one axis against the other), and each pipe's two
+ * contours' inlier counts and residual RMS (the noisier one, the shadowed
+ * limb, apart: its line's tilt and offset noise set the direction and
+ * distance noise); and the rack detection
  * rate: frames where both pipes were found (each within 2 degrees and 2 %
  * of its distance) and nothing else was reported.
  */
@@ -175,6 +178,9 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
     /* the same errors in units of the pose's own first-order sigma (the
      * random error of its edge points): near 1, the error is that noise */
     double zdist2[2] = {0, 0}, zdir2[2] = {0, 0};
+    /* per pipe, model off / on: each contour's inliers and residual RMS,
+     * the one with the larger RMS (the shadowed limb) [0] and the other [1] */
+    double c_in[2][2] = {{0, 0}, {0, 0}}, c_rms2[2][2] = {{0, 0}, {0, 0}};
     long npipe[2] = {0, 0};
     int arr, g, f, prof, i;
     char path[4200];
@@ -295,6 +301,13 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
                             zdir2[prof] += sd > 0 ? dot * dot / (sd * sd) : 0;
                             zdist2[prof] += isfinite(zd) ? zd * zd : 0;
                         }
+                        {
+                            int w = o->rms[1] > o->rms[0];
+                            c_in[prof][0] += (double)o->inliers[w];
+                            c_in[prof][1] += (double)o->inliers[!w];
+                            c_rms2[prof][0] += (double)o->rms[w] * (double)o->rms[w];
+                            c_rms2[prof][1] += (double)o->rms[!w] * (double)o->rms[!w];
+                        }
                         npipe[prof]++;
                     }
                     for (i = 0; i < 2; i++) {
@@ -339,6 +352,13 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
                "points' noise)\n",
                prof ? "on " : "off", npipe[prof] ? sqrt(zdist2[prof] / (double)npipe[prof]) : NAN,
                npipe[prof] ? sqrt(zdir2[prof] / (double)npipe[prof]) : NAN);
+    for (prof = 0; prof < 2; prof++)
+        if (npipe[prof])
+            printf("model %s: contours: the noisier (the shadowed limb) %.0f inliers, residual RMS %.3f px; "
+                   "the other %.0f, %.3f px (means over the pipes)\n",
+                   prof ? "on " : "off", c_in[prof][0] / (double)npipe[prof],
+                   sqrt(c_rms2[prof][0] / (double)npipe[prof]), c_in[prof][1] / (double)npipe[prof],
+                   sqrt(c_rms2[prof][1] / (double)npipe[prof]));
     printf("target: <= 0.05 mm: model off %s, model on %s\n",
            sqrt(total2[0] / (2 * RACK_GROUPS)) <= 0.05 ? "met" : "NOT met",
            sqrt(total2[1] / (2 * RACK_GROUPS)) <= 0.05 ? "met" : "NOT met");

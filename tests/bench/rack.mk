@@ -1,0 +1,10 @@
+# Instruction counts of the multi-pipe frame path on the paper's rack
+# (issue 13): tests/bench/bench_rack.c; a build target for callgrind, not
+# a bench step (its figures are counts, read under valgrind):
+#   build/bench/bench_rack build/bench load   (renders once, ~10 s)
+#   valgrind --tool=callgrind --dump-instr=no \
+#     --toggle-collect=measured_solve build/bench/bench_rack build/bench full|track
+BENCH_RACK_BIN := $(BUILD)/bench/bench_rack
+$(BENCH_RACK_BIN): tests/bench/bench_rack.c tests/lib/support.c tests/lib/support.h $(host_LIB)
+	@mkdir -p $(@D)
+	$(CC) $(HOST_CFLAGS) -Itests/lib $< tests/lib/support.c $(host_LIB) -lm -o $@
