@@ -908,7 +908,7 @@ cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, 
             st = frame_pipes(img, cam, radius, p, trk, ws, n, sigma, min_step, out, cap, n_out);
     }
     if (trk)
-        track_update(trk, cam, out, *n_out); /* no pipe this frame: every track ages */
+        track_update(trk, cam, out, *n_out); /* with no pipe (n_out 0) every track ages */
     for (i = 0; i < *n_out; i++) {
         out[i].flags |= flags;
         out[i].noise = sigma;
