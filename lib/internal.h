@@ -287,4 +287,9 @@ void cdsp__edges_gather_simd(const uint8_t *src, ptrdiff_t d, int n, uint8_t *ds
 #define cdsp__edges_gather cdsp__edges_gather_c
 #endif
 
+/* Frame-path speed (issue 17, session 6). */
+/* camera.c: every distortion coefficient zero (distortion the identity in
+ * floating point too; the fast forms of camera.c and lib/frame.c). */
+int cdsp__camera_no_distortion(const cdsp_camera *c);
+
 #endif /* CDSP_INTERNAL_H */
