@@ -175,6 +175,10 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
     cdsp_real band = R_CEIL(p->track_band_px);
     size_t n = 0;
     int nodist = cdsp__camera_no_distortion(cam);
+    /* column segments, a block of CDSP__BAND_COLS scanlines at a time
+     * (cdsp__edges_scan_col_bands: the same edges, in the same order, as
+     * one segment after the other); an empty segment is [0, 0) */
+    int bfrom[CDSP__BAND_COLS], bto[CDSP__BAND_COLS], nb = 0, bt0 = 0;
     cdsp__edges_clip_roi(img, &p->edge.roi, &x0, &y0, &x1, &y1);
     for (k = 0; k < 2; k++) {
         const cdsp_real *l = prior->lines[k];
@@ -187,20 +191,32 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
         int t;
         for (t = (lo > 1 ? lo : 1) + step / 2; t < hi - 1 && t < other - 1; t += step) {
             cdsp_real sc, f, e;
-            int from, to;
-            if (!crossing(cam, nodist, l, horizontal, t, &sc))
-                continue;
-            if (sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band)
-                continue;
-            f = R_FLOOR(sc) - band;
-            e = R_FLOOR(sc) + band + R(1);
-            from = f < (cdsp_real)smin ? smin : (int)f;
-            to = e > (cdsp_real)smax ? smax : (int)e;
-            if (from < h + 1)
-                from = h + 1;
-            if (to > ext - h - 1)
-                to = ext - h - 1;
-            n += cdsp__edges_scan_segment(img, edge, horizontal, t, from, to, out + n, cap - n);
+            int from = 0, to = 0, have = crossing(cam, nodist, l, horizontal, t, &sc);
+            if (have && (sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band))
+                have = 0;
+            if (have) {
+                f = R_FLOOR(sc) - band;
+                e = R_FLOOR(sc) + band + R(1);
+                from = f < (cdsp_real)smin ? smin : (int)f;
+                to = e > (cdsp_real)smax ? smax : (int)e;
+                if (from < h + 1)
+                    from = h + 1;
+                if (to > ext - h - 1)
+                    to = ext - h - 1;
+            }
+            if (horizontal) {
+                if (have)
+                    n += cdsp__edges_scan_segment(img, edge, 1, t, from, to, out + n, cap - n);
+            } else {
+                if (nb == 0)
+                    bt0 = t;
+                bfrom[nb] = have ? from : 0;
+                bto[nb] = have ? to : 0;
+                if (++nb == CDSP__BAND_COLS || !(t + step < hi - 1 && t + step < other - 1)) {
+                    n += cdsp__edges_scan_col_bands(img, edge, step, bt0, nb, bfrom, bto, out + n, cap - n);
+                    nb = 0;
+                }
+            }
             if (n == cap)
                 return n;
         }

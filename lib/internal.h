@@ -291,5 +291,12 @@ void cdsp__edges_gather_simd(const uint8_t *src, ptrdiff_t d, int n, uint8_t *ds
 /* camera.c: every distortion coefficient zero (distortion the identity in
  * floating point too; the fast forms of camera.c and lib/frame.c). */
 int cdsp__camera_no_distortion(const cdsp_camera *c);
+/* edges.c: tracking's column segments, up to CDSP__BAND_COLS columns
+ * xs + k*step at a time over [from[k], to[k]) each: exactly the edges of
+ * cdsp__edges_scan_segment on each column in turn (the same windows-fit
+ * guarantee per column), read row by row. */
+#define CDSP__BAND_COLS 32
+size_t cdsp__edges_scan_col_bands(const cdsp_image *img, const cdsp_edge_params *p, int step, int xs,
+                                  int ncols, const int *from, const int *to, cdsp_edge *out, size_t cap);
 
 #endif /* CDSP_INTERNAL_H */
