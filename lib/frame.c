@@ -72,6 +72,7 @@ static int crossing(const cdsp_camera *cam, int nodist, const cdsp_real l[3], in
  * (bins of 2^shift gray levels; the last bin holds everything above). */
 #define NOISE_ROWS 32
 #define NOISE_BINS 256
+#define NOISE_RUN 64 /* pairs whose |d| are taken at once (8-bit frames) */
 
 /*
  * The frame's noise and the data's real range, from NOISE_ROWS evenly
@@ -115,8 +116,19 @@ static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
         int y = (int)(((long)r * 2 + 1) * img->height / (2L * rows));
         if (img->bits <= 8) { /* bytes: the row at hand, shift 0, |d| <= 255 < NOISE_BINS */
             const uint8_t *row = (const uint8_t *)img->data + (size_t)y * img->stride;
-            for (x = 0; x + 1 < img->width; x += 2)
-                hist[iabs((int)row[x + 1] - (int)row[x])]++;
+            for (x = 0; x + 1 < img->width; x += 2 * NOISE_RUN) {
+                /* |d| of a run of pairs first, in a loop of byte
+                 * arithmetic compilers vectorize, then the counts: the
+                 * same histogram, ~half the instructions of one pair at
+                 * a time (callgrind, the paper frame) */
+                uint8_t ad[NOISE_RUN];
+                int m = (img->width - x) / 2 < NOISE_RUN ? (img->width - x) / 2 : NOISE_RUN, i;
+                const uint8_t *restrict q = row + x;
+                for (i = 0; i < m; i++)
+                    ad[i] = (uint8_t)(q[2 * i + 1] > q[2 * i] ? q[2 * i + 1] - q[2 * i] : q[2 * i] - q[2 * i + 1]);
+                for (i = 0; i < m; i++)
+                    hist[ad[i]]++;
+            }
             total += (uint32_t)(img->width / 2);
             continue;
         }
