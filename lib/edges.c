@@ -106,6 +106,30 @@ static inline void window_sums(const win_px *w, int wide, int h, int g[2], int S
 #undef WPX
 }
 
+/* window_sums for 8-bit samples at the default h = 4: each of the 27
+ * pixels read once (the Sobel components from the same loads as the
+ * sums), at offsets computed once; integer sums, so the same numbers in
+ * any order. ~half the instructions of the general form (callgrind). */
+static inline void window_sums8_h4(const win_px *w, int g[2], int S[3], int AB[2])
+{
+    const uint8_t *b = w->b;
+    ptrdiff_t o1 = w->ds, o2 = 2 * w->ds, o3 = 3 * w->ds, o4 = 4 * w->ds;
+    int m1[3], z[3], p1[3], k;
+    AB[0] = AB[1] = 0;
+    for (k = 0; k < 3; k++) {
+        const uint8_t *q = b + (ptrdiff_t)(k - 1) * w->dt;
+        int a4 = q[-o4], b4 = q[o4];
+        m1[k] = q[-o1];
+        z[k] = q[0];
+        p1[k] = q[o1];
+        S[k] = a4 + q[-o3] + q[-o2] + m1[k] + z[k] + p1[k] + q[o2] + q[o3] + b4;
+        AB[0] += a4;
+        AB[1] += b4;
+    }
+    g[0] = (p1[0] - m1[0]) + 2 * (p1[1] - m1[1]) + (p1[2] - m1[2]);
+    g[1] = (m1[2] - m1[0]) + 2 * (z[2] - z[0]) + (p1[2] - p1[0]);
+}
+
 /* Intensity at pos along the scan from the window's centre (row k across
  * it), interpolated linearly between pixel centres, with pos clamped to
  * [-lim, lim]: the caller guarantees lim = h + 1 pixels on both sides of s
@@ -162,8 +186,8 @@ static inline int refine_core(const cdsp_image *img, int horizontal, int s, int 
     win_at(img, horizontal, s, t, &w);
     if (w.wide)
         window_sums(&w, 1, h, g, S, AB);
-    else if (h == 4) /* the default half window: the sums unrolled */
-        window_sums(&w, 0, 4, g, S, AB);
+    else if (h == 4) /* the default half window */
+        window_sums8_h4(&w, g, S, AB);
     else
         window_sums(&w, 0, h, g, S, AB);
     gs = g[0];
