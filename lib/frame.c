@@ -17,14 +17,10 @@
  */
 #include "internal.h"
 
-/* Distorted-frame position where the prior's undistorted line l crosses
- * scanline `line` (a row when horizontal, else a column): fixed point on the
- * across-coordinate, 4 rounds (distortion moves a point by a small fraction
- * of a pixel per pixel, so each round gains more than a digit). */
 /* cdsp_camera_distort's pixel, 1 when it is finite; nodist: the camera
  * has no distortion (cdsp__camera_no_distortion), where the polynomial is
  * the identity in floating point and only the pixel map's arithmetic
- * remains: the same numbers, a fifth of the instructions. */
+ * remains: the same numbers, without the polynomial's. */
 static int distort_px(const cdsp_camera *cam, int nodist, const cdsp_real und[2], cdsp_real dist[2])
 {
     cdsp_real x, y;
@@ -41,6 +37,10 @@ static int distort_px(const cdsp_camera *cam, int nodist, const cdsp_real und[2]
     return R_FINITE(dist[0]) && R_FINITE(dist[1]);
 }
 
+/* Distorted-frame position where the prior's undistorted line l crosses
+ * scanline `line` (a row when horizontal, else a column): fixed point on the
+ * across-coordinate, 4 rounds (distortion moves a point by a small fraction
+ * of a pixel per pixel, so each round gains more than a digit). */
 static int crossing(const cdsp_camera *cam, int nodist, const cdsp_real l[3], int horizontal, int line,
                     cdsp_real *s_out)
 {
@@ -119,8 +119,8 @@ static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
             for (x = 0; x + 1 < img->width; x += 2 * NOISE_RUN) {
                 /* |d| of a run of pairs first, in a loop of byte
                  * arithmetic compilers vectorize, then the counts: the
-                 * same histogram, ~half the instructions of one pair at
-                 * a time (callgrind, the paper frame) */
+                 * same histogram, 260 K instructions in place of 431 K
+                 * for one pair at a time (callgrind, the paper frame) */
                 uint8_t ad[NOISE_RUN];
                 int m = (img->width - x) / 2 < NOISE_RUN ? (img->width - x) / 2 : NOISE_RUN, i;
                 const uint8_t *restrict q = row + x;
