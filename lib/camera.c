@@ -121,11 +121,44 @@ void cdsp_camera_ray(const cdsp_camera *cam, const cdsp_real und[2], cdsp_real r
     ray[2] = R(1);
 }
 
+/* Whether the camera has no distortion (every coefficient zero; the
+ * paper's camera, rectified frames). Then distort_norm is the identity in
+ * floating point, not only in exact arithmetic: radial = 1 + r2 * 0 = 1
+ * and every other term is a product with a zero coefficient, so
+ * xd = x * 1 + 0 + 0 = x (finite x, y); the Jacobian is the identity; and
+ * Newton's first residual is 0, so undistort_norm returns its start. The
+ * fast forms below use exactly the arithmetic that remains: the same
+ * numbers, without the polynomial and the iteration (internal.h). */
+int cdsp__camera_no_distortion(const cdsp_camera *c)
+{
+    return c->k1 == R(0) && c->k2 == R(0) && c->k3 == R(0) && c->p1 == R(0) && c->p2 == R(0);
+}
+
 cdsp_status cdsp_camera_undistort_edges(const cdsp_camera *cam, cdsp_edge *e, size_t *n)
 {
     size_t i, k = 0;
     if (!cam || !n || (!e && *n))
         return CDSP_E_ARG;
+    if (cdsp__camera_no_distortion(cam)) {
+        /* und = f * ((d - c) / f) + c, what undistort_norm's start gives
+         * back through the pixel map; the gradient is unchanged (identity
+         * Jacobian: len1 = len0). An edge the general path drops is
+         * dropped: a non-finite start, or r2 (or the 2 x^2 of the p2
+         * term) overflowing, where the polynomial gives NaN and no
+         * residual is within the tolerance. */
+        for (i = 0; i < *n; i++) {
+            cdsp_real x = (e[i].x - cam->cx) / cam->fx, y = (e[i].y - cam->cy) / cam->fy;
+            if (!R_FINITE(R(3) * (x * x + y * y)))
+                continue;
+            e[k].x = cam->fx * x + cam->cx;
+            e[k].y = cam->fy * y + cam->cy;
+            e[k].gx = e[i].gx;
+            e[k].gy = e[i].gy;
+            k++;
+        }
+        *n = k;
+        return CDSP_OK;
+    }
     for (i = 0; i < *n; i++) {
         cdsp_real x, y, J[4], gx, gy, g0, g1, len0, len1;
         if (undistort_norm(cam, (e[i].x - cam->cx) / cam->fx, (e[i].y - cam->cy) / cam->fy, &x, &y,

@@ -106,6 +106,31 @@ static inline void window_sums(const win_px *w, int wide, int h, int g[2], int S
 #undef WPX
 }
 
+/* window_sums for 8-bit samples at the default h = 4: each of the 27
+ * pixels read once (the Sobel components from the same loads as the
+ * sums), at offsets computed once; integer sums, so the same numbers in
+ * any order. ~30 instructions a refinement fewer than the general form
+ * (callgrind, the paper frame: 74 K over a full search's 2113). */
+static inline void window_sums8_h4(const win_px *w, int g[2], int S[3], int AB[2])
+{
+    const uint8_t *b = w->b;
+    ptrdiff_t o1 = w->ds, o2 = 2 * w->ds, o3 = 3 * w->ds, o4 = 4 * w->ds;
+    int m1[3], z[3], p1[3], k;
+    AB[0] = AB[1] = 0;
+    for (k = 0; k < 3; k++) {
+        const uint8_t *q = b + (ptrdiff_t)(k - 1) * w->dt;
+        int a4 = q[-o4], b4 = q[o4];
+        m1[k] = q[-o1];
+        z[k] = q[0];
+        p1[k] = q[o1];
+        S[k] = a4 + q[-o3] + q[-o2] + m1[k] + z[k] + p1[k] + q[o2] + q[o3] + b4;
+        AB[0] += a4;
+        AB[1] += b4;
+    }
+    g[0] = (p1[0] - m1[0]) + 2 * (p1[1] - m1[1]) + (p1[2] - m1[2]);
+    g[1] = (m1[2] - m1[0]) + 2 * (z[2] - z[0]) + (p1[2] - p1[0]);
+}
+
 /* Intensity at pos along the scan from the window's centre (row k across
  * it), interpolated linearly between pixel centres, with pos clamped to
  * [-lim, lim]: the caller guarantees lim = h + 1 pixels on both sides of s
@@ -162,8 +187,8 @@ static inline int refine_core(const cdsp_image *img, int horizontal, int s, int 
     win_at(img, horizontal, s, t, &w);
     if (w.wide)
         window_sums(&w, 1, h, g, S, AB);
-    else if (h == 4) /* the default half window: the sums unrolled */
-        window_sums(&w, 0, 4, g, S, AB);
+    else if (h == 4) /* the default half window */
+        window_sums8_h4(&w, g, S, AB);
     else
         window_sums(&w, 0, h, g, S, AB);
     gs = g[0];
@@ -503,6 +528,161 @@ static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, 
     return n;
 }
 
+/*
+ * Tracking's column segments, a block at a time (internal.h): column
+ * x_k = xs + k*step (k < ncols <= CDSP__BAND_COLS) over [from[k], to[k]),
+ * the edges of cdsp__edges_scan_segment(img, p, 0, x_k, from[k], to[k])
+ * for k = 0, 1, ... in that order, with the same cap rule (the count
+ * stops at cap, with the edges a column at a time gives). One segment of
+ * ~25 pixels per call cost ~490 instructions besides its refinements on
+ * the paper frame's tracked bands (callgrind, issue 17: ~1200 segments, a
+ * quarter of a tracked frame). Here the block's segments are laid side by
+ * side, each shifted to its own start: row j of the buffer holds pixel
+ * j of every column's run (rows from[k] - 1 + j), so the five runs of the
+ * candidate test are again the buffer's rows 0 .. 4 (vertical neighbours
+ * within each column) and one call tests COL_BATCH positions of all the
+ * columns. (Gathering the frame's rows over the union of the bands, as
+ * scan_cols_block does, read ~4 times the pixels on the paper frame, the
+ * union ~93 rows a block against 25 a segment, and cost 1.71 M
+ * instructions against the segments' 1.34 M.) Each flag is kept
+ * only inside its column's segment; the candidates, listed position by
+ * position, are then ordered by column (a stable counting sort: within a
+ * column they stay in row order) and refined in that order, the
+ * per-column scans' order. Candidates and refinements are those of the
+ * per-column scans (same test on the same pixels, same positions), so the
+ * edges are too. A block with a segment longer than BAND_SPAN or more than
+ * BAND_LIST candidates, and 16-bit frames, take the per-column scans.
+ */
+#define BAND_SPAN 256
+#define BAND_LIST 256
+typedef char cdsp__band_cols_is_chunk[CDSP__BAND_COLS == CHUNK ? 1 : -1];
+size_t cdsp__edges_scan_col_bands(const cdsp_image *img, const cdsp_edge_params *p, int step, int xs,
+                                  int ncols, const int *from, const int *to, cdsp_edge *out, size_t cap)
+{
+    int h = p->half_window, full = (1 << img->bits) - 1, c, k, i, L = 0, nl = 0;
+    int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
+    int thr = min_step / 2 > 0 ? min_step / 2 : 1;
+    size_t n = 0;
+    if (cap == 0)
+        return 0;
+    /* candidates of column k: rows from[k] + 1 + c, c < len[k] (scan_segment's
+     * [from + 1, to - 1)); its run: rows from[k] - 1 .. to[k] */
+    if (img->bits <= 8) {
+        const uint8_t *src[CHUNK];
+        int len[CHUNK];
+        ptrdiff_t es = (ptrdiff_t)img->stride;
+        uint8_t rows[(COL_BATCH + 4) * CHUNK];
+        union {
+            uint8_t b[COL_BATCH * CHUNK];
+            uint64_t w[COL_BATCH * CHUNK / 8];
+        } flag;
+        const uint8_t *const f[5] = {rows, rows + CHUNK, rows + 2 * CHUNK, rows + 3 * CHUNK,
+                                     rows + 4 * CHUNK};
+        uint16_t list[BAND_LIST], sorted[BAND_LIST]; /* c * CHUNK + k */
+        int cnt[CHUNK + 1], j, even;
+        for (k = 0; k < ncols; k++) {
+            len[k] = to[k] - from[k] - 2;
+            if (len[k] < 1) {
+                len[k] = -4; /* no run: never read, zeros */
+                src[k] = NULL;
+                continue;
+            }
+            src[k] = (const uint8_t *)img->data + (size_t)(from[k] - 1) * img->stride + (size_t)(xs + k * step);
+            L = len[k] > L ? len[k] : L;
+        }
+        if (L == 0)
+            return 0;
+        for (k = 0; k < ncols && (len[k] == L || len[k] == -4); k++)
+            ;
+        even = k == ncols;
+        if (L <= BAND_SPAN) {
+            for (i = 0; i < (COL_BATCH + 4) * CHUNK; i++)
+                rows[i] = 0;
+            /* buffer row j: pixel j of each run, 0 past its end (a column
+             * without a run is never written: zeros) */
+            for (k = 0; k < ncols; k++)
+                if (src[k]) { /* every run has >= 5 pixels */
+                    const uint8_t *sp = src[k];
+                    rows[k] = sp[0];
+                    rows[CHUNK + k] = sp[es];
+                    rows[2 * CHUNK + k] = sp[2 * es];
+                    rows[3 * CHUNK + k] = sp[3 * es];
+                    src[k] = sp + 4 * es;
+                }
+            for (c = 0; c < L && nl >= 0; c += COL_BATCH) {
+                int nr = L - c < COL_BATCH ? L - c : COL_BATCH, np = nr * CHUNK;
+                if (even) { /* every run this long (no segment clipped): no test per pixel */
+                    for (k = 0; k < ncols; k++) {
+                        const uint8_t *sp = src[k];
+                        if (!sp)
+                            continue;
+                        if (nr == COL_BATCH) { /* four loads, no loop */
+                            rows[4 * CHUNK + k] = sp[0];
+                            rows[5 * CHUNK + k] = sp[es];
+                            rows[6 * CHUNK + k] = sp[2 * es];
+                            rows[7 * CHUNK + k] = sp[3 * es];
+                            sp += 4 * es;
+                        } else {
+                            for (i = 0; i < nr; i++, sp += es)
+                                rows[(4 + i) * CHUNK + k] = *sp;
+                        }
+                        src[k] = sp;
+                    }
+                } else {
+                    for (i = 0; i < nr; i++)
+                        for (j = c + 4 + i, k = 0; k < ncols; k++) {
+                            uint8_t v = 0;
+                            if (j < len[k] + 4) {
+                                v = *src[k];
+                                src[k] += es;
+                            }
+                            rows[(4 + i) * CHUNK + k] = v;
+                        }
+                }
+                if (cdsp__edges_peaks(f, NULL, (size_t)np, thr, flag.b))
+                    for (i = 0; i < np && nl >= 0; i += 8) {
+                        if (!flag.w[i / 8])
+                            continue;
+                        for (k = i; k < i + 8; k++) {
+                            int q = k % CHUNK, cc = c + k / CHUNK;
+                            if (!flag.b[k] || cc >= len[q])
+                                continue;
+                            if (nl == BAND_LIST) {
+                                nl = -1; /* too many: the per-column scans */
+                                break;
+                            }
+                            list[nl++] = (uint16_t)(cc * CHUNK + q);
+                        }
+                    }
+                for (i = 0; i < 4 * CHUNK; i++)
+                    rows[i] = rows[np + i];
+            }
+            if (nl >= 0) {
+                for (k = 0; k <= CHUNK; k++)
+                    cnt[k] = 0;
+                for (i = 0; i < nl; i++)
+                    cnt[list[i] % CHUNK + 1]++;
+                for (k = 0; k < CHUNK; k++)
+                    cnt[k + 1] += cnt[k];
+                for (i = 0; i < nl; i++)
+                    sorted[cnt[list[i] % CHUNK]++] = list[i];
+                for (i = 0; i < nl; i++) {
+                    int q = sorted[i] % CHUNK, r = from[q] + 1 + sorted[i] / CHUNK;
+                    if (cdsp__edges_refine(img, 0, r, xs + q * step, h, min_step, &out[n]) && ++n == cap)
+                        return n;
+                }
+                return n;
+            }
+        }
+    }
+    for (k = 0; k < ncols; k++) {
+        n += cdsp__edges_scan_segment(img, p, 0, xs + k * step, from[k], to[k], out + n, cap - n);
+        if (n == cap)
+            return n;
+    }
+    return n;
+}
+
 /* The roi clipped to the frame (w or h == 0: whole frame). */
 void cdsp__edges_clip_roi(const cdsp_image *img, const cdsp_roi *roi, int *x0, int *y0, int *x1,
                           int *y1)
@@ -745,9 +925,16 @@ static size_t band_rows(const cdsp_image *img, const cdsp_edge_params *p, int F,
 }
 
 /* The slope tolerance of a hint (the Sobel components' ratio): +-(ABS +
- * REL |m|) on m = -gs / gt. */
-#define HINT_SLOPE_ABS 0.1
-#define HINT_SLOPE_REL 0.25
+ * REL |m|) on m = -gs / gt; the ratio's error is rms 0.02-0.06 on the
+ * paper frames. Until issue 17's session 6 it was 0.1 + 0.25 |m|: 0.05 +
+ * 0.15 |m| cut a full search on the paper frame from 5.81 to 5.53 M
+ * instructions (callgrind, bench_frame full 1 1), and make check-coarse's
+ * 80 frames still lose no pipe to the bands (0 found only reading the
+ * whole frame); a contour whose hint's slope is off by more than this
+ * (and HINT_MARGIN) loses edges far from the hint, which the frame path's
+ * fallback to the whole frame covers when it costs the pipe. */
+#define HINT_SLOPE_ABS 0.05
+#define HINT_SLOPE_REL 0.15
 /* Rows beyond a hint's predicted band: the crossing's own +-1 px, the
  * candidate row within 1 of the contour, and BAND_MARGIN. */
 #define HINT_MARGIN 3

@@ -17,12 +17,32 @@
  */
 #include "internal.h"
 
+/* cdsp_camera_distort's pixel, 1 when it is finite; nodist: the camera
+ * has no distortion (cdsp__camera_no_distortion), where the polynomial is
+ * the identity in floating point and only the pixel map's arithmetic
+ * remains: the same numbers, without the polynomial's. */
+static int distort_px(const cdsp_camera *cam, int nodist, const cdsp_real und[2], cdsp_real dist[2])
+{
+    cdsp_real x, y;
+    if (!nodist)
+        return cdsp_camera_distort(cam, und, dist) == CDSP_OK;
+    if (!R_FINITE(und[0]) || !R_FINITE(und[1]))
+        return 0;
+    x = (und[0] - cam->cx) / cam->fx;
+    y = (und[1] - cam->cy) / cam->fy;
+    if (!R_FINITE(R(3) * (x * x + y * y))) /* where the polynomial gives NaN */
+        return 0;
+    dist[0] = cam->fx * x + cam->cx;
+    dist[1] = cam->fy * y + cam->cy;
+    return R_FINITE(dist[0]) && R_FINITE(dist[1]);
+}
+
 /* Distorted-frame position where the prior's undistorted line l crosses
  * scanline `line` (a row when horizontal, else a column): fixed point on the
  * across-coordinate, 4 rounds (distortion moves a point by a small fraction
  * of a pixel per pixel, so each round gains more than a digit). */
-int cdsp__frame_crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal, int line,
-                         cdsp_real *s_out)
+int cdsp__frame_crossing(const cdsp_camera *cam, int nodist, const cdsp_real l[3], int horizontal,
+                         int line, cdsp_real *s_out)
 {
     cdsp_real target = (cdsp_real)line, t = target, und[2], dist[2];
     int it;
@@ -35,7 +55,7 @@ int cdsp__frame_crossing(const cdsp_camera *cam, const cdsp_real l[3], int horiz
             und[0] = t;
             und[1] = -(l[0] * t + l[2]) / l[1];
         }
-        if (cdsp_camera_distort(cam, und, dist) != CDSP_OK)
+        if (!distort_px(cam, nodist, und, dist))
             return 0;
         /* a round that moves t by nothing is a fixed point: every later
          * round would compute the same und and dist again */
@@ -52,6 +72,7 @@ int cdsp__frame_crossing(const cdsp_camera *cam, const cdsp_real l[3], int horiz
  * (bins of 2^shift gray levels; the last bin holds everything above). */
 #define NOISE_ROWS 32
 #define NOISE_BINS 256
+#define NOISE_RUN 64 /* pairs whose |d| are taken at once (8-bit frames) */
 
 /*
  * The frame's noise and the data's real range, from NOISE_ROWS evenly
@@ -95,8 +116,19 @@ static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
         int y = (int)(((long)r * 2 + 1) * img->height / (2L * rows));
         if (img->bits <= 8) { /* bytes: the row at hand, shift 0, |d| <= 255 < NOISE_BINS */
             const uint8_t *row = (const uint8_t *)img->data + (size_t)y * img->stride;
-            for (x = 0; x + 1 < img->width; x += 2)
-                hist[iabs((int)row[x + 1] - (int)row[x])]++;
+            for (x = 0; x + 1 < img->width; x += 2 * NOISE_RUN) {
+                /* |d| of a run of pairs first, in a loop of byte
+                 * arithmetic compilers vectorize, then the counts: the
+                 * same histogram, 260 K instructions in place of 431 K
+                 * for one pair at a time (callgrind, the paper frame) */
+                uint8_t ad[NOISE_RUN];
+                int m = (img->width - x) / 2 < NOISE_RUN ? (img->width - x) / 2 : NOISE_RUN, i;
+                const uint8_t *restrict q = row + x;
+                for (i = 0; i < m; i++)
+                    ad[i] = (uint8_t)(q[2 * i + 1] > q[2 * i] ? q[2 * i + 1] - q[2 * i] : q[2 * i] - q[2 * i + 1]);
+                for (i = 0; i < m; i++)
+                    hist[ad[i]]++;
+            }
             total += (uint32_t)(img->width / 2);
             continue;
         }
@@ -154,6 +186,11 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
      * and only positions already clipped to the frame become ints */
     cdsp_real band = R_CEIL(p->track_band_px);
     size_t n = 0;
+    int nodist = cdsp__camera_no_distortion(cam);
+    /* column segments, a block of CDSP__BAND_COLS scanlines at a time
+     * (cdsp__edges_scan_col_bands: the same edges, in the same order, as
+     * one segment after the other); an empty segment is [0, 0) */
+    int bfrom[CDSP__BAND_COLS], bto[CDSP__BAND_COLS], nb = 0, bt0 = 0;
     cdsp__edges_clip_roi(img, &p->edge.roi, &x0, &y0, &x1, &y1);
     for (k = 0; k < 2; k++) {
         const cdsp_real *l = prior->lines[k];
@@ -166,20 +203,32 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
         int t;
         for (t = (lo > 1 ? lo : 1) + step / 2; t < hi - 1 && t < other - 1; t += step) {
             cdsp_real sc, f, e;
-            int from, to;
-            if (!cdsp__frame_crossing(cam, l, horizontal, t, &sc))
-                continue;
-            if (sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band)
-                continue;
-            f = R_FLOOR(sc) - band;
-            e = R_FLOOR(sc) + band + R(1);
-            from = f < (cdsp_real)smin ? smin : (int)f;
-            to = e > (cdsp_real)smax ? smax : (int)e;
-            if (from < h + 1)
-                from = h + 1;
-            if (to > ext - h - 1)
-                to = ext - h - 1;
-            n += cdsp__edges_scan_segment(img, edge, horizontal, t, from, to, out + n, cap - n);
+            int from = 0, to = 0, have = cdsp__frame_crossing(cam, nodist, l, horizontal, t, &sc);
+            if (have && (sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band))
+                have = 0;
+            if (have) {
+                f = R_FLOOR(sc) - band;
+                e = R_FLOOR(sc) + band + R(1);
+                from = f < (cdsp_real)smin ? smin : (int)f;
+                to = e > (cdsp_real)smax ? smax : (int)e;
+                if (from < h + 1)
+                    from = h + 1;
+                if (to > ext - h - 1)
+                    to = ext - h - 1;
+            }
+            if (horizontal) {
+                if (have)
+                    n += cdsp__edges_scan_segment(img, edge, 1, t, from, to, out + n, cap - n);
+            } else {
+                if (nb == 0)
+                    bt0 = t;
+                bfrom[nb] = have ? from : 0;
+                bto[nb] = have ? to : 0;
+                if (++nb == CDSP__BAND_COLS || !(t + step < hi - 1 && t + step < other - 1)) {
+                    n += cdsp__edges_scan_col_bands(img, edge, step, bt0, nb, bfrom, bto, out + n, cap - n);
+                    nb = 0;
+                }
+            }
             if (n == cap)
                 return n;
         }

@@ -216,9 +216,11 @@ cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, con
                               uint32_t *flags);
 /* frame.c: the distorted-frame position where undistorted line l crosses
  * scanline `line` (a row when horizontal, else a column), for the bands
- * of lib/multi.c's tracked solve; 0 when it cannot be computed. */
-int cdsp__frame_crossing(const cdsp_camera *cam, const cdsp_real l[3], int horizontal, int line,
-                         cdsp_real *s_out);
+ * of lib/frame.c's and lib/multi.c's tracked solves; nodist:
+ * cdsp__camera_no_distortion(cam), the fast form; 0 when it cannot be
+ * computed. */
+int cdsp__frame_crossing(const cdsp_camera *cam, int nodist, const cdsp_real l[3], int horizontal,
+                         int line, cdsp_real *s_out);
 /* frame.c: whether a contour of pose out (its lines named by out->label in
  * ws->pairs) has points too scattered to be one edge for the frame's noise
  * sigma (issue 12; the rule and its figures at its definition). The single
@@ -291,5 +293,17 @@ void cdsp__edges_gather_simd(const uint8_t *src, ptrdiff_t d, int n, uint8_t *ds
 #define cdsp__edges_peaks cdsp__edges_peaks_c
 #define cdsp__edges_gather cdsp__edges_gather_c
 #endif
+
+/* Frame-path speed (issue 17, session 6). */
+/* camera.c: every distortion coefficient zero (distortion the identity in
+ * floating point too; the fast forms of camera.c and lib/frame.c). */
+int cdsp__camera_no_distortion(const cdsp_camera *c);
+/* edges.c: tracking's column segments, up to CDSP__BAND_COLS columns
+ * xs + k*step at a time over [from[k], to[k]) each: exactly the edges of
+ * cdsp__edges_scan_segment on each column in turn (the same windows-fit
+ * guarantee per column), read row by row. */
+#define CDSP__BAND_COLS 32
+size_t cdsp__edges_scan_col_bands(const cdsp_image *img, const cdsp_edge_params *p, int step, int xs,
+                                  int ncols, const int *from, const int *to, cdsp_edge *out, size_t cap);
 
 #endif /* CDSP_INTERNAL_H */

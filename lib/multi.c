@@ -717,7 +717,7 @@ static size_t bands_at(const cdsp_image *img, const cdsp_camera *cam, const cdsp
                        const cdsp_edge_params *edge, const cdsp_real (*lines)[3], int nl, int step,
                        cdsp_edge *out, size_t cap)
 {
-    int x0, y0, x1, y1, fam, h = p->edge.half_window;
+    int x0, y0, x1, y1, fam, h = p->edge.half_window, nodist = cdsp__camera_no_distortion(cam);
     /* a real until clipped (track_band_px may exceed INT_MAX), as lib/frame.c */
     cdsp_real band = R_CEIL(p->track_band_px);
     size_t n = 0;
@@ -737,7 +737,7 @@ static size_t bands_at(const cdsp_image *img, const cdsp_camera *cam, const cdsp
                 cdsp_real sc, f, e;
                 int fr, tt;
                 if ((R_FABS(lines[k][0]) >= R_FABS(lines[k][1])) != horizontal ||
-                    !cdsp__frame_crossing(cam, lines[k], horizontal, t, &sc) ||
+                    !cdsp__frame_crossing(cam, nodist, lines[k], horizontal, t, &sc) ||
                     sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band)
                     continue;
                 f = R_FLOOR(sc) - band;

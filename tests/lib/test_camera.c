@@ -213,6 +213,58 @@ static void test_undistort_edges(void **state)
     }
 }
 
+/* A camera without distortion (every coefficient 0) takes the fast form
+ * of cdsp_camera_undistort_edges (lib/camera.c): each edge exactly where
+ * cdsp_camera_undistort (Newton, the general form) puts it, bit for bit,
+ * with its gradient unchanged, and the points the general form cannot
+ * undistort (non-finite, r^2 overflowing) dropped. A table of positions
+ * over and far beyond a frame, with non-zero principal points. */
+static void test_undistort_edges_no_distortion(void **state)
+{
+    static const double pos[][2] = {
+        {0, 0}, {640, 512}, {639.5, 511.25}, {1279, 1023}, {-3.75, 2000.125}, {1e5, -1e5},
+        {1e-300, 7}, {640.0000000001, 512}, {1e160, 0}, {0, -1e160}, {1e200, 1e200},
+    };
+    cdsp_camera cam;
+    cdsp_edge e[32], in[32];
+    size_t n = 0, i, k = 0, np = sizeof pos / sizeof pos[0];
+    (void)state;
+    cam_for(&lenses[0], &cam);
+    cam.cx = (cdsp_real)641.3;
+    cam.cy = (cdsp_real)509.7;
+    cam.fy = (cdsp_real)1093.5;
+    for (i = 0; i < np; i++, n++) {
+        e[n].x = (cdsp_real)pos[i][0];
+        e[n].y = (cdsp_real)pos[i][1];
+        e[n].gx = (cdsp_real)(3 + (double)i);
+        e[n].gy = (cdsp_real)(-2 * (double)i);
+    }
+    e[n].x = (cdsp_real)NAN;
+    e[n].y = 1;
+    e[n].gx = e[n].gy = 1;
+    n++;
+    e[n].x = 1;
+    e[n].y = (cdsp_real)INFINITY;
+    e[n].gx = e[n].gy = 1;
+    n++;
+    memcpy(in, e, sizeof e);
+    assert_int_equal(cdsp_camera_undistort_edges(&cam, e, &n), CDSP_OK);
+    for (i = 0; i < np + 2; i++) {
+        cdsp_real d[2] = {in[i].x, in[i].y}, u[2];
+        if (cdsp_camera_undistort(&cam, d, u) != CDSP_OK)
+            continue; /* dropped by the general form: by the fast one too */
+        assert_true(k < n);
+        assert_memory_equal(&e[k].x, &u[0], sizeof u[0]);
+        assert_memory_equal(&e[k].y, &u[1], sizeof u[1]);
+        assert_memory_equal(&e[k].gx, &in[i].gx, sizeof in[i].gx);
+        assert_memory_equal(&e[k].gy, &in[i].gy, sizeof in[i].gy);
+        k++;
+    }
+    assert_int_equal(k, n);
+    /* the table holds points of both kinds */
+    assert_true(n >= 8 && n < np);
+}
+
 static void test_check(void **state)
 {
     struct {
@@ -255,6 +307,7 @@ int main(void)
         cmocka_unit_test(test_project),
         cmocka_unit_test(test_no_convergence),
         cmocka_unit_test(test_undistort_edges),
+        cmocka_unit_test(test_undistort_edges_no_distortion),
         cmocka_unit_test(test_check),
     };
     return cmocka_run_group_tests_name("camera", tests, NULL, NULL);

@@ -623,12 +623,80 @@ static void test_gather_forms(void **state)
     assert_int_equal(trials, 10 * 71);
 }
 
+/* Tracking's column blocks (cdsp__edges_scan_col_bands) give exactly the
+ * edges of cdsp__edges_scan_segment on each column in turn, in that order,
+ * with its cap rule: on every frame of the table, blocks of 1 .. 32
+ * columns at several steps, with segments of one length (the shared-length
+ * path) and of random lengths (the general one), empty ones, ones longer
+ * than the block path takes (the per-column fallback), and capacities
+ * that stop the count inside a block. Compared with memcmp. */
+static void test_col_bands_equal_segments(void **state)
+{
+    size_t fi;
+    int trials = 0, truncated = 0;
+    (void)state;
+    for (fi = 0; fi < sizeof frames / sizeof frames[0]; fi++) {
+        cdsp_image img;
+        void *buf = make_frame(&frames[fi], &img);
+        cdsp_rng rng;
+        int t;
+        cdsp_rng_seed(&rng, 17, (uint64_t)fi);
+        for (t = 0; t < 160; t++) {
+            cdsp_edge_params ep;
+            int from[CDSP__BAND_COLS], to[CDSP__BAND_COLS], k, ncols, step, xs, kind = t % 4;
+            int h, lo, hi, len;
+            size_t cap, ng, nw = 0;
+            cdsp_edge_params_default(&ep);
+            ep.half_window = 2 + (int)cdsp_rng_below(&rng, 7);
+            ep.min_contrast = (cdsp_real)(t % 3 == 0 ? 0.01 : 0.05);
+            h = ep.half_window;
+            step = 1 + (int)cdsp_rng_below(&rng, 8);
+            ncols = 1 + (int)cdsp_rng_below(&rng, CDSP__BAND_COLS);
+            if (1 + (ncols - 1) * step > img.width - 2)
+                ncols = (img.width - 3) / step + 1;
+            xs = 1 + (int)cdsp_rng_below(&rng, (uint32_t)(img.width - 2 - (ncols - 1) * step));
+            lo = h + 1;
+            hi = img.height - h - 1;
+            /* kind 0: one length; 1: random lengths; 2: runs beyond the
+             * block's span (fallback); 3: one length, some columns empty */
+            len = kind == 2 ? 300 : 5 + (int)cdsp_rng_below(&rng, 40);
+            if (len > hi - lo)
+                len = hi - lo;
+            for (k = 0; k < ncols; k++) {
+                int l = kind == 1 ? (int)cdsp_rng_below(&rng, (uint32_t)len + 1) : len;
+                from[k] = lo + (int)cdsp_rng_below(&rng, (uint32_t)(hi - lo - l + 1));
+                to[k] = from[k] + l;
+                if (kind == 3 && cdsp_rng_below(&rng, 3) == 0)
+                    from[k] = to[k] = 0;
+            }
+            cap = t % 5 == 4 ? 1 + cdsp_rng_below(&rng, 8) : CAP;
+            memset(got, 0xa5, sizeof got);
+            memset(want, 0xa5, sizeof want);
+            ng = cdsp__edges_scan_col_bands(&img, &ep, step, xs, ncols, from, to, got, cap);
+            for (k = 0; k < ncols && nw < cap; k++)
+                if (to[k] > from[k])
+                    nw += cdsp__edges_scan_segment(&img, &ep, 0, xs + k * step, from[k], to[k], want + nw,
+                                                   cap - nw);
+            if (ng != nw || memcmp(got, want, nw * sizeof got[0]) != 0)
+                fail_msg("%s, trial %d (kind %d, %d columns at step %d): blocks %zu edges, segments %zu",
+                         frames[fi].name, t, kind, ncols, step, ng, nw);
+            truncated += cap < CAP && nw == cap;
+            trials++;
+        }
+        free(buf);
+    }
+    assert_int_equal(trials, 160 * (int)(sizeof frames / sizeof frames[0]));
+    /* the table exercises the cap inside a block */
+    assert_true(truncated > 10);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scan_equals_reference),
         cmocka_unit_test(test_peaks_forms),
         cmocka_unit_test(test_gather_forms),
+        cmocka_unit_test(test_col_bands_equal_segments),
         cmocka_unit_test(test_coarse_guarantee),
         cmocka_unit_test(test_strips_merge),
         cmocka_unit_test(test_frame_solve_strips),
