@@ -223,6 +223,17 @@ bench-accuracy: $(ACC_BIN)
 	$(ACC_BIN) $(BUILD)/bench/accuracy_cells.csv
 BENCH_STEPS := bench-lib bench-accuracy $(BENCH_STEPS)
 
+# Per pipe and per contour figures of bench-accuracy's paper scene (not in
+# BENCH_STEPS: a diagnosis, about a minute per light row)
+PAPER_CONTOURS_BIN := $(BUILD)/bench/diag_paper
+$(PAPER_CONTOURS_BIN): tests/bench/diag_paper.c tests/lib/support.c tests/lib/support.h $(host_LIB)
+	@mkdir -p $(@D)
+	$(CC) $(HOST_CFLAGS) -O3 -Ilib -Itests/lib $< tests/lib/support.c $(host_LIB) -lm -o $@
+
+.PHONY: bench-paper-contours
+bench-paper-contours: $(PAPER_CONTOURS_BIN)
+	$(PAPER_CONTOURS_BIN) 2
+
 bench:
 	@tests/deps.sh check $(DEPS_BUILD)
 	@$(MAKE) --no-print-directory bench-steps

@@ -465,10 +465,11 @@ static void test_bound(void **state)
          * float: 0.0039 and 0.0127 (its 8-bit offset +0.0072) */
         {"flat, 16 bit", 16, 1, 0, 0.7, 0, 1, 0, 0.006},
         {"flat, 8 bit", 8, 1, 0, 0.7, 0, 1, 0, 0.016},
-        /* +0.480 px, bound 0.484 (1.01): the model fits, |offset| 0.466 */
+        /* +0.480 px, bound 0.582 (1.21): the model fits, |offset| 0.466
+         * (+ 0.3 blur sqrt(fit_chi2 0.18), lib/profile.c) */
         {"shaded limb ambient 0.3, 16 bit", 16, 0.3, 0.3, 0.7, 0, 1, 0, 1.3},
         /* +0.480, bound 2.61 (5.4): noise-free 8 bit, the rounding repeats
-         * along the contour and the model misfits (fit_chi2 3.9), so the
+         * along the contour and the model misfits (fit_chi2 1.06), so the
          * bound is the blur zone's */
         {"shaded limb ambient 0.3, 8 bit", 8, 0.3, 0.3, 0.7, 0, 1, 0, 7},
         /* -0.066, bound 0.107 (1.6) */
@@ -477,7 +478,7 @@ static void test_bound(void **state)
         {"motion blur 7 across, flat, 16 bit", 16, 1, 0, 0.7, 7, 1, 0, 1.5},
         /* +0.215, bound 3.39 (15.7): a plateau, no side model holds */
         {"saturation plateau, 8 bit", 8, 0.3, 0.3, 0.7, 0, 2.2, 0, 20},
-        /* +0.477, bound 0.548 (1.15) */
+        /* +0.477, bound 0.615 (1.29) */
         {"vignetting 30 %, 16 bit", 16, 0.3, 0.3, 0.7, 0, 1, 0.3, 1.5},
     };
     size_t r;
@@ -517,6 +518,67 @@ static void test_bound(void **state)
     }
 }
 
+/* The bound on the paper's scene in directional light (ambient 0.85, the
+ * renderer's light), model off as by default: each contour's bound is the
+ * describing one (|offset| + 0.01 + 0.01 blur + 0.3 blur sqrt(fit_chi2),
+ * at most ~0.14 px at blur 0.75 and fit_chi2 0.25), not the misfit one
+ * (|offset| + 1 + 1.5 blur, > 2 px), and covers the contour's error
+ * against the exact silhouette. Before the grouped fit_chi2 p3's lit
+ * contour (error 0.012 px, bin-to-bin ripple of a 45-degree contour) had
+ * 2.14 px; before the terminator's hysteresis p1's shadowed one (error
+ * 0.0008 px, terminator 0.3 px beyond the blur zone at 256 scanlines)
+ * 1.90 px. Measured now: 0.033-0.097 px. */
+static void test_paper_directional_bound(void **state)
+{
+    static const int pipes[] = {0, 2};
+    static cdsp_frame_ws ws;
+    cdsp_camera cam;
+    cdsp_rng rng;
+    size_t i;
+    int k;
+    (void)state;
+    sup_paper_camera(&cam, 0, 0);
+    cdsp_rng_seed(&rng, 3, 3);
+    for (i = 0; i < sizeof pipes / sizeof pipes[0]; i++) {
+        cdsp_scene s;
+        cdsp_image img;
+        cdsp_result r;
+        cdsp_params prm;
+        double P[3], v[3], tl[2][3], pin[2];
+        void *px;
+        sup_paper_bound_scene(&s, pipes[i], 0.85, P, v);
+        px = sup_render(&s, &cam, 8, (uint64_t)(50 + pipes[i]), &img);
+        assert_non_null(px);
+        assert_true(sup_contour_lines(&cam, P, v, 8, tl, pin));
+        cdsp_params_default(&prm);
+        assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+        assert_true(r.flags & CDSP_FLAG_BOUND);
+        for (k = 0; k < 2; k++) {
+            /* the contour's line (the detector's: the model is off) against
+             * the nearer exact silhouette, at the line's centroid */
+            const cdsp_line *ln = &ws.pairs.lines[r.label[k] - 1];
+            double c[2] = {(double)ln->centroid[0], (double)ln->centroid[1]}, err = 1e9;
+            int t;
+            for (t = 0; t < 2; t++) {
+                double dd = tl[t][0] * c[0] + tl[t][1] * c[1] + tl[t][2], f[2] = {c[0] - dd * tl[t][0], c[1] - dd * tl[t][1]};
+                double e = (double)ln->l[0] * f[0] + (double)ln->l[1] * f[1] + (double)ln->l[2];
+                if (fabs(e) < fabs(err))
+                    err = e;
+            }
+            if (getenv("CDSP_TEST_VERBOSE"))
+                print_message("p%d contour %d: error %+.4f px, bound %.4f px\n", pipes[i] + 1, k, err,
+                              (double)r.edge_bound[k]);
+            if (!(fabs(err) <= (double)r.edge_bound[k]))
+                fail_msg("p%d contour %d: error %.4f outside the bound %.4f", pipes[i] + 1, k, err,
+                         (double)r.edge_bound[k]);
+            if (!((double)r.edge_bound[k] <= 0.2))
+                fail_msg("p%d contour %d: bound %.4f px, the misfit's (error %.4f)", pipes[i] + 1, k,
+                         (double)r.edge_bound[k], err);
+        }
+        free(px);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -529,6 +591,7 @@ int main(void)
         cmocka_unit_test(test_frame_path),
         cmocka_unit_test(test_bound),
         cmocka_unit_test(test_stride),
+        cmocka_unit_test(test_paper_directional_bound),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
