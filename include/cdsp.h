@@ -603,9 +603,13 @@ typedef struct {
     cdsp_real contrast;     /* pipe minus background at the silhouette, gray levels */
     cdsp_real half_width;   /* window half-width used, px */
     cdsp_real fit_chi2;     /* pipe side's chi-square per degree of freedom
-                               against the pixels' noise, floored at 0.2 % of
-                               the step (<~1: the model fits; 1e6: no bins
-                               beyond the blur zone, not checked) */
+                               of its residuals averaged over 1 px groups
+                               of distance from the edge (a ripple at the
+                               pixel lattice's spacing is not a misfit),
+                               against the pixels' noise, floored at 0.2 %
+                               of the step (<~1: the model fits; 1e6: fewer
+                               than 4 bins beyond the blur zone, not
+                               checked) */
     int flat;               /* 1: the limb term is not significant
                                (F-test): the pipe side is a straight ramp,
                                which the detector handles exactly */
