@@ -223,7 +223,10 @@ typedef struct {
                                every edge of a contour reaching a coarse
                                row within F*step px is still found). 0 or
                                1: off, the whole roi (the default here;
-                               cdsp_params turns it on for the frame path) */
+                               cdsp_params turns it on for cdsp_frame_solve;
+                               cdsp_frame_solve_all's full search reads
+                               the whole roi: every pipe needs every
+                               contour) */
 } cdsp_edge_params;
 
 /* Largest scanline spacing (a wider step than any frame reads one line). */

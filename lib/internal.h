@@ -208,8 +208,8 @@ int cdsp__pair_why(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pt
                    const cdsp_image *img, const cdsp_pair_set *set, int i, int j);
 /* Every coordinate and gradient of the n points is finite. */
 int cdsp__points_finite(const cdsp_edge *e, size_t n);
-/* frame.c: a full search's edge points (undistorted) in ws->edge, *n of
- * them, with the frame's noise and step threshold; *flags gets
+/* frame.c: a full search's edge points (undistorted; the whole frame,
+ * whatever p->edge.coarse says) in ws->edge, *n of them, with the frame's noise and step threshold; *flags gets
  * CDSP_FLAG_FULL_SEARCH and CDSP_FLAG_TRUNCATED when it applies. */
 cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_frame_ws *ws, size_t *n, cdsp_real *sigma, cdsp_real *min_step,

@@ -106,3 +106,9 @@ BENCH_STEPS += bench-tool
 bench-rack: $(tool_BIN)
 	$(tool_BIN) bench --rack --out $(BUILD)/bench-rack
 BENCH_STEPS += bench-rack
+# And as a check (issue 13): every pipe of the rendered rack found, no gap
+# taken for a pipe, one frame per group (a few minutes; tests/tool/rack_check.sh).
+.PHONY: check-rack
+check-rack: $(tool_BIN)
+	@$(RUN) "tool/rack-every-pipe" tests/tool/rack_check.sh $(tool_BIN) $(BUILD)/check-rack
+CHECK_STEPS += check-rack
