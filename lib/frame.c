@@ -369,6 +369,7 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
  */
 #define SCATTER_E 1.5
 #define SCATTER_PX 0.2
+#define SCATTER_CONF 0.78
 int cdsp__frame_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, cdsp_real sigma)
 {
     int k;
@@ -384,6 +385,23 @@ int cdsp__frame_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, cdsp_
             return 1;
     }
     return 0;
+}
+
+/* The pose of a scattered contour (above) reported without a bound and
+ * with its confidence capped; see cdsp__frame_scatter_mark in internal.h
+ * and the figures at SCATTER_CONF. */
+int cdsp__frame_scatter_mark(const cdsp_frame_ws *ws, cdsp_result *out, cdsp_real sigma, cdsp_real *conf)
+{
+    int i;
+    if (!cdsp__frame_scattered(ws, out, sigma))
+        return 0;
+    out->flags &= ~CDSP_FLAG_BOUND;
+    for (i = 0; i < 3; i++)
+        out->bound_point[i] = out->bound_direction[i] = R(0);
+    out->bound_distance = out->edge_bound[0] = out->edge_bound[1] = R(0);
+    if (*conf > R(SCATTER_CONF))
+        *conf = R(SCATTER_CONF);
+    return 1;
 }
 
 /*
@@ -431,7 +449,7 @@ static cdsp_status full_search(const cdsp_image *img, const cdsp_camera *cam, cd
     }
     if (st != CDSP_OK)
         return st;
-    if (cdsp__frame_scattered(ws, out, fe->sigma))
+    if (cdsp__frame_scatter_mark(ws, out, fe->sigma, &out->confidence) && out->confidence < p->min_confidence)
         return CDSP_E_NO_PIPE;
     out->flags |= flags;
     out->noise = fe->sigma;

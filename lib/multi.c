@@ -653,7 +653,7 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cds
          * the single path refuses that pose, and so does every pipe here
          * (the slot is reused; its contours stay free for no other pair,
          * the matching is not redone) */
-        if (fws && cdsp__frame_scattered(fws, r, sigma))
+        if (fws && cdsp__frame_scatter_mark(fws, r, sigma, &conf) && conf < p->min_confidence)
             continue;
         r->confidence = conf;
         if (cdsp__axis_wants_swap(r->direction))
