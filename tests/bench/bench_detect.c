@@ -27,6 +27,7 @@
  * BENCH_DETECT_FROM / _TO a range of frames; BENCH_DETECT_CACHE=dir the
  * rendered frames kept (seconds per run instead of minutes);
  * BENCH_DETECT_WHY=1 each failed positive by cause (diagnose);
+ * BENCH_DETECT_SCATTER=1 each pose with a scattered contour (scatter_line);
  * BENCH_DETECT_FEATURES=1 the confidence model's features per pose (for
  * `fit`); BENCH_DETECT_TABLE=1 and _VERBOSE=1 per-frame lines;
  * BENCH_DETECT_DUMP=dir the frames as PGM; BENCH_DETECT_OLDGEN=1 the
