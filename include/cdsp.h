@@ -413,8 +413,11 @@ typedef struct {
     cdsp_real confidence;    /* in [0, 1]: how likely this is the pipe, a
                                 logistic model of the pair's evidence and its
                                 margin over the best rival (see "The pair
-                                score" below), fitted on `make bench-detect`.
-                                0 from cdsp_axis_solve */
+                                score" below), fitted on `make bench-detect`;
+                                at most 0.78 when a contour's points are
+                                scattered beyond the frame's noise (frame
+                                path, CDSP_FLAG_BOUND then clear, see
+                                cdsp_frame_solve). 0 from cdsp_axis_solve */
     cdsp_real score;         /* the pair score the pose won with (below) */
     cdsp_real noise;         /* frame path: the frame's measured noise sigma,
                                 gray levels (0 on the points path) */
@@ -462,7 +465,10 @@ typedef struct {
                                     may not have been considered */
 #define CDSP_FLAG_BOUND 32u      /* edge_bound and bound_* were measured (frame
                                     path: the edge-profile model fitted, or
-                                    tried, on both contours) */
+                                    tried, on both contours). Clear (bounds 0,
+                                    not measured) on a pose with a scattered
+                                    contour: its error may exceed sigma by
+                                    far (cdsp_frame_solve) */
 
 /*
  * The pair score (issue 10; lib/pair.c; docs/method.md §4). Every pair of
@@ -791,10 +797,13 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius,
  * the frame); if that yields too few inliers or no pipe, a full search
  * follows. out->flags tells which path produced the result.
  * The frame's size must equal the calibration's (CDSP_E_ARG otherwise).
- * CDSP_E_NO_PIPE also when a contour of the pose has points scattered
- * beyond the frame's noise (rms above 1.5 x 3 sigma / step and more than
- * 0.2 px beyond it, lib/frame.c): its line, and any sigma or bound from
- * it, would not hold (issue 12: the shadowed limb at ambient 0.4).
+ * When a contour of the pose has points scattered beyond the frame's
+ * noise (rms above 1.5 x 3 sigma / step and more than 0.2 px beyond it,
+ * lib/frame.c) its line, and any sigma or bound from it, would not hold
+ * (issue 12: the shadowed limb at ambient 0.4): the pose is reported with
+ * CDSP_FLAG_BOUND clear (bounds 0) and its confidence capped at 0.78, the
+ * fraction of such poses right on make bench-detect (docs/method.md §6),
+ * so min_confidence above 0.78 gives CDSP_E_NO_PIPE for it.
  * out->edge_bound and bound_* (CDSP_FLAG_BOUND): the systematic bound.
  */
 cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam,

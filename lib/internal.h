@@ -224,8 +224,13 @@ int cdsp__frame_crossing(const cdsp_camera *cam, int nodist, const cdsp_real l[3
 /* frame.c: whether a contour of pose out (its lines named by out->label in
  * ws->pairs) has points too scattered to be one edge for the frame's noise
  * sigma (issue 12; the rule and its figures at its definition). The single
- * path and cdsp_frame_solve_all refuse such a pose. */
+ * path and cdsp_frame_solve_all report such a pose without a bound
+ * (cdsp__frame_scatter_mark). */
 int cdsp__frame_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, cdsp_real sigma);
+/* frame.c: when pose out is scattered (above), its systematic bound marked
+ * not measured (CDSP_FLAG_BOUND clear, edge_bound and bound_* 0) and *conf
+ * capped below 0.9; 1 then, 0 (nothing changed) otherwise. */
+int cdsp__frame_scatter_mark(const cdsp_frame_ws *ws, cdsp_result *out, cdsp_real sigma, cdsp_real *conf);
 /* frame.c: the edge-profile model on pair c's two lines of set (moved in
  * place when modelled; the moves in *ref), with scratch pws; nothing when
  * p->profile.enable is 0. Only the frame paths call it, so the points path

@@ -628,7 +628,7 @@ static size_t drop_crossing(const cdsp_pair_set *set, const cdsp_edge *pts, size
  * paths); ref: per chosen pair, what the frame path's edge-profile model
  * did to its lines (NULL on the points path, which so does not link
  * lib/profile.c); fws: the frame path's workspace (its pair set is set),
- * sigma the frame's noise, for the single path's scatter refusal (NULL on
+ * sigma the frame's noise, for the single path's scatter rule (NULL on
  * the points path: points carry no noise measure). */
 static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cdsp_edge *pts,
                              size_t n, const cdsp_pair_set *set, const int *chosen, int nc,
@@ -650,10 +650,11 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cds
             continue; /* the refined lines turned degenerate: not a pose */
         /* a contour whose points are too scattered to be one edge says
          * nothing reliable about the silhouette (lib/frame.c, issue 12):
-         * the single path refuses that pose, and so does every pipe here
-         * (the slot is reused; its contours stay free for no other pair,
-         * the matching is not redone) */
-        if (fws && cdsp__frame_scattered(fws, r, sigma))
+         * as on the single path the pose has no bound and its confidence
+         * is capped; below min_confidence then, the slot is reused (its
+         * contours stay free for no other pair, the matching is not
+         * redone) */
+        if (fws && cdsp__frame_scatter_mark(fws, r, sigma, &conf) && conf < p->min_confidence)
             continue;
         r->confidence = conf;
         if (cdsp__axis_wants_swap(r->direction))

@@ -27,6 +27,7 @@
  * BENCH_DETECT_FROM / _TO a range of frames; BENCH_DETECT_CACHE=dir the
  * rendered frames kept (seconds per run instead of minutes);
  * BENCH_DETECT_WHY=1 each failed positive by cause (diagnose);
+ * BENCH_DETECT_SCATTER=1 each pose with a scattered contour (scatter_line);
  * BENCH_DETECT_FEATURES=1 the confidence model's features per pose (for
  * `fit`); BENCH_DETECT_TABLE=1 and _VERBOSE=1 per-frame lines;
  * BENCH_DETECT_DUMP=dir the frames as PGM; BENCH_DETECT_OLDGEN=1 the
@@ -598,6 +599,26 @@ static void diagnose_negative(int i, int ranged, const frame_spec *f, cdsp_statu
             (double)c->contrast, (double)c->shade, (double)c->sin_angle, (double)c->score);
 }
 
+/* BENCH_DETECT_SCATTER=1: each pose with a scattered contour
+ * (cdsp__frame_scattered, issue 12) with its confidence and its worst
+ * contour's rms / e and rms beyond e (px), e = 3 sigma / J. */
+static void scatter_line(int i, int ranged, const frame_spec *f, int pos, cdsp_status st, const cdsp_result *r,
+                         const cdsp_frame_ws *w)
+{
+    double q = 0, x = 0;
+    int k;
+    if (st != CDSP_OK || !cdsp__frame_scattered(w, r, r->noise))
+        return;
+    for (k = 0; k < 2; k++) {
+        double J = (double)w->pairs.lines[r->label[k] - 1].strength, e = 3 * (double)r->noise / J,
+               rms = (double)r->rms[k];
+        q = fmax(q, rms / e);
+        x = fmax(x, sqrt(fmax(rms * rms - e * e, 0)));
+    }
+    fprintf(stderr, "S %d %s %s %s conf %.3f ratio %.2f beyond %.3f flags %x\n", i, ranged ? "ranged" : "plain",
+            pos ? "pos" : "neg", pos && right(f, r) ? "right" : "WRONG", CONFIDENCE(*r), q, x, (unsigned)r->flags);
+}
+
 static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cdsp_params *prm, cdsp_status st,
                      const cdsp_result *r, const cdsp_frame_ws *w)
 {
@@ -1007,6 +1028,8 @@ int main(int argc, char **argv)
             explain(&f, st, &r, &ws);
         if (getenv("BENCH_DETECT_ONLY") && getenv("BENCH_DETECT_LINES"))
             explain_lines(&f, &img, &prm, i);
+        if (getenv("BENCH_DETECT_SCATTER"))
+            scatter_line(i, 0, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_WHY") && pos && !(st == CDSP_OK && right(&f, &r)))
             diagnose(i, &f, &img, &prm, st, &r, &ws);
         if (getenv("BENCH_DETECT_WHY") && !pos)
@@ -1021,6 +1044,8 @@ int main(int argc, char **argv)
             return 1;
         }
         record(&ranged, &f, pos, st, &r);
+        if (getenv("BENCH_DETECT_SCATTER"))
+            scatter_line(i, 1, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_WHY") && !pos)
             diagnose_negative(i, 1, &f, st, &r, &ws);
         if (getenv("BENCH_DETECT_FEATURES"))
