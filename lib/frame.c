@@ -41,8 +41,8 @@ static int distort_px(const cdsp_camera *cam, int nodist, const cdsp_real und[2]
  * scanline `line` (a row when horizontal, else a column): fixed point on the
  * across-coordinate, 4 rounds (distortion moves a point by a small fraction
  * of a pixel per pixel, so each round gains more than a digit). */
-int cdsp__frame_crossing(const cdsp_camera *cam, int nodist, const cdsp_real l[3], int horizontal,
-                         int line, cdsp_real *s_out)
+static int crossing(const cdsp_camera *cam, int nodist, const cdsp_real l[3], int horizontal, int line,
+                    cdsp_real *s_out)
 {
     cdsp_real target = (cdsp_real)line, t = target, und[2], dist[2];
     int it;
@@ -66,6 +66,24 @@ int cdsp__frame_crossing(const cdsp_camera *cam, int nodist, const cdsp_real l[3
     }
     *s_out = horizontal ? dist[0] : dist[1];
     return R_FINITE(*s_out);
+}
+
+int cdsp__frame_band(const cdsp_camera *cam, int nodist, const cdsp_real l[3], int horizontal, int line,
+                     cdsp_real band, int smin, int smax, int h, int ext, int *from, int *to)
+{
+    cdsp_real sc, f, e;
+    if (!crossing(cam, nodist, l, horizontal, line, &sc) || sc < (cdsp_real)smin - band ||
+        sc > (cdsp_real)smax + band)
+        return 0;
+    f = R_FLOOR(sc) - band;
+    e = R_FLOOR(sc) + band + R(1);
+    *from = f < (cdsp_real)smin ? smin : (int)f;
+    *to = e > (cdsp_real)smax ? smax : (int)e;
+    if (*from < h + 1)
+        *from = h + 1;
+    if (*to > ext - h - 1)
+        *to = ext - h - 1;
+    return 1;
 }
 
 /* Rows sampled for the noise estimate, and the histogram of |differences|
@@ -202,20 +220,8 @@ static size_t track_bands(const cdsp_image *img, const cdsp_camera *cam, const c
         int smin = horizontal ? x0 : y0, smax = horizontal ? x1 : y1;
         int t;
         for (t = (lo > 1 ? lo : 1) + step / 2; t < hi - 1 && t < other - 1; t += step) {
-            cdsp_real sc, f, e;
-            int from = 0, to = 0, have = cdsp__frame_crossing(cam, nodist, l, horizontal, t, &sc);
-            if (have && (sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band))
-                have = 0;
-            if (have) {
-                f = R_FLOOR(sc) - band;
-                e = R_FLOOR(sc) + band + R(1);
-                from = f < (cdsp_real)smin ? smin : (int)f;
-                to = e > (cdsp_real)smax ? smax : (int)e;
-                if (from < h + 1)
-                    from = h + 1;
-                if (to > ext - h - 1)
-                    to = ext - h - 1;
-            }
+            int from = 0, to = 0;
+            int have = cdsp__frame_band(cam, nodist, l, horizontal, t, band, smin, smax, h, ext, &from, &to);
             if (horizontal) {
                 if (have)
                     n += cdsp__edges_scan_segment(img, edge, 1, t, from, to, out + n, cap - n);

@@ -214,13 +214,16 @@ int cdsp__points_finite(const cdsp_edge *e, size_t n);
 cdsp_status cdsp__frame_edges(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_frame_ws *ws, size_t *n, cdsp_real *sigma, cdsp_real *min_step,
                               uint32_t *flags);
-/* frame.c: the distorted-frame position where undistorted line l crosses
- * scanline `line` (a row when horizontal, else a column), for the bands
- * of lib/frame.c's and lib/multi.c's tracked solves; nodist:
- * cdsp__camera_no_distortion(cam), the fast form; 0 when it cannot be
- * computed. */
-int cdsp__frame_crossing(const cdsp_camera *cam, int nodist, const cdsp_real l[3], int horizontal,
-                         int line, cdsp_real *s_out);
+/* frame.c: the segment [*from, *to] of scanline `line` (a row when
+ * horizontal, else a column) that a tracked solve reads around undistorted
+ * line l: +-band px of where l crosses it in the distorted frame, clipped
+ * to [smin, smax] and to the edge window's reach (h + 1 .. ext - h - 1,
+ * ext the scanline's length); 0 when l does not cross it within band of
+ * [smin, smax] or the crossing cannot be computed. nodist:
+ * cdsp__camera_no_distortion(cam), the fast form. lib/frame.c's and
+ * lib/multi.c's tracked solves. */
+int cdsp__frame_band(const cdsp_camera *cam, int nodist, const cdsp_real l[3], int horizontal, int line,
+                     cdsp_real band, int smin, int smax, int h, int ext, int *from, int *to);
 /* frame.c: whether a contour of pose out (its lines named by out->label in
  * ws->pairs) has points too scattered to be one edge for the frame's noise
  * sigma (issue 12; the rule and its figures at its definition). The single

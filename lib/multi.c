@@ -735,20 +735,10 @@ static size_t bands_at(const cdsp_image *img, const cdsp_camera *cam, const cdsp
         for (t = (lo > 1 ? lo : 1) + step / 2; t < hi - 1 && t < other - 1; t += step) {
             int from[BAND_LINES], to[BAND_LINES], ns = 0, a, b;
             for (k = 0; k < nl; k++) {
-                cdsp_real sc, f, e;
                 int fr, tt;
                 if ((R_FABS(lines[k][0]) >= R_FABS(lines[k][1])) != horizontal ||
-                    !cdsp__frame_crossing(cam, nodist, lines[k], horizontal, t, &sc) ||
-                    sc < (cdsp_real)smin - band || sc > (cdsp_real)smax + band)
+                    !cdsp__frame_band(cam, nodist, lines[k], horizontal, t, band, smin, smax, h, ext, &fr, &tt))
                     continue;
-                f = R_FLOOR(sc) - band;
-                e = R_FLOOR(sc) + band + R(1);
-                fr = f < (cdsp_real)smin ? smin : (int)f;
-                tt = e > (cdsp_real)smax ? smax : (int)e;
-                if (fr < h + 1)
-                    fr = h + 1;
-                if (tt > ext - h - 1)
-                    tt = ext - h - 1;
                 /* insertion by start (at most BAND_LINES segments) */
                 for (a = ns; a > 0 && from[a - 1] > fr; a--) {
                     from[a] = from[a - 1];
