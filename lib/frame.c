@@ -465,8 +465,13 @@ static cdsp_status full_search(const cdsp_image *img, const cdsp_camera *cam, cd
     }
     if (st != CDSP_OK)
         return st;
-    if (cdsp__frame_scatter_mark(ws, out, fe->sigma, &out->confidence) && out->confidence < p->min_confidence)
-        return CDSP_E_NO_PIPE;
+    if (cdsp__frame_scatter_mark(ws, out, fe->sigma, &out->confidence)) {
+        /* cand[0] is the pose returned (include/cdsp.h): its confidence
+         * says the same */
+        ws->cand[0].confidence = out->confidence;
+        if (out->confidence < p->min_confidence)
+            return CDSP_E_NO_PIPE;
+    }
     out->flags |= flags;
     out->noise = fe->sigma;
     out->min_step = fe->min_step;

@@ -613,6 +613,7 @@ static void test_paper_bound(void **state)
                  * capped (lib/frame.c SCATTER_CONF) */
                 assert_true(a == 0);
                 assert_true((double)r.confidence <= 0.78);
+                assert_true(ws.cand[0].confidence == r.confidence); /* cand[0] is the pose */
                 assert_true(r.bound_distance == 0 && r.edge_bound[0] == 0 && r.edge_bound[1] == 0);
                 for (k = 0; k < 3; k++)
                     assert_true(r.bound_point[k] == 0 && r.bound_direction[k] == 0);
