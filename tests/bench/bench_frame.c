@@ -22,7 +22,11 @@
  * frames (track: after one full search per frame, for its prior; load:
  * nothing, the baseline of reading the frames), for valgrind
  * --tool=callgrind --toggle-collect=cdsp_frame_solve here and
- * tests/aarch64/count.sh under qemu-aarch64.
+ * tests/aarch64/count.sh under qemu-aarch64. `bench_frame DIR hash` prints,
+ * for 3 camera models (the paper camera without distortion and with two
+ * radial models) and each frame, a hash of the full search's and the
+ * tracked path's result (every field): an optimisation that must not change
+ * what is found leaves these lines unchanged.
  * Figures, not pass/fail; the machine is shared: compare within one run.
  */
 #define _DEFAULT_SOURCE /* MAP_ANONYMOUS */
@@ -196,6 +200,59 @@ static double bandwidth(size_t n)
     return (double)n / best;
 }
 
+/* FNV-1a of the result's fields, one at a time (the struct's padding is
+ * not part of the result). */
+static uint64_t fnv(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    while (n--)
+        h = (h ^ *b++) * 1099511628211u;
+    return h;
+}
+
+static uint64_t result_hash(cdsp_status st, const cdsp_result *r)
+{
+    uint64_t h = fnv(14695981039346656037u, &st, sizeof st);
+#define F(x) h = fnv(h, &r->x, sizeof r->x)
+    F(point); F(direction); F(distance); F(alpha); F(normals); F(lines); F(segment); F(cov);
+    F(cov_factor); F(sigma_point); F(sigma_direction); F(sigma_distance); F(rms); F(inliers);
+    F(n_edges); F(label); F(flags); F(edge_offset); F(edge_blur); F(confidence); F(score);
+    F(noise); F(min_step); F(n_lines); F(n_candidates); F(track_id); F(edge_bound);
+    F(bound_point); F(bound_direction); F(bound_distance);
+#undef F
+    return h;
+}
+
+/* The hash mode (see the top). */
+static int hash_poses(const unsigned char *frames, int nuse)
+{
+    static const double model[3][2] = {{0, 0}, {-0.05, 0}, {0.03, -0.01}};
+    int m, i;
+    for (m = 0; m < 3; m++) {
+        cdsp_camera cam;
+        cdsp_params prm;
+        sup_paper_camera(&cam, model[m][0], model[m][1]);
+        cdsp_params_default(&prm);
+        for (i = 0; i < nuse; i++) {
+            cdsp_image img = {(void *)(frames + (size_t)i * W * H), W, H, W, 8};
+            cdsp_result r, t;
+            cdsp_rng rng;
+            cdsp_status sf, stk = CDSP_E_NO_PIPE;
+            memset(&r, 0, sizeof r);
+            memset(&t, 0, sizeof t);
+            cdsp_rng_seed(&rng, 1, 1);
+            sf = cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r);
+            if (sf == CDSP_OK) {
+                cdsp_rng_seed(&rng, 1, 1);
+                stk = cdsp_frame_solve(&img, &cam, 8, &prm, &r, &ws, &rng, &t);
+            }
+            printf("model %d frame %d full %016llx track %016llx\n", m, i,
+                   (unsigned long long)result_hash(sf, &r), (unsigned long long)result_hash(stk, &t));
+        }
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : ".";
@@ -210,7 +267,7 @@ int main(int argc, char **argv)
     double tf[NFRAMES * 64], tt[NFRAMES * 64];
     int i, k, nf = 0, nt = 0, ok[NFRAMES];
     if (!frames || reps < 1 || reps > 64 || nuse < 1 || nuse > NFRAMES) {
-        fprintf(stderr, "usage: bench_frame DIR [time|full|track|load] [REPS 1..64] [FRAMES 1..%d]\n",
+        fprintf(stderr, "usage: bench_frame DIR [time|full|track|load|hash] [REPS 1..64] [FRAMES 1..%d]\n",
                 NFRAMES);
         return 2;
     }
@@ -220,6 +277,11 @@ int main(int argc, char **argv)
         return 1;
     if (strcmp(mode, "load") == 0)
         return 0;
+    if (strcmp(mode, "hash") == 0) {
+        hash_poses(frames, nuse);
+        free(frames);
+        return 0;
+    }
     cdsp_rng_seed(&rng, 1, 1);
     /* priors: the full search on each frame (outside any timing; not in
      * mode full, so that callgrind's count there is full searches only) */
