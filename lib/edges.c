@@ -73,12 +73,6 @@ static void win_at(const cdsp_image *img, int horizontal, int s, int t, win_px *
     w->wide = bpp == 2;
 }
 
-static inline int wpx(const win_px *w, int i, int k)
-{
-    ptrdiff_t o = (ptrdiff_t)i * w->ds + (ptrdiff_t)k * w->dt;
-    return w->wide ? (int)((const uint16_t *)(const void *)w->b)[o] : (int)w->b[o];
-}
-
 /* The integer part of the refinement: the 3x3 Sobel-like components g[0]
  * (along the scan) and g[1] (across), and for the rows k = -1, 0, 1 the
  * window sums S[k + 1] over -h .. h and the end pixels' sums AB[0] (at -h)
@@ -132,31 +126,56 @@ static inline void window_sums8_h4(const win_px *w, int g[2], int S[3], int AB[2
 }
 
 /* Intensity at pos along the scan from the window's centre (row k across
- * it), interpolated linearly between pixel centres, with pos clamped to
- * [-lim, lim]: the caller guarantees lim = h + 1 pixels on both sides of s
- * (the scan keeps that margin from the frame's border). The second pass
- * samples at |pos| <= |a| + |b| + (h + 1/2)/2 <= 3.3 for h = 2, one pixel
- * past that margin; for h >= 3 the bound (3.8 at h = 3, 4.3 at h = 4, ...)
- * stays inside it, so the clamp changes nothing there. The far neighbour is
- * read only when its weight is non-zero, so pos = +lim never reads
- * s + lim + 1. */
-static inline cdsp_real sample_at(const win_px *w, int k, cdsp_real pos, int lim)
+ * it), interpolated linearly between pixel centres: the caller guarantees
+ * lim = h + 1 pixels on both sides of s (the scan keeps that margin from
+ * the frame's border). The second pass samples at
+ * |pos| <= |a| + |b| + (h + 1/2)/2 (|a| <= 1, |b| <= 1.05 there), i.e.
+ * <= 3.3 for h = 2, one pixel past that margin: clamp (a constant at each
+ * call) then clamps pos to [-lim, lim] and reads the far neighbour only
+ * when its weight is non-zero, so pos = +lim never reads s + lim + 1. For
+ * h >= 3 the bound (3.8 at h = 3, 4.3 at h = 4, ..., h + 1 - (h - 2.6)/2)
+ * stays inside the margin with its far neighbour, so the clamp would
+ * change nothing and the far neighbour is always in the window: read with
+ * weight f = 0 it adds exactly 0 ((1 - 0) p0 + 0 p1 = p0), the same number
+ * without the tests. */
+static inline cdsp_real sample_at(const win_px *w, int wide, int clamp, int k, cdsp_real pos, int lim)
 {
     int i;
     cdsp_real f;
-    if (pos < -(cdsp_real)lim)
-        pos = -(cdsp_real)lim;
-    if (pos > (cdsp_real)lim)
-        pos = (cdsp_real)lim;
+    ptrdiff_t o;
+    if (clamp) {
+        if (pos < -(cdsp_real)lim)
+            pos = -(cdsp_real)lim;
+        if (pos > (cdsp_real)lim)
+            pos = (cdsp_real)lim;
+    }
     /* floor of a small finite value (|pos| <= lim): truncation, one down
      * below zero; the same integer as R_FLOOR without its call */
     i = (int)pos;
     if ((cdsp_real)i > pos)
         i--;
     f = pos - (cdsp_real)i;
-    if (f <= R(0))
-        return (cdsp_real)wpx(w, i, k);
-    return (R(1) - f) * (cdsp_real)wpx(w, i, k) + f * (cdsp_real)wpx(w, i + 1, k);
+    o = (ptrdiff_t)i * w->ds + (ptrdiff_t)k * w->dt;
+#define SPX(o) (wide ? (cdsp_real)((const uint16_t *)(const void *)w->b)[o] : (cdsp_real)w->b[o])
+    if (clamp && f <= R(0))
+        return SPX(o);
+    return (R(1) - f) * SPX(o) + f * SPX(o + w->ds);
+#undef SPX
+}
+
+/* The second pass's side sums (refine_core): rows k = -1, 0, 1 sampled at
+ * D on either side of the first pass's edge a + k b. wide and clamp are
+ * constants at each call (as for window_sums): no width test per sample. */
+static inline void side_sums(const win_px *w, int wide, int clamp, cdsp_real a, cdsp_real b, cdsp_real D,
+                             int lim, cdsp_real *sa, cdsp_real *sb)
+{
+    int k;
+    *sa = *sb = R(0);
+    for (k = -1; k <= 1; k++) {
+        cdsp_real ek = a + (cdsp_real)k * b;
+        *sa += sample_at(w, wide, clamp, k, ek - D, lim);
+        *sb += sample_at(w, wide, clamp, k, ek + D, lim);
+    }
 }
 
 /* Refine candidate (s, t): returns 1 and fills e when the partial-area
@@ -181,7 +200,7 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
 static inline int refine_core(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
                               cdsp_edge *e, cdsp_edge *hint)
 {
-    int k, S[3], g[2], AB[2], A, B, gs, gt;
+    int S[3], g[2], AB[2], A, B, gs, gt;
     cdsp_real diff, a, b, norm, gsn, gtn;
     win_px w;
     win_at(img, horizontal, s, t, &w);
@@ -229,12 +248,13 @@ static inline int refine_core(const cdsp_image *img, int horizontal, int s, int 
      * rms (sigma 0.7 blur), while the bias of a shaded pipe's contour falls
      * 3-6 fold (0.06 -> 0.01-0.02 px at 85 % ambient light, README). */
     if (R_FABS(a) <= R(1) && R_FABS(b) <= R(1.05)) {
-        cdsp_real sa = R(0), sb = R(0), HH = R(h) + R(0.5), D = HH / R(2);
-        for (k = -1; k <= 1; k++) {
-            cdsp_real ek = a + (cdsp_real)k * b;
-            sa += sample_at(&w, k, ek - D, h + 1);
-            sb += sample_at(&w, k, ek + D, h + 1);
-        }
+        cdsp_real sa, sb, HH = R(h) + R(0.5), D = HH / R(2);
+        if (w.wide)
+            side_sums(&w, 1, 1, a, b, D, h + 1, &sa, &sb);
+        else if (h >= 3) /* the default h = 4: no clamp (sample_at) */
+            side_sums(&w, 0, 0, a, b, D, h + 1, &sa, &sb);
+        else
+            side_sums(&w, 0, 1, a, b, D, h + 1, &sa, &sb);
         if (R_FABS(sa - sb) >= R(1.5) * (cdsp_real)min_step) {
             diff = (sa - sb) / R(3);
             a = ((cdsp_real)(S[0] + S[1] + S[2]) / R(3) - HH * (sa + sb) / R(3)) / diff;
