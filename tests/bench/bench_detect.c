@@ -619,6 +619,32 @@ static void scatter_line(int i, int ranged, const frame_spec *f, int pos, cdsp_s
             pos ? "pos" : "neg", pos && right(f, r) ? "right" : "WRONG", CONFIDENCE(*r), q, x, (unsigned)r->flags);
 }
 
+/* BENCH_DETECT_WHY, a "rank" miss: what ranks above the pipe, by kind:
+ * "shares" (cand[0] has one of the true contours: a neighbour's band or the
+ * gap beside the pipe), "wider" / "narrower" (an unrelated band), and the
+ * evidence of both (width, support, contrast, shading, sine) to see which
+ * cue of the score ranked the wrong band first. */
+static void rank_line(double t[2][3], unsigned c, const cdsp_frame_ws *w)
+{
+    const cdsp_candidate *a = &w->cand[c], *b = &w->cand[0];
+    int k, m, shared = 0;
+    for (k = 0; k < 2; k++)
+        for (m = 0; m < 2; m++) {
+            double A = (double)b->lines[m][0], B = (double)b->lines[m][1], C = (double)b->lines[m][2];
+            double s = A * (double)b->p_in[0] + B * (double)b->p_in[1] + C, x = (double)b->p_in[0] - s * A,
+                   y = (double)b->p_in[1] - s * B;
+            if (line_match(t[k], b->lines[m]) && fabs(t[k][0] * x + t[k][1] * y + t[k][2]) <= 2.5)
+                shared = 1;
+        }
+    fprintf(stderr,
+            "rank %u %s (score %.1f vs %.1f; pipe / first: width %.0f / %.0f support %.0f / %.0f contrast %.2f /"
+            " %.2f shade %.2f / %.2f sin %.4f / %.4f conf %.2f / %.2f)\n",
+            c, shared ? "shares" : cand_width(b) > cand_width(a) ? "wider" : "narrower", (double)a->score,
+            (double)b->score, cand_width(a), cand_width(b), (double)a->support, (double)b->support,
+            (double)a->contrast, (double)b->contrast, (double)a->shade, (double)b->shade, (double)a->sin_angle,
+            (double)b->sin_angle, (double)a->confidence, (double)b->confidence);
+}
+
 static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cdsp_params *prm, cdsp_status st,
                      const cdsp_result *r, const cdsp_frame_ws *w)
 {
@@ -647,9 +673,7 @@ static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cd
     }
     for (c = 1; st == CDSP_OK && c < r->n_candidates && c < CDSP_MAX_CANDIDATES; c++)
         if (result_matches(t, w->cand[c].lines, w->cand[c].p_in)) {
-            fprintf(stderr, "rank %u (score %.1f vs %.1f, width %.0f vs %.0f, conf %.2f vs %.2f)\n", c,
-                    (double)w->cand[c].score, (double)w->cand[0].score, cand_width(&w->cand[c]),
-                    cand_width(&w->cand[0]), (double)w->cand[c].confidence, (double)w->cand[0].confidence);
+            rank_line(t, c, w);
             return;
         }
     p.edge.coarse = 0;

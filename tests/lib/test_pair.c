@@ -28,6 +28,7 @@
 #include <stdio.h>
 #include <cmocka.h>
 #include "support.h"
+#include "../../lib/internal.h" /* cdsp__pair_confidence */
 
 static cdsp_points_ws pws;
 static cdsp_frame_ws fws;
@@ -170,6 +171,43 @@ static void test_band_score(void **state)
     (void)state;
     for (i = 0; i < sizeof cases / sizeof cases[0]; i++)
         points_case_run(&cases[i]);
+}
+
+/* The confidence (§4, "Confidence"): one strong lone candidate (support
+ * 200, contrast 5 thresholds, 50 px wide, parallel contours, a distance
+ * range given), the model's P(right) 0.974 to 0.987 whatever its shading;
+ * a flat band (shading below 0.15 thresholds, measured) is capped at 0.89,
+ * out of the >= 0.9 bin (a flat bar's face and an evenly lit pipe look
+ * alike); unmeasured shading (the points path, -1) and a shaded band are
+ * not. */
+static void test_confidence(void **state)
+{
+    static const struct {
+        const char *what;
+        double shade, lo, hi; /* the confidence within [lo, hi] */
+    } cases[] = {
+        {"shading unmeasured (points path)", -1, 0.95, 1},
+        {"flat band", 0.05, 0.5, 0.89},
+        {"flat band, just below the threshold", 0.149, 0.5, 0.89},
+        {"shaded band", 1.0, 0.95, 1},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        cdsp_candidate c;
+        double conf;
+        memset(&c, 0, sizeof c);
+        c.score = 1000;
+        c.support = 200;
+        c.contrast = 5;
+        c.width = 50;
+        c.shade = (cdsp_real)cases[i].shade;
+        conf = (double)cdsp__pair_confidence(&c, 1, 0, 1, 1);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("%s: confidence %.3f\n", cases[i].what, conf);
+        if (!(conf >= cases[i].lo && conf <= cases[i].hi))
+            fail_msg("%s: confidence %.3f outside [%.2f, %.2f]", cases[i].what, conf, cases[i].lo, cases[i].hi);
+    }
 }
 
 /* ---- rendered frames ----------------------------------------------------- */
@@ -324,6 +362,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_band_interior),
         cmocka_unit_test(test_band_score),
+        cmocka_unit_test(test_confidence),
         cmocka_unit_test(test_rendered_cues),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
