@@ -331,18 +331,9 @@ static void effects(void)
     printf("\n");
 }
 
-static double true_distance(const double P[3], const double v[3])
-{
-    double t = P[0] * v[0] + P[1] * v[1] + P[2] * v[2], f[3];
-    int i;
-    for (i = 0; i < 3; i++)
-        f[i] = P[i] - t * v[i];
-    return sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-}
-
 /* The paper's scene rendered: mean axis RMSE over its four pipes and the
  * distance bias, for one light. */
-static void paper_scene(const char *what, double ambient, const double light[3], const cdsp_params *prm, int nok[2],
+static void paper_scene(int row, const cdsp_params *prm, int nok[2],
                         double rmse[2], double dbias_mean[2], double dbias_worst[2], int ncov[2], int nref[2],
                         double bound_mean[2])
 {
@@ -361,16 +352,7 @@ static void paper_scene(const char *what, double ambient, const double light[3],
         cdsp_result r;
         double P[3], v[3], got[3], dir[3], seg[2][3];
         void *px;
-        sup_paper_pipe(i, P, v);
-        sup_scene(&s, P, v, 8);
-        s.half_length = 250;
-        s.noise_sigma = (cdsp_real)0.002;
-        s.ambient = (cdsp_real)ambient;
-        if (light) {
-            s.light[0] = (cdsp_real)light[0];
-            s.light[1] = (cdsp_real)light[1];
-            s.light[2] = (cdsp_real)light[2];
-        }
+        sup_paper_light_scene(&s, i, row, P, v);
         px = sup_render(&s, &cam, 8, (uint64_t)(50 + i), &img);
         for (k = 0; k < 2; k++) {
             cdsp_params q = *prm;
@@ -381,10 +363,10 @@ static void paper_scene(const char *what, double ambient, const double light[3],
              * with the refusals, as before, not in the figures below */
             nref[k] += st == CDSP_E_NO_PIPE || (st == CDSP_OK && !(r.flags & CDSP_FLAG_BOUND));
             if (st == CDSP_OK && (r.flags & CDSP_FLAG_BOUND)) {
-                double db = 100 * ((double)r.distance / true_distance(P, v) - 1);
+                double db = 100 * ((double)r.distance / sup_true_distance(P, v) - 1);
                 /* the systematic bound: the distance's error within
                  * sigma + bound (issue 12) */
-                ncov[k] += fabs((double)r.distance - true_distance(P, v)) <=
+                ncov[k] += fabs((double)r.distance - sup_true_distance(P, v)) <=
                            (double)r.sigma_distance + (double)r.bound_distance;
                 bound_mean[k] += (double)r.bound_distance;
                 sup_result_pose(&r, got, dir, seg);
@@ -403,35 +385,22 @@ static void paper_scene(const char *what, double ambient, const double light[3],
             dbias_mean[k] /= nok[k];
             bound_mean[k] /= nok[k];
         }
-    (void)what;
 }
 
 static void paper(void)
 {
-    static const double light2[3] = {-0.6, 0.3, -0.75};
-    static const struct {
-        const char *name;
-        double ambient;
-        const double *light;
-    } rows[] = {
-        {"flat light (ambient 1)", 1, NULL},
-        {"directional, default light, ambient 0.85", 0.85, NULL},
-        {"directional, default light, ambient 0.4", 0.4, NULL},
-        {"directional, second light, ambient 0.85", 0.85, light2},
-        {"directional, second light, ambient 0.4", 0.4, light2},
-    };
     cdsp_params prm;
-    size_t i;
+    int i;
     double worst_shaded[2] = {0, 0};
     cdsp_params_default(&prm);
     printf("the paper's scene rendered (2448 x 2048, 8 bit, blur 0.7 px, noise 0.5 gray level), 4 pipes:\n");
     printf("  %-44s %-30s %-34s\n", "light", "axis RMSE mm (detector|model)", "distance bias % mean/worst (detector|model)");
-    for (i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+    for (i = 0; i < SUP_PAPER_NLIGHTS; i++) {
         int nok[2], k, ncov[2], nref[2];
         double rmse[2], dbm[2], dbw[2], bm[2];
-        fprintf(stderr, "rendering the paper's scene: %s...\n", rows[i].name);
-        paper_scene(rows[i].name, rows[i].ambient, rows[i].light, &prm, nok, rmse, dbm, dbw, ncov, nref, bm);
-        printf("  %-44s %.4f (%d/4) | %.4f (%d/4)   %+.3f/%+.3f | %+.3f/%+.3f\n", rows[i].name, rmse[0], nok[0],
+        fprintf(stderr, "rendering the paper's scene: %s...\n", sup_paper_lights[i].name);
+        paper_scene(i, &prm, nok, rmse, dbm, dbw, ncov, nref, bm);
+        printf("  %-44s %.4f (%d/4) | %.4f (%d/4)   %+.3f/%+.3f | %+.3f/%+.3f\n", sup_paper_lights[i].name, rmse[0], nok[0],
                rmse[1], nok[1], dbm[0], dbw[0], dbm[1], dbw[1]);
         printf("  %-44s distance error within sigma + bound: %d of %d | %d of %d (mean bound %.3f | %.3f mm); "
                "scattered (no bound) or no pipe: %d | %d\n",

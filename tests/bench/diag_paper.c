@@ -17,15 +17,6 @@
 
 static cdsp_frame_ws fws;
 
-static double true_distance(const double P[3], const double v[3])
-{
-    double t = P[0] * v[0] + P[1] * v[1] + P[2] * v[2], f[3];
-    int i;
-    for (i = 0; i < 3; i++)
-        f[i] = P[i] - t * v[i];
-    return sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-}
-
 /* signed offset (px, + toward the pipe) of line l from truth t at the truth's
  * point nearest c */
 static double line_off(const cdsp_real l[3], const double t[3], const double c[2])
@@ -39,15 +30,16 @@ static double line_off(const cdsp_real l[3], const double t[3], const double c[2
 
 int main(int argc, char **argv)
 {
-    static const double light2[3] = {-0.6, 0.3, -0.75};
-    struct { const char *name; double amb; const double *light; } rows[] = {
-        {"flat", 1, NULL}, {"dir 0.85", 0.85, NULL}, {"dir 0.4", 0.4, NULL}, {"2nd 0.85", 0.85, light2}, {"2nd 0.4", 0.4, light2}};
+    /* short names of sup_paper_lights' rows */
+    static const char *names[SUP_PAPER_NLIGHTS] = {"flat", "dir 0.85", "dir 0.4", "2nd 0.85", "2nd 0.4"};
     int nrows = argc > 1 ? atoi(argv[1]) : 2, ri, i, k;
     const char *dump = argc > 2 ? argv[2] : NULL;
     cdsp_camera cam;
     cdsp_rng rng;
     sup_paper_camera(&cam, 0, 0);
     cdsp_rng_seed(&rng, 3, 3);
+    if (nrows > SUP_PAPER_NLIGHTS)
+        nrows = SUP_PAPER_NLIGHTS;
     for (ri = 0; ri < nrows; ri++)
         for (i = 0; i < 4; i++) {
             cdsp_scene s;
@@ -57,14 +49,7 @@ int main(int argc, char **argv)
             double P[3], v[3], tl[2][3], pin[2];
             void *px;
             int en;
-            sup_paper_pipe(i, P, v);
-            sup_scene(&s, P, v, 8);
-            s.half_length = 250;
-            s.noise_sigma = (cdsp_real)0.002;
-            s.ambient = (cdsp_real)rows[ri].amb;
-            if (rows[ri].light)
-                for (k = 0; k < 3; k++)
-                    s.light[k] = (cdsp_real)rows[ri].light[k];
+            sup_paper_light_scene(&s, i, ri, P, v);
             px = sup_render(&s, &cam, 8, (uint64_t)(50 + i), &img);
             sup_contour_lines(&cam, P, v, 8, tl, pin);
             for (en = 1; en >= 0; en--) {
@@ -73,15 +58,15 @@ int main(int argc, char **argv)
                 prm.profile.enable = en;
                 st = cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &fws, &rng, &r[en]);
                 if (st != CDSP_OK) {
-                    printf("%s p%d en%d: status %d\n", rows[ri].name, i + 1, en, st);
+                    printf("%s p%d en%d: status %d\n", names[ri], i + 1, en, st);
                     continue;
                 }
                 {
-                    double dt = true_distance(P, v), srmse, got[3], dir[3], seg[2][3];
+                    double dt = sup_true_distance(P, v), srmse, got[3], dir[3], seg[2][3];
                     sup_result_pose(&r[en], got, dir, seg);
                     srmse = sup_axis_rmse(seg[0], seg[1], P, v, 100);
                     printf("%s p%d model%d: rmse %.4f mm d_err %+.4f sig %.4f bound %.4f | edge_off %+.3f %+.3f bound %.4f %.4f\n",
-                           rows[ri].name, i + 1, en, srmse, (double)r[en].distance - dt, (double)r[en].sigma_distance,
+                           names[ri], i + 1, en, srmse, (double)r[en].distance - dt, (double)r[en].sigma_distance,
                            (double)r[en].bound_distance, (double)r[en].edge_offset[0], (double)r[en].edge_offset[1],
                            (double)r[en].edge_bound[0], (double)r[en].edge_bound[1]);
                 }

@@ -555,3 +555,31 @@ void sup_paper_bound_scene(cdsp_scene *s, int i, double ambient, double point[3]
     s->noise_sigma = (cdsp_real)0.002;
     s->ambient = (cdsp_real)ambient;
 }
+
+static const double sup_second_light[3] = {-0.6, 0.3, -0.75};
+const sup_paper_light sup_paper_lights[SUP_PAPER_NLIGHTS] = {
+    {"flat light (ambient 1)", 1, NULL},
+    {"directional, default light, ambient 0.85", 0.85, NULL},
+    {"directional, default light, ambient 0.4", 0.4, NULL},
+    {"directional, second light, ambient 0.85", 0.85, sup_second_light},
+    {"directional, second light, ambient 0.4", 0.4, sup_second_light},
+};
+
+void sup_paper_light_scene(cdsp_scene *s, int i, int row, double point[3], double dir[3])
+{
+    const sup_paper_light *L = &sup_paper_lights[row];
+    int k;
+    sup_paper_bound_scene(s, i, L->ambient, point, dir);
+    if (L->light)
+        for (k = 0; k < 3; k++)
+            s->light[k] = (cdsp_real)L->light[k];
+}
+
+double sup_true_distance(const double point[3], const double dir[3])
+{
+    double t = point[0] * dir[0] + point[1] * dir[1] + point[2] * dir[2], f[3];
+    int k;
+    for (k = 0; k < 3; k++)
+        f[k] = point[k] - t * dir[k];
+    return sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+}

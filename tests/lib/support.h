@@ -83,6 +83,26 @@ void sup_scene(cdsp_scene *s, const double point[3], const double dir[3], double
  * given ambient, noise 0.5 gray level; its axis in point, dir. */
 void sup_paper_bound_scene(cdsp_scene *s, int i, double ambient, double point[3], double dir[3]);
 
+/* The light rows of bench-accuracy's paper scene (bench_accuracy.c and
+ * diag_paper.c render the same frames): flat (ambient 1), the renderer's
+ * default light at ambient 0.85 and 0.4, a second light from the upper
+ * left at 0.85 and 0.4. light NULL: the renderer's default direction. */
+typedef struct {
+    const char *name;
+    double ambient;
+    const double *light;
+} sup_paper_light;
+#define SUP_PAPER_NLIGHTS 5
+extern const sup_paper_light sup_paper_lights[SUP_PAPER_NLIGHTS];
+
+/* sup_paper_bound_scene under light row `row` of sup_paper_lights. */
+void sup_paper_light_scene(cdsp_scene *s, int i, int row, double point[3], double dir[3]);
+
+/* The exact distance (mm) from the optical centre to the axis through
+ * point along the unit dir: |P - (P . v) v|, the figure cdsp_result's
+ * distance estimates. */
+double sup_true_distance(const double point[3], const double dir[3]);
+
 /* Add a clutter bar (a cylinder between camera-frame points a and b, mm)
  * of half_width (mm) and level (0..1) to s; ignored when s is full. */
 void sup_add_bar(cdsp_scene *s, const double a[3], const double b[3], double half_width, double level);
