@@ -2,8 +2,8 @@
  * bench_rack.c - instruction counts of cdsp_frame_solve_all on the paper's
  * rack (issue 13): two 16 mm pipes 100 mm apart on two 12.68 mm columns,
  * 2448 x 2048, fx = fy = 4637.68 px, light 40 % ambient, blur 0.8 px,
- * noise 2 gray levels (the scene of tools/tool_rack.c, arrangement A,
- * group 3; repeated here because the tool is not linked into tests). Two
+ * noise 2 gray levels (the scene of tools/tool_rack_scene.c, which this
+ * bench builds: arrangement A, group 2, texture seed 3). Two
  * frames, the rack moved by 1 mm (7.7 px, inside the 12 px tracking bands)
  * between them, rendered once and cached raw in DIR/rack.raw (valgrind
  * would take minutes to render). Frame 0 is solved with a new tracker (a
@@ -15,77 +15,27 @@
  * Prints each solve's pipes and flags. Figures, not pass/fail.
  */
 #define _POSIX_C_SOURCE 200809L
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "support.h"
+#include "tool_rack_scene.h"
 
-#define W 2448
-#define H 2048
-#define FOC (16.0 / 0.00345)
+#define W RACK_W
+#define H RACK_H
+#define FOC RACK_F
 
 static cdsp_frame_all_ws ws;
 
-static void unit3(double a[3])
-{
-    double n = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    a[0] /= n;
-    a[1] /= n;
-    a[2] /= n;
-}
-
-/* tool_rack.c's rack_scene(0, 2, f) with the rack's middle at x = dx mm */
+/* tool_rack.c's arrangement A, group 2 (tilt 25 degrees, no roll) with
+ * the rack's middle at (dx, 0, 680) mm and texture seed 3 */
 static void scene(double dx, cdsp_scene *s)
 {
-    double tilt = 25 * 3.14159265358979 / 180, v[3] = {1, 0, 0.15}, up[3] = {0, 1, 0}, side[3], mid[3], d,
-           back[3];
-    int i, k;
-    cdsp_scene_default(s);
-    unit3(v);
-    for (i = 0; i < 3; i++)
-        side[i] = cos(tilt) * up[i] + (i == 2 ? -sin(tilt) : 0);
-    d = side[0] * v[0] + side[1] * v[1] + side[2] * v[2];
-    for (i = 0; i < 3; i++)
-        side[i] -= d * v[i];
-    unit3(side);
+    double mid[3], c[2][3], v[3];
     mid[0] = dx;
     mid[1] = 0;
     mid[2] = 680;
-    for (i = 0; i < 3; i++) {
-        s->axis_point[i] = (cdsp_real)(mid[i] - 50 * side[i]);
-        s->extra_pipe[0].axis_point[i] = (cdsp_real)(mid[i] + 50 * side[i]);
-        s->axis_dir[i] = s->extra_pipe[0].axis_dir[i] = (cdsp_real)v[i];
-    }
-    s->radius = s->extra_pipe[0].radius = 8;
-    s->half_length = s->extra_pipe[0].half_length = 150;
-    s->n_extra_pipes = 1;
-    back[0] = v[1] * side[2] - v[2] * side[1];
-    back[1] = v[2] * side[0] - v[0] * side[2];
-    back[2] = v[0] * side[1] - v[1] * side[0];
-    if (back[2] < 0)
-        for (i = 0; i < 3; i++)
-            back[i] = -back[i];
-    s->n_clutter = 2;
-    for (k = 0; k < 2; k++)
-        for (i = 0; i < 3; i++) {
-            double o = mid[i] + (k ? 100 : -100) * v[i] + (8 + 6.34) * back[i];
-            s->clutter[k].p0[i] = (cdsp_real)(o - 110 * side[i]);
-            s->clutter[k].p1[i] = (cdsp_real)(o + 110 * side[i]);
-            s->clutter[k].half_width = (cdsp_real)6.34;
-            s->clutter[k].level = (cdsp_real)0.45;
-        }
-    s->pipe_level = (cdsp_real)0.75;
-    s->background_level = (cdsp_real)0.2;
-    s->light[0] = (cdsp_real)0.4;
-    s->light[1] = (cdsp_real)-0.7;
-    s->light[2] = (cdsp_real)-0.6;
-    s->ambient = (cdsp_real)0.4;
-    s->texture = (cdsp_real)0.02;
-    s->texture_scale_px = 60;
-    s->texture_seed = 3;
-    s->blur_sigma_px = (cdsp_real)0.8;
-    s->noise_sigma = (cdsp_real)(2.0 / 255);
+    tool_rack_place(25 * 3.14159265358979 / 180, 0, mid, 3, s, c, v);
 }
 
 static void show(const char *what, cdsp_status st, const cdsp_result *out, size_t n)

@@ -5,6 +5,10 @@
 #   valgrind --tool=callgrind --dump-instr=no \
 #     --toggle-collect=measured_solve build/bench/bench_rack build/bench full|track
 BENCH_RACK_BIN := $(BUILD)/bench/bench_rack
-$(BENCH_RACK_BIN): tests/bench/bench_rack.c tests/lib/support.c tests/lib/support.h $(host_LIB)
+# the scene is tools/tool_rack_scene.c, the tool's own (defined once; it
+# needs only lib/'s cdsp.h)
+$(BENCH_RACK_BIN): tests/bench/bench_rack.c tests/lib/support.c tests/lib/support.h \
+                   tools/tool_rack_scene.c tools/tool_rack_scene.h $(host_LIB)
 	@mkdir -p $(@D)
-	$(CC) $(HOST_CFLAGS) -Itests/lib $< tests/lib/support.c $(host_LIB) -lm -o $@
+	$(CC) $(HOST_CFLAGS) -Itests/lib -Itools $< tests/lib/support.c tools/tool_rack_scene.c $(host_LIB) \
+	    -lm -o $@
