@@ -14,13 +14,6 @@ static void unit3(double a[3])
     a[2] /= n;
 }
 
-static void cross(const double a[3], const double b[3], double o[3])
-{
-    o[0] = a[1] * b[2] - a[2] * b[1];
-    o[1] = a[2] * b[0] - a[0] * b[2];
-    o[2] = a[0] * b[1] - a[1] * b[0];
-}
-
 void tool_rack_place(double tilt, double roll, const double mid[3], uint32_t texture_seed, cdsp_scene *s,
                      double c[2][3], double v[3])
 {
@@ -65,7 +58,10 @@ void tool_rack_place(double tilt, double roll, const double mid[3], uint32_t tex
      * (touching the pipes from the far side), a little longer than the rack */
     {
         double back[3];
-        cross(v, side, back); /* the plane's normal */
+        /* the plane's normal, v x side */
+        back[0] = v[1] * side[2] - v[2] * side[1];
+        back[1] = v[2] * side[0] - v[0] * side[2];
+        back[2] = v[0] * side[1] - v[1] * side[0];
         if (back[2] < 0)
             for (i = 0; i < 3; i++)
                 back[i] = -back[i];
