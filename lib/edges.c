@@ -999,10 +999,10 @@ static void hint_reach(const cdsp_edge *q, cdsp_real xa, cdsp_real xb, cdsp_real
  * two coarse rows ta < tb around each gap (and the last coarse row against
  * the last row a column block reads) are compared in every block of CHUNK
  * columns, at its columns c = 0, GAP_SAMPLE, 2 GAP_SAMPLE, ... (two pixels,
- * x and x + 1, each side): GAP_RUN consecutive samples with one sign whose
+ * x and x + 1, each side): three consecutive samples with one sign whose
  * difference of sums reaches GAP_T thr (a mean step of 3/4 min_step) say
- * that an edge runs between the rows along at least (GAP_RUN - 1)
- * GAP_SAMPLE lines of the block, and a gap hint (gy = 0; x = the block's
+ * that an edge runs between the rows along at least 2 GAP_SAMPLE lines of
+ * the block, and a gap hint (gy = 0; x = the block's
  * first column; gx = the rows it reaches from y, -(tb - ta) from the lower
  * row, + from the last row) makes band_cols read that gap in that block.
  * A near-vertical contour changes the difference over fewer columns (a
@@ -1010,12 +1010,27 @@ static void hint_reach(const cdsp_edge *q, cdsp_real xa, cdsp_real xb, cdsp_real
  * texture that steep is read for nothing. Measured (make bench-detect
  * with BENCH_DETECT_COARSE=1, seeds 1-3): found 87.3 -> 88.7, 85.3 ->
  * 87.3, 89.3 -> 89.7 % (radius only); the paper frame's full search 5.88
- * -> 6.27 M instructions (callgrind, bench_frame full 1 1). Written below
+ * -> 6.15 M instructions (callgrind, bench_frame full 1 1). Written below
  * htop[-1 - *nh] in row order like the rows' hints; returns 0 if room ran
  * out. */
 #define GAP_SAMPLE 8
-#define GAP_RUN 3
 #define GAP_T 3
+/* the sign of the gap difference at column x (-1, 0, 1) */
+static inline int gap_sign(const unsigned char *ra, const unsigned char *rb, int x, int wide, int lim)
+{
+    int dv;
+    if (wide) {
+        const uint16_t *a16 = (const uint16_t *)(const void *)ra, *b16 = (const uint16_t *)(const void *)rb;
+        dv = (int)b16[x] + (int)b16[x + 1] - (int)a16[x] - (int)a16[x + 1];
+    } else {
+        dv = (int)rb[x] + (int)rb[x + 1] - (int)ra[x] - (int)ra[x + 1];
+    }
+    return (dv >= lim) - (dv <= -lim);
+}
+
+/* Three consecutive samples of one sign among a block's four (CHUNK /
+ * GAP_SAMPLE): both runs hold samples 1 and 2, so a block whose sample 1
+ * shows nothing is done after one test (most blocks, on the paper frame). */
 static int gap_hints(const cdsp_image *img, int thr, int step, int fc, int b0, int b1, int last, int ta,
                      int tb, int y, cdsp_edge *htop, size_t *nh, size_t room)
 {
@@ -1023,23 +1038,14 @@ static int gap_hints(const cdsp_image *img, int thr, int step, int fc, int b0, i
     const unsigned char *rb = (const unsigned char *)img->data + (size_t)tb * img->stride;
     int b, lim = GAP_T * thr, ds = GAP_SAMPLE * step, wide = img->bits > 8;
     for (b = b0; b < b1; b++) {
-        int xa = fc + b * CHUNK * step, run = 0, prev = 0, x, xe = xa + CHUNK * step;
-        if (xa >= last)
+        int xa = fc + b * CHUNK * step, s1, hit;
+        if (xa + 2 * ds + 1 > last) /* fewer than three samples x, x + 1 <= last */
             break;
-        xe = xe < last ? xe : last; /* samples x, x + 1 <= last */
-        for (x = xa; x < xe && run < GAP_RUN; x += ds) {
-            int dv, sg;
-            if (wide) {
-                const uint16_t *a16 = (const uint16_t *)(const void *)ra, *b16 = (const uint16_t *)(const void *)rb;
-                dv = (int)b16[x] + (int)b16[x + 1] - (int)a16[x] - (int)a16[x + 1];
-            } else {
-                dv = (int)rb[x] + (int)rb[x + 1] - (int)ra[x] - (int)ra[x + 1];
-            }
-            sg = (dv >= lim) - (dv <= -lim);
-            run = sg == 0 ? 0 : sg == prev ? run + 1 : 1;
-            prev = sg;
-        }
-        if (run >= GAP_RUN) {
+        s1 = gap_sign(ra, rb, xa + ds, wide, lim);
+        hit = s1 != 0 && gap_sign(ra, rb, xa + 2 * ds, wide, lim) == s1 &&
+              (gap_sign(ra, rb, xa, wide, lim) == s1 ||
+               (xa + 3 * ds + 1 <= last && gap_sign(ra, rb, xa + 3 * ds, wide, lim) == s1));
+        if (hit) {
             cdsp_edge *q;
             if (*nh >= room)
                 return 0;
