@@ -597,6 +597,34 @@ static void diagnose_negative(int i, int ranged, const frame_spec *f, cdsp_statu
             i, ranged ? "ranged" : "plain", f->kind, f->cam.width, f->cam.height, (double)r->distance, f->range[0],
             f->range[1], CONFIDENCE(*r), (unsigned)r->n_candidates, cand_width(c), (double)c->support,
             (double)c->contrast, (double)c->shade, (double)c->sin_angle, (double)c->score);
+    /* the two lines paired: inliers, strength (step thresholds), extent
+     * along the first one's direction, inliers on the common stretch */
+    if (r->label[0] && r->label[1] && r->label[0] <= w->pairs.nlines && r->label[1] <= w->pairs.nlines) {
+        const cdsp_line *L[2];
+        double lo[2], hi[2], clo, chi, step = r->min_step > 0 ? (double)r->min_step : 1;
+        int k;
+        L[0] = &w->pairs.lines[r->label[0] - 1];
+        L[1] = &w->pairs.lines[r->label[1] - 1];
+        for (k = 0; k < 2; k++) {
+            double d0 = (double)L[0]->dir[0], d1 = (double)L[0]->dir[1];
+            double ox = (double)L[0]->centroid[0], oy = (double)L[0]->centroid[1];
+            double ta = ((double)L[k]->centroid[0] + (double)L[k]->t_min * (double)L[k]->dir[0] - ox) * d0 +
+                        ((double)L[k]->centroid[1] + (double)L[k]->t_min * (double)L[k]->dir[1] - oy) * d1;
+            double tb = ((double)L[k]->centroid[0] + (double)L[k]->t_max * (double)L[k]->dir[0] - ox) * d0 +
+                        ((double)L[k]->centroid[1] + (double)L[k]->t_max * (double)L[k]->dir[1] - oy) * d1;
+            lo[k] = fmin(ta, tb);
+            hi[k] = fmax(ta, tb);
+        }
+        clo = fmax(lo[0], lo[1]);
+        chi = fmin(hi[0], hi[1]);
+        for (k = 0; k < 2; k++)
+            fprintf(stderr,
+                    "  line %d (%.3f %.3f %.1f) n %u strength %.2f steps rms %.3f extent %.0f..%.0f"
+                    " on the common stretch %.0f\n",
+                    r->label[k] - 1, (double)L[k]->l[0], (double)L[k]->l[1], (double)L[k]->l[2],
+                    (unsigned)L[k]->count, (double)L[k]->strength / step, (double)L[k]->rms, lo[k], hi[k],
+                    (double)L[k]->count * (chi - clo) / (hi[k] - lo[k]));
+    }
 }
 
 /* BENCH_DETECT_SCATTER=1: each pose with a scattered contour
@@ -794,6 +822,29 @@ static void dump_pgm(const char *dir, int i, const cdsp_image *img, int out_bits
             int v = img->bits <= 8 ? row[x] : ((const uint16_t *)(const void *)row)[x] >> (out_bits - 8);
             fputc(v, fp);
         }
+    fclose(fp);
+}
+
+/* BENCH_DETECT_DUMP=dir: the frame's camera as dir/frame-NNNN.yaml (ROS
+ * camera_info, what `cdsp_tool overlay --calib` reads). */
+static void dump_yaml(const char *dir, int i, const cdsp_camera *c)
+{
+    char path[512];
+    FILE *fp;
+    double fx = (double)c->fx, fy = (double)c->fy, cx = (double)c->cx, cy = (double)c->cy;
+    snprintf(path, sizeof path, "%s/frame-%04d.yaml", dir, i);
+    fp = fopen(path, "w");
+    if (!fp)
+        return;
+    fprintf(fp, "image_width: %d\nimage_height: %d\ncamera_name: bench_detect\n", c->width, c->height);
+    fprintf(fp, "camera_matrix:\n  rows: 3\n  cols: 3\n  data: [%.17g, 0, %.17g, 0, %.17g, %.17g, 0, 0, 1]\n", fx, cx,
+            fy, cy);
+    fprintf(fp, "distortion_model: plumb_bob\ndistortion_coefficients:\n  rows: 1\n  cols: 5\n"
+                "  data: [%.17g, %.17g, %.17g, %.17g, %.17g]\n",
+            (double)c->k1, (double)c->k2, (double)c->p1, (double)c->p2, (double)c->k3);
+    fprintf(fp, "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n");
+    fprintf(fp, "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [%.17g, 0, %.17g, 0, 0, %.17g, %.17g, 0, 0, 0, 1, 0]\n",
+            fx, cx, fy, cy);
     fclose(fp);
 }
 
@@ -1081,7 +1132,10 @@ int main(int argc, char **argv)
                     f.cam.height, f.out_bits, f.img_bits, f.cues,
                     st != CDSP_OK ? cdsp_status_token(st) : right(&f, &r) ? "right" : "WRONG");
         if (getenv("BENCH_DETECT_DUMP"))
+        {
             dump_pgm(getenv("BENCH_DETECT_DUMP"), i, &img, f.out_bits);
+            dump_yaml(getenv("BENCH_DETECT_DUMP"), i, &f.cam);
+        }
         free(px);
     }
     printf("detection (issue 10): %d positive and %d negative generated frames, seed %llu\n", npos, nneg,
