@@ -479,7 +479,7 @@ typedef struct {
  * max_contour_angle, overlapping by min_overlap, not
  * crossing inside their stretch, a band at least as wide as the edge window
  * 2 half_window + 1, each contour's support covering min_support of the
- * overlap, the closed form's distance inside [min_distance, max_distance],
+ * overlap and n_k q_k (below) at least min_inliers / 2, the closed form's distance inside [min_distance, max_distance],
  * one object inside: no strong interior contours of both polarities an
  * edge window or more apart, no
  * strong one opposing its nearer contour without a stripe's other side of

@@ -17,7 +17,8 @@
  * wide as the edge window (narrower, the two edges' windows overlap and
  * both positions are biased: a thin bar, not a pipe to measure), (vii) each
  * contour's inliers cover min_support of the common stretch (support all on
- * one short piece is a blob or a clamp, not a contour), (viii) the band
+ * one short piece is a blob or a clamp, not a contour) and are half a
+ * line's worth there (min_inliers / 2), (viii) the band
  * holds one object, not two and the gap between them (see band_split),
  * (ix) on the single path, it is an object, not the gap beside one (see
  * edge_of_neighbour), (x) on the frame path, its interior is smooth (see
@@ -479,6 +480,19 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     qB = spread_on(B, maskB, d, o, lo, hi);
     if (qA < p->min_support || qB < p->min_support)
         return (*why = CDSP__PAIR_SUPPORT, R(0));
+    /* and each contour's support on the common stretch (its inliers
+     * there, nA or nB, times their spread qA or qB: the score's support
+     * term below) is half a line's worth of inliers (min_inliers / 2) or
+     * more: a long line that shares a short piece with its partner has
+     * few points there, and those few are no contour of this band
+     * (bench-detect, seeds 1-3: the wrong poses of support 2.9 and 3.5,
+     * a faint door post's edges and a faint bar's, 8 and 4 inliers on the
+     * stretch; the right poses 11 or more, a pipe's faint contour partly
+     * covered by a bar in front at 11: min_inliers itself lost it) */
+    nA = (cdsp_real)A->count * ov / (hiA - loA);
+    nB = (cdsp_real)B->count * ov / (hiB - loB);
+    if (R(2) * nA * qA < (cdsp_real)p->min_inliers || R(2) * nB * qB < (cdsp_real)p->min_inliers)
+        return (*why = CDSP__PAIR_SUPPORT, R(0));
     /* (viii) one object between the contours, not two and a gap */
     if (band_split(sc, A, B, p_in, d, o, lo, hi, &ends))
         return (*why = CDSP__PAIR_SPLIT, R(0));
@@ -492,10 +506,8 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
             return (*why = CDSP__PAIR_GAP, R(0));
     }
 
-    /* inliers on the common stretch: each line's count scaled by the
-     * fraction of its extent that overlaps */
-    nA = (cdsp_real)A->count * ov / (hiA - loA);
-    nB = (cdsp_real)B->count * ov / (hiB - loB);
+    /* nA, nB (above): inliers on the common stretch, each line's count
+     * scaled by the fraction of its extent that overlaps */
     cA = A->strength / sc->step_ref;
     cB = B->strength / sc->step_ref;
     {
