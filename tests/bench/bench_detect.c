@@ -512,6 +512,34 @@ static void explain_lines(const frame_spec *f, const cdsp_image *img, const cdsp
                 (double)set.pair[m].score, (double)set.pair[m].width, (double)set.pair[m].shade);
 }
 
+/* BENCH_DETECT_ONLY with BENCH_DETECT_SCENE=1: the frame's camera and
+ * scene, every field the generator sets, to rebuild the frame in a test
+ * (sup_camera, sup_render with render seed i + 1000 seed). */
+static void explain_scene(const frame_spec *f)
+{
+    const cdsp_scene *s = &f->s;
+    int b;
+    fprintf(stderr, "scene: camera %d x %d f %.17g %.17g k1 %.17g bits %d/%d radius %.17g\n", f->cam.width,
+            f->cam.height, (double)f->cam.fx, (double)f->cam.fy, (double)f->cam.k1, f->out_bits, f->img_bits,
+            f->radius);
+    fprintf(stderr, "  axis (%.17g %.17g %.17g) dir (%.17g %.17g %.17g) r %.17g half %.17g\n", (double)s->axis_point[0],
+            (double)s->axis_point[1], (double)s->axis_point[2], (double)s->axis_dir[0], (double)s->axis_dir[1],
+            (double)s->axis_dir[2], (double)s->radius, (double)s->half_length);
+    fprintf(stderr, "  pipe %.17g cap %.17g bg %.17g light (%.17g %.17g %.17g) ambient %.17g\n", (double)s->pipe_level,
+            (double)s->cap_level, (double)s->background_level, (double)s->light[0], (double)s->light[1],
+            (double)s->light[2], (double)s->ambient);
+    fprintf(stderr, "  texture %.17g scale %.17g seed %u blur %.17g noise %.17g ramp (%.17g %.17g)"
+                    " specular %.17g exp %.17g motion (%.17g %.17g)\n",
+            (double)s->texture, (double)s->texture_scale_px, (unsigned)s->texture_seed, (double)s->blur_sigma_px,
+            (double)s->noise_sigma, (double)s->background_ramp[0], (double)s->background_ramp[1],
+            (double)s->specular, (double)s->specular_exp, (double)s->motion_px[0], (double)s->motion_px[1]);
+    for (b = 0; b < s->n_clutter; b++)
+        fprintf(stderr, "  clutter (%.17g %.17g %.17g) (%.17g %.17g %.17g) half %.17g level %.17g\n",
+                (double)s->clutter[b].p0[0], (double)s->clutter[b].p0[1], (double)s->clutter[b].p0[2],
+                (double)s->clutter[b].p1[0], (double)s->clutter[b].p1[1], (double)s->clutter[b].p1[2],
+                (double)s->clutter[b].half_width, (double)s->clutter[b].level);
+}
+
 /* BENCH_DETECT_ONLY: the truth, the answer and the ranked candidates. */
 static void explain(const frame_spec *f, cdsp_status st, const cdsp_result *r, const cdsp_frame_ws *w)
 {
@@ -1101,6 +1129,8 @@ int main(int argc, char **argv)
             features(i, 0, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_ONLY"))
             explain(&f, st, &r, &ws);
+        if (getenv("BENCH_DETECT_ONLY") && getenv("BENCH_DETECT_SCENE"))
+            explain_scene(&f);
         if (getenv("BENCH_DETECT_ONLY") && getenv("BENCH_DETECT_LINES"))
             explain_lines(&f, &img, &prm, i);
         if (getenv("BENCH_DETECT_SCATTER"))
