@@ -343,7 +343,9 @@ typedef struct {
                                  -1 darker. Default 0 */
     cdsp_real min_distance, max_distance; /* plausible |P_C|, radius units;
                                  0 = no bound. Default 0, 0. With a bound,
-                                 no pose outside it is ever reported. */
+                                 no pose outside it is ever reported (the
+                                 pair test and, after the edge-profile
+                                 model moved the contours, the pose). */
     cdsp_real min_support;    /* fraction of the overlap each contour's inliers
                                  must cover (in 32 bins along it): support all
                                  on one short piece is not a contour. Default

@@ -121,6 +121,13 @@ static void extent_on(const cdsp_line *ln, const cdsp_real d[2], const cdsp_real
     *hi = ta < tb ? tb : ta;
 }
 
+/* Whether distance d is inside the plausible range [min_distance,
+ * max_distance] (a bound of 0: none). */
+static int in_range(const cdsp_pair_params *p, cdsp_real d)
+{
+    return !(p->min_distance > R(0) && d < p->min_distance) && !(p->max_distance > R(0) && d > p->max_distance);
+}
+
 /* What pair_score needs beyond the two lines. */
 typedef struct {
     const cdsp_camera *cam;
@@ -467,9 +474,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     /* (v) the closed form and the distance range */
     if (cdsp__axis_core(cam, A->l, B->l, p_in, radius, &tmp) != CDSP_OK)
         return (*why = CDSP__PAIR_AXIS, R(0));
-    if (p->min_distance > R(0) && tmp.distance < p->min_distance)
-        return (*why = CDSP__PAIR_RANGE, R(0));
-    if (p->max_distance > R(0) && tmp.distance > p->max_distance)
+    if (!in_range(p, tmp.distance))
         return (*why = CDSP__PAIR_RANGE, R(0));
     /* (vi) the band's width at the middle of the overlap */
     width = R_FABS(dq);
@@ -1325,11 +1330,19 @@ cdsp_status cdsp__pair_pose(const cdsp_camera *cam, cdsp_real radius, size_t n,
      * written only when the call succeeds: a pose below min_confidence is
      * refused first, with the status the axis would give it (a degenerate
      * axis reports as such, as when the pose was built before the test). */
-    if (conf < p->min_confidence) {
+    if (conf < p->min_confidence || p->pair.min_distance > R(0) || p->pair.max_distance > R(0)) {
+        /* and with a distance range, a pose outside it is refused too:
+         * test (v) took the detector's lines, and the edge-profile model
+         * (profile.enable, ref) may have moved them since (a pose at
+         * 397.95 with the range from 398.26, test_pair's
+         * test_range_after_refine) */
         cdsp__axis ax;
         st = cdsp__axis_core(cam, pset->lines[best->i].l, pset->lines[best->j].l, best->p_in, radius,
                              &ax);
-        return st != CDSP_OK ? st : CDSP_E_NO_PIPE;
+        if (st != CDSP_OK)
+            return st;
+        if (conf < p->min_confidence || !in_range(&p->pair, ax.distance))
+            return CDSP_E_NO_PIPE;
     }
     if (prior) /* out may be the prior itself */
         for (k = 0; k < 3; k++)

@@ -487,6 +487,80 @@ static void test_rendered_faint(void **state)
     assert_int_equal(failed, 0);
 }
 
+/* With a distance range, nothing outside it (include/cdsp.h,
+ * cdsp_pair_params): test (v) takes the detector's lines, and the
+ * edge-profile model (profile.enable) moves them after it. A pipe whose
+ * pose the model moves by d1 - d0 is solved with the range's bound
+ * halfway between d0 (the detector's) and d1 (the model's): the pose
+ * reported, if any, must be inside the range. */
+static void test_range_after_refine(void **state)
+{
+    static const struct {
+        const char *what;
+        double pipe, bg, ambient, blur;
+    } cases[] = {
+        {"lit from one side, blurred", 0.8, 0.15, 0.35, 1.4},
+        {"dark pipe, evenly lit", 0.15, 0.6, 1, 1.0},
+    };
+    size_t i;
+    (void)state;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        cdsp_camera cam;
+        cdsp_scene s;
+        cdsp_image img;
+        cdsp_params prm;
+        cdsp_rng rng;
+        cdsp_result r;
+        cdsp_status st;
+        double P[3] = {0, 0, 400}, v[3] = {0.05, 1, 0.1}, d0, d1, bound;
+        void *buf;
+        sup_camera(&cam, W, H, F, -0.1, 0.01);
+        sup_scene(&s, P, v, 12);
+        s.ambient = (cdsp_real)cases[i].ambient;
+        s.texture = 0;
+        s.background_level = (cdsp_real)cases[i].bg;
+        s.pipe_level = (cdsp_real)cases[i].pipe;
+        s.noise_sigma = (cdsp_real)0.003;
+        s.blur_sigma_px = (cdsp_real)cases[i].blur;
+        s.light[0] = (cdsp_real)-0.8;
+        s.light[1] = 0;
+        s.light[2] = (cdsp_real)-0.6;
+        buf = sup_render(&s, &cam, 8, 11, &img);
+        assert_non_null(buf);
+        cdsp_params_default(&prm);
+        cdsp_rng_seed(&rng, 11, 3);
+        st = cdsp_frame_solve(&img, &cam, 12, &prm, NULL, &fws, &rng, &r);
+        assert_int_equal(st, CDSP_OK);
+        d0 = (double)r.distance;
+        prm.profile.enable = 1;
+        cdsp_rng_seed(&rng, 11, 3);
+        st = cdsp_frame_solve(&img, &cam, 12, &prm, NULL, &fws, &rng, &r);
+        assert_int_equal(st, CDSP_OK);
+        d1 = (double)r.distance;
+        if (!(fabs(d1 - d0) > 1e-3)) /* measured 0.0025 to 0.62 */
+            fail_msg("%s: the model moved the pose by %.2g only: nothing to test", cases[i].what, d1 - d0);
+        bound = (d0 + d1) / 2;
+        if (d1 > d0) {
+            prm.pair.min_distance = (cdsp_real)(d0 / 2);
+            prm.pair.max_distance = (cdsp_real)bound;
+        } else {
+            prm.pair.min_distance = (cdsp_real)bound;
+            prm.pair.max_distance = (cdsp_real)(d0 * 2);
+        }
+        cdsp_rng_seed(&rng, 11, 3);
+        st = cdsp_frame_solve(&img, &cam, 12, &prm, NULL, &fws, &rng, &r);
+        free(buf);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("%s: detector %.4f, model %.4f (moved %.2g), range [%.4f, %.4f]: %s %.4f\n",
+                          cases[i].what, d0, d1, d1 - d0, (double)prm.pair.min_distance,
+                          (double)prm.pair.max_distance, cdsp_status_token(st),
+                          st == CDSP_OK ? (double)r.distance : 0.0);
+        if (st == CDSP_OK && !(r.distance >= prm.pair.min_distance && r.distance <= prm.pair.max_distance))
+            fail_msg("%s: distance %.4f outside the range [%.4f, %.4f]", cases[i].what, (double)r.distance,
+                     (double)prm.pair.min_distance, (double)prm.pair.max_distance);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -496,6 +570,7 @@ int main(void)
         cmocka_unit_test(test_confidence),
         cmocka_unit_test(test_rendered_cues),
         cmocka_unit_test(test_rendered_faint),
+        cmocka_unit_test(test_range_after_refine),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
