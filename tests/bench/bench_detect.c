@@ -871,7 +871,8 @@ static void dump_yaml(const char *dir, int i, const cdsp_camera *c)
                 "  data: [%.17g, %.17g, %.17g, %.17g, %.17g]\n",
             (double)c->k1, (double)c->k2, (double)c->p1, (double)c->p2, (double)c->k3);
     fprintf(fp, "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n");
-    fprintf(fp, "projection_matrix:\n  rows: 3\n  cols: 4\n  data: [%.17g, 0, %.17g, 0, 0, %.17g, %.17g, 0, 0, 0, 1, 0]\n",
+    fprintf(fp, "projection_matrix:\n  rows: 3\n  cols: 4\n"
+                "  data: [%.17g, 0, %.17g, 0, 0, %.17g, %.17g, 0, 0, 0, 1, 0]\n",
             fx, cx, fy, cy);
     fclose(fp);
 }
