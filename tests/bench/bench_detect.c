@@ -551,8 +551,11 @@ static void explain(const frame_spec *f, cdsp_status st, const cdsp_result *r, c
             l[1][2]);
     fprintf(stderr, "got: %s d %.1f", cdsp_status_token(st), st == CDSP_OK ? (double)r->distance : 0.0);
 #ifdef CDSP_FLAG_CAPPED
-    fprintf(stderr, " conf %.3f noise %.2f step %.1f lines %u flags %x\n", (double)r->confidence,
-            (double)r->noise, (double)r->min_step, (unsigned)r->n_lines, (unsigned)r->flags);
+    if (st == CDSP_OK)
+        fprintf(stderr, " conf %.3f noise %.2f step %.1f lines %u flags %x\n", (double)r->confidence,
+                (double)r->noise, (double)r->min_step, (unsigned)r->n_lines, (unsigned)r->flags);
+    else /* r holds the previous solve's pose */
+        fprintf(stderr, "\n");
     for (k = 0; st == CDSP_OK && k < r->n_candidates && k < CDSP_MAX_CANDIDATES; k++)
         fprintf(stderr,
                 "  cand %u score %.1f conf %.3f (%.3f %.3f %.1f) (%.3f %.3f %.1f) width %.1f support %.0f"
