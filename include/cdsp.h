@@ -334,7 +334,9 @@ typedef struct {
     int max_lines;            /* candidate lines (<= CDSP_MAX_LINES). Default
                                  24; when reached while significant points
                                  remain, CDSP_FLAG_CAPPED is set */
-    int min_inliers;          /* a line needs at least this many. Default 12 */
+    int min_inliers;          /* a line needs at least this many; a pair, half
+                                 as many supported on its common stretch per
+                                 contour (the pair score's n q). Default 12 */
     cdsp_real min_overlap;    /* a pair's contours must overlap along the pipe
                                  by this fraction of the shorter one. Default 0.5 */
     cdsp_real max_contour_angle_deg; /* largest image angle between the two
@@ -343,7 +345,9 @@ typedef struct {
                                  -1 darker. Default 0 */
     cdsp_real min_distance, max_distance; /* plausible |P_C|, radius units;
                                  0 = no bound. Default 0, 0. With a bound,
-                                 no pose outside it is ever reported. */
+                                 no pose outside it is ever reported (the
+                                 pair test and, after the edge-profile
+                                 model moved the contours, the pose). */
     cdsp_real min_support;    /* fraction of the overlap each contour's inliers
                                  must cover (in 32 bins along it): support all
                                  on one short piece is not a contour. Default
@@ -479,7 +483,8 @@ typedef struct {
  * max_contour_angle, overlapping by min_overlap, not
  * crossing inside their stretch, a band at least as wide as the edge window
  * 2 half_window + 1, each contour's support covering min_support of the
- * overlap, the closed form's distance inside [min_distance, max_distance],
+ * overlap and n_k q_k (below) at least min_inliers / 2, the closed
+ * form's distance inside [min_distance, max_distance],
  * one object inside: no strong interior contours of both polarities an
  * edge window or more apart, no
  * strong one opposing its nearer contour without a stripe's other side of

@@ -512,6 +512,34 @@ static void explain_lines(const frame_spec *f, const cdsp_image *img, const cdsp
                 (double)set.pair[m].score, (double)set.pair[m].width, (double)set.pair[m].shade);
 }
 
+/* BENCH_DETECT_ONLY with BENCH_DETECT_SCENE=1: the frame's camera and
+ * scene, every field the generator sets, to rebuild the frame in a test
+ * (sup_camera, sup_render with render seed i + 1000 seed). */
+static void explain_scene(const frame_spec *f)
+{
+    const cdsp_scene *s = &f->s;
+    int b;
+    fprintf(stderr, "scene: camera %d x %d f %.17g %.17g k1 %.17g bits %d/%d radius %.17g\n", f->cam.width,
+            f->cam.height, (double)f->cam.fx, (double)f->cam.fy, (double)f->cam.k1, f->out_bits, f->img_bits,
+            f->radius);
+    fprintf(stderr, "  axis (%.17g %.17g %.17g) dir (%.17g %.17g %.17g) r %.17g half %.17g\n", (double)s->axis_point[0],
+            (double)s->axis_point[1], (double)s->axis_point[2], (double)s->axis_dir[0], (double)s->axis_dir[1],
+            (double)s->axis_dir[2], (double)s->radius, (double)s->half_length);
+    fprintf(stderr, "  pipe %.17g cap %.17g bg %.17g light (%.17g %.17g %.17g) ambient %.17g\n", (double)s->pipe_level,
+            (double)s->cap_level, (double)s->background_level, (double)s->light[0], (double)s->light[1],
+            (double)s->light[2], (double)s->ambient);
+    fprintf(stderr, "  texture %.17g scale %.17g seed %u blur %.17g noise %.17g ramp (%.17g %.17g)"
+                    " specular %.17g exp %.17g motion (%.17g %.17g)\n",
+            (double)s->texture, (double)s->texture_scale_px, (unsigned)s->texture_seed, (double)s->blur_sigma_px,
+            (double)s->noise_sigma, (double)s->background_ramp[0], (double)s->background_ramp[1],
+            (double)s->specular, (double)s->specular_exp, (double)s->motion_px[0], (double)s->motion_px[1]);
+    for (b = 0; b < s->n_clutter; b++)
+        fprintf(stderr, "  clutter (%.17g %.17g %.17g) (%.17g %.17g %.17g) half %.17g level %.17g\n",
+                (double)s->clutter[b].p0[0], (double)s->clutter[b].p0[1], (double)s->clutter[b].p0[2],
+                (double)s->clutter[b].p1[0], (double)s->clutter[b].p1[1], (double)s->clutter[b].p1[2],
+                (double)s->clutter[b].half_width, (double)s->clutter[b].level);
+}
+
 /* BENCH_DETECT_ONLY: the truth, the answer and the ranked candidates. */
 static void explain(const frame_spec *f, cdsp_status st, const cdsp_result *r, const cdsp_frame_ws *w)
 {
@@ -523,8 +551,11 @@ static void explain(const frame_spec *f, cdsp_status st, const cdsp_result *r, c
             l[1][2]);
     fprintf(stderr, "got: %s d %.1f", cdsp_status_token(st), st == CDSP_OK ? (double)r->distance : 0.0);
 #ifdef CDSP_FLAG_CAPPED
-    fprintf(stderr, " conf %.3f noise %.2f step %.1f lines %u flags %x\n", (double)r->confidence,
-            (double)r->noise, (double)r->min_step, (unsigned)r->n_lines, (unsigned)r->flags);
+    if (st == CDSP_OK)
+        fprintf(stderr, " conf %.3f noise %.2f step %.1f lines %u flags %x\n", (double)r->confidence,
+                (double)r->noise, (double)r->min_step, (unsigned)r->n_lines, (unsigned)r->flags);
+    else /* r holds the previous solve's pose */
+        fprintf(stderr, "\n");
     for (k = 0; st == CDSP_OK && k < r->n_candidates && k < CDSP_MAX_CANDIDATES; k++)
         fprintf(stderr,
                 "  cand %u score %.1f conf %.3f (%.3f %.3f %.1f) (%.3f %.3f %.1f) width %.1f support %.0f"
@@ -597,6 +628,34 @@ static void diagnose_negative(int i, int ranged, const frame_spec *f, cdsp_statu
             i, ranged ? "ranged" : "plain", f->kind, f->cam.width, f->cam.height, (double)r->distance, f->range[0],
             f->range[1], CONFIDENCE(*r), (unsigned)r->n_candidates, cand_width(c), (double)c->support,
             (double)c->contrast, (double)c->shade, (double)c->sin_angle, (double)c->score);
+    /* the two lines paired: inliers, strength (step thresholds), extent
+     * along the first one's direction, inliers on the common stretch */
+    if (r->label[0] && r->label[1] && r->label[0] <= w->pairs.nlines && r->label[1] <= w->pairs.nlines) {
+        const cdsp_line *L[2];
+        double lo[2], hi[2], clo, chi, step = r->min_step > 0 ? (double)r->min_step : 1;
+        int k;
+        L[0] = &w->pairs.lines[r->label[0] - 1];
+        L[1] = &w->pairs.lines[r->label[1] - 1];
+        for (k = 0; k < 2; k++) {
+            double d0 = (double)L[0]->dir[0], d1 = (double)L[0]->dir[1];
+            double ox = (double)L[0]->centroid[0], oy = (double)L[0]->centroid[1];
+            double ta = ((double)L[k]->centroid[0] + (double)L[k]->t_min * (double)L[k]->dir[0] - ox) * d0 +
+                        ((double)L[k]->centroid[1] + (double)L[k]->t_min * (double)L[k]->dir[1] - oy) * d1;
+            double tb = ((double)L[k]->centroid[0] + (double)L[k]->t_max * (double)L[k]->dir[0] - ox) * d0 +
+                        ((double)L[k]->centroid[1] + (double)L[k]->t_max * (double)L[k]->dir[1] - oy) * d1;
+            lo[k] = fmin(ta, tb);
+            hi[k] = fmax(ta, tb);
+        }
+        clo = fmax(lo[0], lo[1]);
+        chi = fmin(hi[0], hi[1]);
+        for (k = 0; k < 2; k++)
+            fprintf(stderr,
+                    "  line %d (%.3f %.3f %.1f) n %u strength %.2f steps rms %.3f extent %.0f..%.0f"
+                    " on the common stretch %.0f\n",
+                    r->label[k] - 1, (double)L[k]->l[0], (double)L[k]->l[1], (double)L[k]->l[2],
+                    (unsigned)L[k]->count, (double)L[k]->strength / step, (double)L[k]->rms, lo[k], hi[k],
+                    (double)L[k]->count * (chi - clo) / (hi[k] - lo[k]));
+    }
 }
 
 /* BENCH_DETECT_SCATTER=1: each pose with a scattered contour
@@ -794,6 +853,30 @@ static void dump_pgm(const char *dir, int i, const cdsp_image *img, int out_bits
             int v = img->bits <= 8 ? row[x] : ((const uint16_t *)(const void *)row)[x] >> (out_bits - 8);
             fputc(v, fp);
         }
+    fclose(fp);
+}
+
+/* BENCH_DETECT_DUMP=dir: the frame's camera as dir/frame-NNNN.yaml (ROS
+ * camera_info, what `cdsp_tool overlay --calib` reads). */
+static void dump_yaml(const char *dir, int i, const cdsp_camera *c)
+{
+    char path[512];
+    FILE *fp;
+    double fx = (double)c->fx, fy = (double)c->fy, cx = (double)c->cx, cy = (double)c->cy;
+    snprintf(path, sizeof path, "%s/frame-%04d.yaml", dir, i);
+    fp = fopen(path, "w");
+    if (!fp)
+        return;
+    fprintf(fp, "image_width: %d\nimage_height: %d\ncamera_name: bench_detect\n", c->width, c->height);
+    fprintf(fp, "camera_matrix:\n  rows: 3\n  cols: 3\n  data: [%.17g, 0, %.17g, 0, %.17g, %.17g, 0, 0, 1]\n", fx, cx,
+            fy, cy);
+    fprintf(fp, "distortion_model: plumb_bob\ndistortion_coefficients:\n  rows: 1\n  cols: 5\n"
+                "  data: [%.17g, %.17g, %.17g, %.17g, %.17g]\n",
+            (double)c->k1, (double)c->k2, (double)c->p1, (double)c->p2, (double)c->k3);
+    fprintf(fp, "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n");
+    fprintf(fp, "projection_matrix:\n  rows: 3\n  cols: 4\n"
+                "  data: [%.17g, 0, %.17g, 0, 0, %.17g, %.17g, 0, 0, 0, 1, 0]\n",
+            fx, cx, fy, cy);
     fclose(fp);
 }
 
@@ -1050,6 +1133,8 @@ int main(int argc, char **argv)
             features(i, 0, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_ONLY"))
             explain(&f, st, &r, &ws);
+        if (getenv("BENCH_DETECT_ONLY") && getenv("BENCH_DETECT_SCENE"))
+            explain_scene(&f);
         if (getenv("BENCH_DETECT_ONLY") && getenv("BENCH_DETECT_LINES"))
             explain_lines(&f, &img, &prm, i);
         if (getenv("BENCH_DETECT_SCATTER"))
@@ -1081,7 +1166,10 @@ int main(int argc, char **argv)
                     f.cam.height, f.out_bits, f.img_bits, f.cues,
                     st != CDSP_OK ? cdsp_status_token(st) : right(&f, &r) ? "right" : "WRONG");
         if (getenv("BENCH_DETECT_DUMP"))
+        {
             dump_pgm(getenv("BENCH_DETECT_DUMP"), i, &img, f.out_bits);
+            dump_yaml(getenv("BENCH_DETECT_DUMP"), i, &f.cam);
+        }
         free(px);
     }
     printf("detection (issue 10): %d positive and %d negative generated frames, seed %llu\n", npos, nneg,
