@@ -187,6 +187,8 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, size_t n
                               const cdsp_pair_set *set, const cdsp_pair_eval *c,
                               const cdsp__pair_refined *ref, cdsp_result *out);
 cdsp_real cdsp__pair_evidence(const cdsp_pair_eval *c, int contrast_known);
+/* Distance d within the pair parameters' range (a bound of 0: none). */
+int cdsp__pair_in_range(const cdsp_pair_params *p, cdsp_real d);
 /* Which of the pair tests (lib/pair.c, docs/method.md §4) lines i and j of
  * set fail (no prior): CDSP__PAIR_PASSED, a CDSP__PAIR_* code, -1 for bad
  * indices. For diagnosis (tests/bench/bench_detect.c). */

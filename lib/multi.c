@@ -648,6 +648,10 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cds
             continue;
         if (cdsp__pair_result(cam, radius, n, set, e, ref ? &ref[k] : NULL, r) != CDSP_OK)
             continue; /* the refined lines turned degenerate: not a pose */
+        /* the edge-profile model moves the lines after the pair's range
+         * test: with a range given, nothing outside it, ever (issue 10) */
+        if (!cdsp__pair_in_range(&p->pair, r->distance))
+            continue;
         /* a contour whose points are too scattered to be one edge says
          * nothing reliable about the silhouette (lib/frame.c, issue 12):
          * as on the single path the pose has no bound and its confidence

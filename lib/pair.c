@@ -122,8 +122,8 @@ static void extent_on(const cdsp_line *ln, const cdsp_real d[2], const cdsp_real
 }
 
 /* Whether distance d is inside the plausible range [min_distance,
- * max_distance] (a bound of 0: none). */
-static int in_range(const cdsp_pair_params *p, cdsp_real d)
+ * max_distance] (a bound of 0: none). Shared with lib/multi.c. */
+int cdsp__pair_in_range(const cdsp_pair_params *p, cdsp_real d)
 {
     return !(p->min_distance > R(0) && d < p->min_distance) && !(p->max_distance > R(0) && d > p->max_distance);
 }
@@ -475,7 +475,7 @@ static cdsp_real pair_score(const score_ctx *sc, const cdsp_line *A, const cdsp_
     /* (v) the closed form and the distance range */
     if (cdsp__axis_core(cam, A->l, B->l, p_in, radius, &tmp) != CDSP_OK)
         return (*why = CDSP__PAIR_AXIS, R(0));
-    if (!in_range(p, tmp.distance))
+    if (!cdsp__pair_in_range(p, tmp.distance))
         return (*why = CDSP__PAIR_RANGE, R(0));
     /* (vi) the band's width at the middle of the overlap */
     width = R_FABS(dq);
@@ -1353,7 +1353,7 @@ cdsp_status cdsp__pair_pose(const cdsp_camera *cam, cdsp_real radius, size_t n,
                              &ax);
         if (st != CDSP_OK)
             return st;
-        if (conf < p->min_confidence || !in_range(&p->pair, ax.distance))
+        if (conf < p->min_confidence || !cdsp__pair_in_range(&p->pair, ax.distance))
             return CDSP_E_NO_PIPE;
     }
     if (prior) /* out may be the prior itself */

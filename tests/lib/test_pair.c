@@ -34,6 +34,7 @@
 
 static cdsp_points_ws pws;
 static cdsp_frame_ws fws;
+static cdsp_frame_all_ws aws;
 static cdsp_edge pts[CDSP_MAX_POINTS];
 
 /* ---- synthetic points ---------------------------------------------------- */
@@ -561,7 +562,9 @@ static void test_rendered_bench(void **state)
  * edge-profile model (profile.enable) moves them after it. A pipe whose
  * pose the model moves by d1 - d0 is solved with the range's bound
  * halfway between d0 (the detector's) and d1 (the model's): the pose
- * reported, if any, must be inside the range. */
+ * reported, if any, must be inside the range; and so must every pipe
+ * cdsp_frame_solve_all reports (lib/multi.c: 397.95 with the range from
+ * 398.26 before it tested the range again). */
 static void test_range_after_refine(void **state)
 {
     static const struct {
@@ -618,6 +621,19 @@ static void test_range_after_refine(void **state)
         }
         cdsp_rng_seed(&rng, 11, 3);
         st = cdsp_frame_solve(&img, &cam, 12, &prm, NULL, &fws, &rng, &r);
+        {
+            /* every pipe (lib/multi.c) under the same range: each inside */
+            cdsp_result all[CDSP_MAX_PIPES];
+            size_t na = 0, k;
+            cdsp_status sa;
+            cdsp_rng_seed(&rng, 11, 3);
+            sa = cdsp_frame_solve_all(&img, &cam, 12, &prm, NULL, &aws, &rng, all, CDSP_MAX_PIPES, &na);
+            for (k = 0; sa == CDSP_OK && k < na; k++)
+                if (!(all[k].distance >= prm.pair.min_distance && all[k].distance <= prm.pair.max_distance))
+                    fail_msg("%s, every pipe: pipe %zu at %.4f outside the range [%.4f, %.4f]", cases[i].what, k,
+                             (double)all[k].distance, (double)prm.pair.min_distance,
+                             (double)prm.pair.max_distance);
+        }
         free(buf);
         if (getenv("CDSP_TEST_VERBOSE"))
             print_message("%s: detector %.4f, model %.4f (moved %.2g), range [%.4f, %.4f]: %s %.4f\n",
