@@ -564,6 +564,13 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3],
 #endif
 #define CDSP_PROFILE_BINS_PER_PX 4
 #define CDSP_PROFILE_NBINS (2 * CDSP_PROFILE_RANGE_PX * CDSP_PROFILE_BINS_PER_PX)
+/* The forward model of a blur wider than the detector's window
+ * (lib/profile.c, fwd_*): the blurred basis on a grid of 1/8 px over the
+ * window, the kernel's cells, the pipe side's cell means and the fit's
+ * residual vectors (its scratch, in the workspace: not on an MCU's stack) */
+#define CDSP_PROFILE_FWD_SUB 8
+#define CDSP_PROFILE_FWD_NX (2 * (CDSP_PROFILE_RANGE_PX + 1) * CDSP_PROFILE_FWD_SUB + 1)
+#define CDSP_PROFILE_FWD_NK (2 * CDSP_PROFILE_RANGE_PX * CDSP_PROFILE_FWD_SUB)
 
 /* Bins of one contour's profile (caller-owned scratch; contents undefined
  * between calls). Sums are exact integers for 8..16-bit pixels up to
@@ -575,6 +582,13 @@ typedef struct {
     cdsp_real sum_u[CDSP_PROFILE_NBINS];
     cdsp_real mean_u[CDSP_PROFILE_NBINS], mean_v[CDSP_PROFILE_NBINS]; /* the fit's
                                bins (here, not on an MCU's small stack) */
+    cdsp_real fwd_p[3][CDSP_PROFILE_FWD_NX];       /* forward model: the blurred
+                                                     basis on the grid */
+    cdsp_real fwd_k[CDSP_PROFILE_FWD_NK];          /* the kernel's cell masses */
+    cdsp_real fwd_q[CDSP_PROFILE_FWD_NX + CDSP_PROFILE_FWD_NK]; /* the limb term's
+                                                     cell means */
+    cdsp_real fwd_r[4][CDSP_PROFILE_NBINS];        /* residuals: at the estimate
+                                                     and its 3 steps */
 } cdsp_profile_ws;
 
 typedef struct {

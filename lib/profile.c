@@ -589,6 +589,402 @@ static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const
     return acc;
 }
 
+/*
+ * The forward model (a blur wider than the detector's window). The area
+ * balance (1) needs the pipe side's model over the blur zone, where it has
+ * no data of its own: extrapolated from beyond z = 3.5 sigma + 1.5 (12 px
+ * at sigma 3) to the silhouette, the limb term's curvature is poorly held
+ * (the fit zone is a few px of gentle slope; on 8-bit frames the rounding's
+ * steps are as large as the curvature left there) and the extrapolated
+ * limb misfits. Here the blurred scene itself is fitted to every bin of
+ * the window, the blur zone included:
+ *     O(x) = D + E x + (A - D) p0(x) + (B - E) p1(x) + C p2(x),
+ * x = u - d, p_f = K * (f 1_{s > 0}) for f = 1, s, sq(s) (K * 1 = 1 and
+ * K * x = x for a symmetric K), K a Gaussian of sd sg convolved with a box
+ * of width w (a motion blur across the contour; the pixel's footprint and
+ * the optics are the Gaussian). Linear in D, E, A, B, C for given
+ * (d, sg, w): variable projection, Levenberg-Marquardt on (d, sg, w) with
+ * a Jacobian by differences. The p_f come from a grid of 1/FWD_SUB px in
+ * x (exact cell masses of K from its distribution function, the pipe
+ * side's cell means of f, so the step itself is exact at the grid's
+ * origin) interpolated linearly at the bins.
+ */
+#define FWD_SUB CDSP_PROFILE_FWD_SUB
+#define FWD_NX CDSP_PROFILE_FWD_NX
+#define FWD_NK CDSP_PROFILE_FWD_NK
+#define FWD_IX ((FWD_NX - 1) / 2) /* the grid's index of x = 0 */
+/* the forward model replaces the area balance above this blur (px): the
+ * detector's window spans sigma <= 0.97 px at h = 4 (cdsp_profile_applies) */
+#define FWD_MIN_BLUR 1.0
+#ifndef FWD_LIMB_RMS
+#define FWD_LIMB_RMS 1e-3
+#endif
+
+typedef struct {
+    cdsp_real d, sg, w; /* silhouette, the kernel's Gaussian sd and box width */
+    cdsp_real c[5];     /* D, E, A - D, B - E, C */
+    cdsp_real rss, Wf;  /* residual sum of squares over |x| <= Wf */
+    int i0, i1, J;      /* the grid's range, the kernel's half-width in cells */
+} fwd_state;
+
+/* Psi(t) = t Phi(t) + phi(t), the antiderivative of Phi */
+static cdsp_real fwd_psi(cdsp_real t)
+{
+    cdsp_real g = R_EXP(-t * t / R(2));
+    return t * norm_cdf_g(t, g) + R(0.3989422804014327) * g;
+}
+
+/* the kernel's distribution function at y: a Gaussian's through a box of
+ * width w, (sg / w) (Psi((y + w/2) / sg) - Psi((y - w/2) / sg)); a box
+ * narrower than sg / 20 as the Gaussian of the same variance (the
+ * difference of Psi loses its digits there) */
+static cdsp_real fwd_cdf(cdsp_real y, cdsp_real sg, cdsp_real w)
+{
+    if (w < sg / R(20)) {
+        cdsp_real s = R_SQRT(sg * sg + w * w / R(12)), t = y / s;
+        return norm_cdf_g(t, R_EXP(-t * t / R(2)));
+    }
+    return sg / w * (fwd_psi((y + w / R(2)) / sg) - fwd_psi((y - w / R(2)) / sg));
+}
+
+/* The blurred basis p0, p1, p2 on the grid for (sg, w), and the kernel's
+ * cell masses: cell j of K is [(j - J) / SUB, (j - J + 1) / SUB] */
+static void fwd_basis(cdsp_profile_ws *ws, fwd_state *fs)
+{
+    cdsp_real tot = R(0), prev;
+    int j, i, J = (int)R_CEIL((fs->w / R(2) + R(5) * fs->sg) * R(FWD_SUB));
+    if (J > FWD_NK / 2)
+        J = FWD_NK / 2;
+    if (J < 1)
+        J = 1;
+    fs->J = J;
+    prev = fwd_cdf(-(cdsp_real)J / R(FWD_SUB), fs->sg, fs->w);
+    for (j = 0; j < 2 * J; j++) {
+        cdsp_real c = fwd_cdf((cdsp_real)(j - J + 1) / R(FWD_SUB), fs->sg, fs->w);
+        ws->fwd_k[j] = c - prev;
+        tot += c - prev;
+        prev = c;
+    }
+    for (j = 0; j < 2 * J; j++)
+        ws->fwd_k[j] /= tot;
+    /* p_f(x_i) = sum over the pipe's cells k (s in [k, k + 1] / SUB) of
+     * f_k times K's mass over x_i - that cell: cell i - k - 1 of K */
+    for (i = fs->i0; i <= fs->i1; i++) {
+        int rel = i - FWD_IX, k0 = rel - J, k1 = rel + J - 1, k;
+        cdsp_real a0 = R(0), a1 = R(0), a2 = R(0);
+        if (k0 < 0)
+            k0 = 0;
+        for (k = k0; k <= k1; k++) {
+            cdsp_real mk = ws->fwd_k[rel - k - 1 + J];
+            a0 += mk;
+            a1 += mk * ((cdsp_real)k + R(0.5));
+            a2 += mk * ws->fwd_q[k];
+        }
+        ws->fwd_p[0][i] = a0;
+        ws->fwd_p[1][i] = a1 / R(FWD_SUB);
+        ws->fwd_p[2][i] = a2;
+    }
+}
+
+/* Small dense least squares for the forward model's n <= 5 coefficients:
+ * Gauss-Jordan with partial pivoting on N x = r */
+static int fwd_solve(cdsp_real N[5][5], cdsp_real r[5], int n)
+{
+    int i, j, k;
+    for (i = 0; i < n; i++) {
+        int piv = i;
+        for (j = i + 1; j < n; j++)
+            if (R_FABS(N[j][i]) > R_FABS(N[piv][i]))
+                piv = j;
+        if (!(R_FABS(N[piv][i]) > R(0)))
+            return 0;
+        if (piv != i) {
+            for (k = 0; k < n; k++) {
+                cdsp_real t = N[i][k];
+                N[i][k] = N[piv][k];
+                N[piv][k] = t;
+            }
+            {
+                cdsp_real t = r[i];
+                r[i] = r[piv];
+                r[piv] = t;
+            }
+        }
+        for (j = 0; j < n; j++) {
+            cdsp_real f;
+            if (j == i)
+                continue;
+            f = N[j][i] / N[i][i];
+            for (k = i; k < n; k++)
+                N[j][k] -= f * N[i][k];
+            r[j] -= f * r[i];
+        }
+    }
+    for (i = 0; i < n; i++)
+        r[i] /= N[i][i];
+    return 1;
+}
+
+/* the basis row at bin position x (relative to d): 1, x, p0, p1, p2 */
+static void fwd_row(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real x, cdsp_real f[5])
+{
+    cdsp_real t = x * R(FWD_SUB) + R(FWD_IX), fr;
+    int ii = (int)R_FLOOR(t), j;
+    if (ii < fs->i0)
+        ii = fs->i0;
+    if (ii > fs->i1 - 1)
+        ii = fs->i1 - 1;
+    fr = t - (cdsp_real)ii;
+    f[0] = R(1);
+    f[1] = x;
+    for (j = 0; j < 3; j++)
+        f[2 + j] = ws->fwd_p[j][ii] + fr * (ws->fwd_p[j][ii + 1] - ws->fwd_p[j][ii]);
+}
+
+/* The linear coefficients and the weighted residuals (into fwd_r[slot])
+ * for fs's (d, sg, w); fs->rss. 0 when singular. */
+static int fwd_eval_n(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc)
+{
+    cdsp_real N[5][5], r[5], y0 = R(0), f[5];
+    const cdsp_real *ub = ws->mean_u, *mb = ws->mean_v;
+    int b, i, j, first = 1;
+    for (i = 0; i < 5; i++) {
+        r[i] = R(0);
+        for (j = 0; j < 5; j++)
+            N[i][j] = R(0);
+    }
+    fwd_basis(ws, fs);
+    for (b = 0; b < NB; b++) {
+        cdsp_real x = ub[b] - fs->d, w = (cdsp_real)ws->count[b], y;
+        if (!ws->count[b] || R_FABS(x) > fs->Wf)
+            continue;
+        if (first) {
+            y0 = mb[b]; /* the levels about the first bin's: conditioning */
+            first = 0;
+        }
+        fwd_row(ws, fs, x, f);
+        y = mb[b] - y0;
+        for (i = 0; i < nc; i++) {
+            for (j = 0; j < nc; j++)
+                N[i][j] += w * f[i] * f[j];
+            r[i] += w * f[i] * y;
+        }
+    }
+    if (first || !fwd_solve(N, r, nc))
+        return 0;
+    r[0] += y0;
+    fs->rss = R(0);
+    for (b = 0; b < NB; b++) {
+        cdsp_real x = ub[b] - fs->d, e = R(0);
+        if (ws->count[b] && R_FABS(x) <= fs->Wf) {
+            fwd_row(ws, fs, x, f);
+            e = mb[b];
+            for (i = 0; i < nc; i++)
+                e -= r[i] * f[i];
+            e *= R_SQRT((cdsp_real)ws->count[b]);
+            fs->rss += e * e;
+        }
+        ws->fwd_r[slot][b] = e;
+    }
+    for (i = 0; i < 5; i++)
+        fs->c[i] = i < nc ? r[i] : R(0);
+    return 1;
+}
+
+static int fwd_eval(cdsp_profile_ws *ws, fwd_state *fs, int slot)
+{
+    return fwd_eval_n(ws, fs, slot, 5);
+}
+
+/* Levenberg-Marquardt on (d, sg, w) from cur (its Wf, grid and the limb
+ * term's cell means set; slot 0 and cur.rss are the result's) */
+static int fwd_lm(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, fwd_state *io)
+{
+    static const cdsp_real step[3] = {R(0.01), R(0.01), R(0.02)};
+    fwd_state cur = *io, trial;
+    cdsp_real lambda = R(1e-3);
+    int k, it;
+    if (!fwd_eval(ws, &cur, 0))
+        return 0;
+    for (it = 0; it < 20; it++) {
+        cdsp_real JJ[3][3], Jr[3], del[3] = {R(0), R(0), R(0)};
+        int i, j, b, tries, acc = 0;
+        /* the Jacobian by forward differences: slot 1 + k holds the
+         * residuals at the step in d, sg, w */
+        for (k = 0; k < 3; k++) {
+            trial = cur;
+            if (k == 0)
+                trial.d += step[0];
+            else if (k == 1)
+                trial.sg += step[1];
+            else
+                trial.w += step[2];
+            if (!fwd_eval(ws, &trial, 1 + k))
+                return 0;
+        }
+        for (i = 0; i < 3; i++) {
+            Jr[i] = R(0);
+            for (j = 0; j < 3; j++)
+                JJ[i][j] = R(0);
+        }
+        for (b = 0; b < NB; b++) {
+            cdsp_real g[3], r0 = ws->fwd_r[0][b];
+            for (i = 0; i < 3; i++)
+                g[i] = (ws->fwd_r[1 + i][b] - r0) / step[i];
+            for (i = 0; i < 3; i++) {
+                Jr[i] += g[i] * r0;
+                for (j = 0; j < 3; j++)
+                    JJ[i][j] += g[i] * g[j];
+            }
+        }
+        for (tries = 0; tries < 8 && !acc; tries++) {
+            cdsp_real N[3][3], rr[3];
+            for (i = 0; i < 3; i++) {
+                for (j = 0; j < 3; j++)
+                    N[i][j] = JJ[i][j];
+                N[i][i] += lambda * (JJ[i][i] > R(0) ? JJ[i][i] : R(1));
+                rr[i] = -Jr[i];
+            }
+            if (!solve_small(N, rr, 3))
+                return 0;
+            for (i = 0; i < 3; i++)
+                del[i] = rr[i];
+            trial = cur;
+            trial.d += del[0];
+            trial.sg += del[1];
+            trial.w += del[2];
+            if (trial.sg < R(0.25))
+                trial.sg = R(0.25);
+            if (trial.w < R(0))
+                trial.w = R(0);
+            /* the window must hold the blurred edge and 3 px of each
+             * side beyond it: a kernel wider than that makes the step's
+             * columns collinear with the sides' (a 15 px motion blur at
+             * 45 degrees went to a 18 px box and the contrast x 4) */
+            if (R_FABS(trial.d - d0) > half / R(4) || trial.w / R(2) + R(3) * trial.sg > cur.Wf - R(3)) {
+                lambda *= R(4);
+                continue;
+            }
+            if (fwd_eval(ws, &trial, 1) && trial.rss < cur.rss) {
+                acc = 1;
+                cur = trial;
+                for (b = 0; b < NB; b++)
+                    ws->fwd_r[0][b] = ws->fwd_r[1][b];
+                lambda /= R(3);
+            } else {
+                lambda *= R(4);
+            }
+        }
+        if (!acc || R_FABS(del[0]) < R(1e-5))
+            break;
+    }
+    *io = cur;
+    return 1;
+}
+
+/* The forward model from the area balance's d and blur s2 over the window
+ * |x| <= Wf (half - |d| - 1/4): from two starts, a Gaussian of that
+ * variance and a box of it through a 0.8 px Gaussian (the optics and the
+ * pixel's footprint), where the window holds them (fwd_lm); the better
+ * fit. Returns 1 with *out fitted and its residuals in fwd_r[0]. */
+static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real half, cdsp_real Rc,
+                   fwd_state *out)
+{
+    fwd_state cur;
+    sides geo;
+    int k, kmax, start, have = 0;
+    geo.Rc = Rc;
+    geo.St = R(0);
+    cur.d = d0;
+    cur.Wf = half - R_FABS(d0) - R(0.25);
+    if (!(cur.Wf >= R(4)))
+        return 0;
+    cur.i0 = FWD_IX - (int)R_CEIL((cur.Wf + R(1)) * R(FWD_SUB));
+    cur.i1 = FWD_IX + (int)R_CEIL((cur.Wf + R(1)) * R(FWD_SUB));
+    if (cur.i0 < 0 || cur.i1 >= FWD_NX)
+        return 0;
+    /* the limb term's cell means, sq's integral over each cell */
+    kmax = cur.i1 - FWD_IX + FWD_NK / 2 + 1;
+    {
+        cdsp_real prev = R(0);
+        for (k = 0; k < kmax; k++) {
+            cdsp_real c = sq_int(&geo, (cdsp_real)(k + 1) / R(FWD_SUB));
+            ws->fwd_q[k] = (c - prev) * R(FWD_SUB);
+            prev = c;
+        }
+    }
+    for (start = 0; start < 2; start++) {
+        fwd_state t = cur;
+        t.d = d0;
+        if (start == 0) {
+            t.sg = R_SQRT(s2);
+            t.w = R(0);
+        } else {
+            if (!(s2 > R(2) * R(0.64)))
+                continue;
+            t.sg = R(0.8);
+            t.w = R_SQRT(R(12) * (s2 - R(0.64)));
+        }
+        if (t.w / R(2) + R(3) * t.sg > t.Wf - R(3) || !fwd_lm(ws, d0, half, &t))
+            continue;
+        if (!have || t.rss < out->rss) {
+            *out = t;
+            have = 1;
+        }
+    }
+    /* the better fit's residuals in slot 0 */
+    return have && fwd_eval(ws, out, 0);
+}
+
+
+/* Whether the forward model's limb term is significant: F-test of its fit
+ * against the same kernel and silhouette without C (a straight pipe
+ * side: there the area balance is exact whatever the kernel, and the
+ * forward model's kernel only near the true one), F > 10 as model_solve's
+ * test of the limb term. Leaves fwd_r[0] with fs's residuals. */
+static int fwd_limb(cdsp_profile_ws *ws, const fwd_state *fs)
+{
+    fwd_state t = *fs;
+    cdsp_real wsum = R(0), J = fs->c[2];
+    int b, n = 0;
+    for (b = 0; b < NB; b++)
+        if (ws->count[b] && R_FABS(ws->mean_u[b] - fs->d) <= fs->Wf) {
+            n++;
+            wsum += (cdsp_real)ws->count[b];
+        }
+    if (n < 12 || !fwd_eval_n(ws, &t, 1, 4))
+        return 0;
+    return t.rss - fs->rss > R(10) * fs->rss / (cdsp_real)(n - 8) &&
+           t.rss - fs->rss > R(FWD_LIMB_RMS) * R(FWD_LIMB_RMS) * J * J * wsum;
+}
+
+/* fit_chi2 of the forward model: its residuals over the whole window
+ * (the blur zone included, where a kernel of the wrong shape shows), by
+ * 1 px groups of x, against the bins' noise with the pixel's rounding and
+ * the 0.2 % floor of model_solve's test */
+static cdsp_real fwd_chi2(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real var_pix)
+{
+    cdsp_real chi = R(0), gr = R(0), gc = R(0), J = fs->c[2];
+    int b, g = -1, ng = 0;
+    for (b = 0; b <= NB; b++) {
+        cdsp_real x = b < NB ? ws->mean_u[b] - fs->d : R(0);
+        int in = b < NB && ws->count[b] && R_FABS(x) <= fs->Wf, gb = in ? (int)R_FLOOR(x) : -1000;
+        if (g != -1000 && gc > R(0) && (b == NB || (in && gb != g))) {
+            cdsp_real r = gr / gc;
+            chi += r * r / ((var_pix + R(1) / R(12)) / gc + R(4e-6) * J * J);
+            ng++;
+            gr = gc = R(0);
+        }
+        if (in) {
+            cdsp_real w = (cdsp_real)ws->count[b];
+            gr += R_SQRT(w) * ws->fwd_r[0][b]; /* w e: fwd_r holds sqrt(w) e */
+            gc += w;
+            g = gb;
+        }
+    }
+    return ng > 8 ? chi / (cdsp_real)(ng - 8) : R(PROFILE_CHI2_UNCHECKED);
+}
+
 /* The model on the bins: silhouette d (px from the line toward the pipe),
  * blur, contrast, noise of d. */
 static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px,
@@ -600,6 +996,7 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
     sides m;
     int b, it, ok = 0, clamped = 0, search, grid_seen = 0, grid_improved = 0, improved;
     cdsp_real grid_d = R(0), grid_sig = R(0);
+    fwd_state fs;
     m.Rc = radius_px;
     m.St = R(0);
     cdsp_real z = R(0), W = R(0), J = R(0);
@@ -875,6 +1272,21 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
             if (rss_m > R(0) && rss_l - rss_m > R(10) * rss_m / (cdsp_real)(nbin - 3))
                 out->flat = 0;
         }
+    }
+    if (R_SQRT(s2) > R(FWD_MIN_BLUR) && !(m.St > R(0)) && !clamped && fwd_fit(ws, d, s2, half, radius_px, &fs) &&
+        fwd_limb(ws, &fs)) {
+        /* a blur wider than the detector's window on a lit, shaded limb:
+         * the forward model (fwd_fit) in place of the area balance, whose
+         * pipe side is extrapolated over the blur zone (a straight pipe
+         * side keeps the area balance: exact there whatever the kernel) */
+        out->offset = fs.d;
+        out->blur = R_SQRT(fs.sg * fs.sg + fs.w * fs.w / R(12));
+        out->contrast = fs.c[2];
+        out->half_width = fs.Wf;
+        out->fit_chi2 = fwd_chi2(ws, &fs, var_pix);
+        out->flat = 0;
+        if (R_FABS(fs.c[2]) > R(0))
+            out->sigma_offset = R_SQRT(varM) / R_FABS(fs.c[2]);
     }
     return CDSP_OK;
 }
