@@ -617,7 +617,7 @@ static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const
  * detector's window spans sigma <= 0.97 px at h = 4 (cdsp_profile_applies) */
 #define FWD_MIN_BLUR 1.0
 #ifndef FWD_LIMB_RMS
-#define FWD_LIMB_RMS 1e-3
+#define FWD_LIMB_RMS 3e-4
 #endif
 
 typedef struct {
