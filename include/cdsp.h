@@ -635,7 +635,10 @@ typedef struct {
                                against the pixels' noise, floored at 0.2 %
                                of the step (<~1: the model fits; 1e6: fewer
                                than 4 bins beyond the blur zone, not
-                               checked) */
+                               checked); under a blur wider than the
+                               detector's window on a shaded limb (the
+                               forward model, docs/method.md 2a) the
+                               whole window's, blur zone included */
     int flat;               /* 1: the limb term is not significant
                                (F-test): the pipe side is a straight ramp,
                                which the detector handles exactly */

@@ -42,6 +42,11 @@
  * St and lit beyond: P = A + B (s - St)_+ + C (sq(s) - sq(St))_+, St
  * searched (fit_sides); the window then ends before the kink.
  *
+ * A blur wider than the detector's window (sigma > 1 px) on a lit limb:
+ * the blurred scene itself fitted to every bin (the forward model, fwd_*
+ * below) in place of (1), whose pipe side is extrapolated over the blur
+ * zone.
+ *
  * Limits (measured in make bench's accuracy study): a shadow ending inside
  * the blur zone, a specular stripe or a saturation plateau inside the fit
  * zone break the side model; the window must stay inside the pipe (0.9 of
@@ -616,6 +621,10 @@ static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const
 /* the forward model replaces the area balance above this blur (px): the
  * detector's window spans sigma <= 0.97 px at h = 4 (cdsp_profile_applies) */
 #define FWD_MIN_BLUR 1.0
+/* rounds of fwd_lm from each start before the better one goes on */
+#ifndef FWD_START_ROUNDS
+#define FWD_START_ROUNDS 3
+#endif
 #ifndef FWD_LIMB_RMS
 #define FWD_LIMB_RMS 3e-4
 #endif
@@ -652,7 +661,7 @@ static cdsp_real fwd_cdf(cdsp_real y, cdsp_real sg, cdsp_real w)
 static void fwd_basis(cdsp_profile_ws *ws, fwd_state *fs)
 {
     cdsp_real tot = R(0), prev;
-    int j, i, J = (int)R_CEIL((fs->w / R(2) + R(5) * fs->sg) * R(FWD_SUB));
+    int j, i, J = (int)R_CEIL((fs->w / R(2) + R(4) * fs->sg) * R(FWD_SUB));
     if (J > FWD_NK / 2)
         J = FWD_NK / 2;
     if (J < 1)
@@ -669,20 +678,28 @@ static void fwd_basis(cdsp_profile_ws *ws, fwd_state *fs)
         ws->fwd_k[j] /= tot;
     /* p_f(x_i) = sum over the pipe's cells k (s in [k, k + 1] / SUB) of
      * f_k times K's mass over x_i - that cell: cell i - k - 1 of K */
-    for (i = fs->i0; i <= fs->i1; i++) {
-        int rel = i - FWD_IX, k0 = rel - J, k1 = rel + J - 1, k;
-        cdsp_real a0 = R(0), a1 = R(0), a2 = R(0);
-        if (k0 < 0)
-            k0 = 0;
-        for (k = k0; k <= k1; k++) {
-            cdsp_real mk = ws->fwd_k[rel - k - 1 + J];
-            a0 += mk;
-            a1 += mk * ((cdsp_real)k + R(0.5));
-            a2 += mk * ws->fwd_q[k];
+    /* p0 and p1 by running sums over K's cells j <= rel - 1 (cell j is
+     * [j, j + 1] / SUB): p0 = sum M_j, p1 = sum (rel - j - 1/2) M_j / SUB;
+     * p2 by the convolution with the cell means of sq */
+    {
+        cdsp_real S0 = R(0), S1 = R(0);
+        int jc = -J - 1;
+        for (i = fs->i0; i <= fs->i1; i++) {
+            int rel = i - FWD_IX, k0 = rel - J, k1 = rel + J - 1, k, jm = rel - 1 < J - 1 ? rel - 1 : J - 1;
+            cdsp_real a2 = R(0);
+            while (jc < jm) {
+                jc++;
+                S0 += ws->fwd_k[jc + J];
+                S1 += (cdsp_real)jc * ws->fwd_k[jc + J];
+            }
+            if (k0 < 0)
+                k0 = 0;
+            for (k = k0; k <= k1; k++)
+                a2 += ws->fwd_k[rel - k - 1 + J] * ws->fwd_q[k];
+            ws->fwd_p[0][i] = S0;
+            ws->fwd_p[1][i] = (((cdsp_real)rel - R(0.5)) * S0 - S1) / R(FWD_SUB);
+            ws->fwd_p[2][i] = a2;
         }
-        ws->fwd_p[0][i] = a0;
-        ws->fwd_p[1][i] = a1 / R(FWD_SUB);
-        ws->fwd_p[2][i] = a2;
     }
 }
 
@@ -796,17 +813,20 @@ static int fwd_eval(cdsp_profile_ws *ws, fwd_state *fs, int slot)
     return fwd_eval_n(ws, fs, slot, 5);
 }
 
-/* Levenberg-Marquardt on (d, sg, w) from cur (its Wf, grid and the limb
- * term's cell means set; slot 0 and cur.rss are the result's) */
-static int fwd_lm(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, fwd_state *io)
+/* Levenberg-Marquardt on (d, sg, w^2 / 12) from cur (its Wf, grid and
+ * the limb term's cell means set; slot 0 and cur.rss are the result's) */
+static int fwd_lm(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, int maxit, fwd_state *io)
 {
-    static const cdsp_real step[3] = {R(0.01), R(0.01), R(0.02)};
+    /* the steps of d, sg and the box's variance w^2 / 12 (px, px, px^2:
+     * the variance, not w, whose derivative vanishes at w = 0) */
+    static const cdsp_real step[3] = {R(0.01), R(0.01), R(0.01)};
     fwd_state cur = *io, trial;
+    cdsp_real vb;
     cdsp_real lambda = R(1e-3);
     int k, it;
     if (!fwd_eval(ws, &cur, 0))
         return 0;
-    for (it = 0; it < 20; it++) {
+    for (it = 0; it < maxit; it++) {
         cdsp_real JJ[3][3], Jr[3], del[3] = {R(0), R(0), R(0)};
         int i, j, b, tries, acc = 0;
         /* the Jacobian by forward differences: slot 1 + k holds the
@@ -818,7 +838,7 @@ static int fwd_lm(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, fwd_state *
             else if (k == 1)
                 trial.sg += step[1];
             else
-                trial.w += step[2];
+                trial.w = R_SQRT(cur.w * cur.w + R(12) * step[2]);
             if (!fwd_eval(ws, &trial, 1 + k))
                 return 0;
         }
@@ -852,11 +872,10 @@ static int fwd_lm(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, fwd_state *
             trial = cur;
             trial.d += del[0];
             trial.sg += del[1];
-            trial.w += del[2];
             if (trial.sg < R(0.25))
                 trial.sg = R(0.25);
-            if (trial.w < R(0))
-                trial.w = R(0);
+            vb = cur.w * cur.w / R(12) + del[2];
+            trial.w = vb > R(0) ? R_SQRT(R(12) * vb) : R(0);
             /* the window must hold the blurred edge and 3 px of each
              * side beyond it: a kernel wider than that makes the step's
              * columns collinear with the sides' (a 15 px motion blur at
@@ -925,13 +944,16 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
             t.sg = R(0.8);
             t.w = R_SQRT(R(12) * (s2 - R(0.64)));
         }
-        if (t.w / R(2) + R(3) * t.sg > t.Wf - R(3) || !fwd_lm(ws, d0, half, &t))
+        /* a few rounds from each start, then on from the better */
+        if (t.w / R(2) + R(3) * t.sg > t.Wf - R(3) || !fwd_lm(ws, d0, half, FWD_START_ROUNDS, &t))
             continue;
         if (!have || t.rss < out->rss) {
             *out = t;
             have = 1;
         }
     }
+    if (have && !fwd_lm(ws, d0, half, 20, out))
+        return 0;
     /* the better fit's residuals in slot 0 */
     return have && fwd_eval(ws, out, 0);
 }
@@ -942,11 +964,14 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
  * side: there the area balance is exact whatever the kernel, and the
  * forward model's kernel only near the true one), F > 10 as model_solve's
  * test of the limb term, and the term explains a mean square of more
- * than (FWD_LIMB_RMS J)^2 and than a sixteenth of a pixel's noise and
- * rounding (on noise-free 8-bit frames the rounding repeats along the
- * contour and is no noise: a flat side at 10 gray levels, optical blur
- * 1.5, gave F 10-13 for 4e-4 gray levels^2, a shaded one 0.06-0.2;
- * make bench-accuracy). Leaves fwd_r[0] with fs's residuals. */
+ * than (FWD_LIMB_RMS J)^2 (noise-free 16-bit flat sides under 15 px of
+ * motion pass the F-test on the kernel's shape alone; a dark pipe's limb
+ * there explained (0.06 % J)^2 and its area balance was 0.012 px off) and
+ * than a sixteenth of a pixel's noise and rounding (on noise-free 8-bit
+ * frames the rounding repeats along the contour and is no noise: a flat
+ * side at 10 gray levels, optical blur 1.5, gave F 10-13 for 4e-4 gray
+ * levels^2, a shaded one 0.06-0.2; make bench-accuracy). Leaves fwd_r[0]
+ * with fs's residuals. */
 static int fwd_limb(cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real var_pix)
 {
     fwd_state t = *fs;
@@ -994,7 +1019,7 @@ static cdsp_real fwd_chi2(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_r
 
 /* The model on the bins: silhouette d (px from the line toward the pipe),
  * blur, contrast, noise of d. */
-static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px,
+static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px, int forward,
                                cdsp_profile *out)
 {
     cdsp_real *ub = ws->mean_u, *mb = ws->mean_v;
@@ -1280,7 +1305,8 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
                 out->flat = 0;
         }
     }
-    if (R_SQRT(s2) > R(FWD_MIN_BLUR) && !(m.St > R(0)) && !clamped && fwd_fit(ws, d, s2, half, radius_px, &fs) &&
+    if (forward && R_SQRT(s2) > R(FWD_MIN_BLUR) && !(m.St > R(0)) && !clamped &&
+        fwd_fit(ws, d, s2, half, radius_px, &fs) &&
         fwd_limb(ws, &fs, var_pix)) {
         /* a blur wider than the detector's window on a lit, shaded limb:
          * the forward model (fwd_fit) in place of the area balance, whose
@@ -1480,7 +1506,7 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3], con
     }
     if (used < 16)
         return CDSP_E_FEW_POINTS;
-    st = model_solve(ws, half, R_FABS(side), out);
+    st = model_solve(ws, half, R_FABS(side), 1, out);
     out->rows = (uint32_t)used;
     out->saturated = saturated(ws, img);
     return st;
@@ -1582,7 +1608,12 @@ cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, 
     }
     if (used < 16)
         return CDSP_E_FEW_POINTS;
-    st = model_solve(ws, half * scale_sum / (cdsp_real)used, R_FABS(side) * scale_sum / (cdsp_real)used, prof);
+    /* the forward model (a blur wider than the detector's window) only
+     * where the line may move: its 10-20 fits cost ~6-10 M instructions
+     * a contour (15 px of motion, optical 3 px; the area balance 0.5 M),
+     * and with the model off the bound keeps the area balance's offset */
+    st = model_solve(ws, half * scale_sum / (cdsp_real)used, R_FABS(side) * scale_sum / (cdsp_real)used, pp->enable,
+                     prof);
     if (st != CDSP_OK) {
         prof->rows = 0;
         return st;
