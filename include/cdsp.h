@@ -571,6 +571,7 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3],
 #define CDSP_PROFILE_FWD_SUB 8
 #define CDSP_PROFILE_FWD_NX (2 * (CDSP_PROFILE_RANGE_PX + 1) * CDSP_PROFILE_FWD_SUB + 1)
 #define CDSP_PROFILE_FWD_NK (2 * CDSP_PROFILE_RANGE_PX * CDSP_PROFILE_FWD_SUB)
+#define CDSP_PROFILE_FWD_NQ ((CDSP_PROFILE_RANGE_PX + 1) * CDSP_PROFILE_FWD_SUB + CDSP_PROFILE_FWD_NK / 2 + 1)
 
 /* Bins of one contour's profile (caller-owned scratch; contents undefined
  * between calls). Sums are exact integers for 8..16-bit pixels up to
@@ -585,7 +586,7 @@ typedef struct {
     cdsp_real fwd_p[3][CDSP_PROFILE_FWD_NX];       /* forward model: the blurred
                                                      basis on the grid */
     cdsp_real fwd_k[CDSP_PROFILE_FWD_NK];          /* the kernel's cell masses */
-    cdsp_real fwd_q[CDSP_PROFILE_FWD_NX + CDSP_PROFILE_FWD_NK]; /* the limb term's
+    cdsp_real fwd_q[CDSP_PROFILE_FWD_NQ];          /* the limb term's
                                                      cell means */
     cdsp_real fwd_r[4][CDSP_PROFILE_NBINS];        /* residuals: at the estimate
                                                      and its 3 steps */

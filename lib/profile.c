@@ -926,6 +926,8 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
         return 0;
     /* the limb term's cell means, sq's integral over each cell */
     kmax = cur.i1 - FWD_IX + FWD_NK / 2 + 1;
+    if (kmax > CDSP_PROFILE_FWD_NQ)
+        return 0;
     {
         cdsp_real prev = R(0);
         for (k = 0; k < kmax; k++) {
