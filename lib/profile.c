@@ -623,6 +623,8 @@ static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const
 #define FWD_MIN_BLUR 1.0
 /* the area balance's fit zone that can tell a straight pipe side, px */
 #define FWD_AREA_ZONE 6
+/* a forward fit worse than this replaces only a worse area balance */
+#define FWD_MISFIT_CHI2 5
 /* rounds of fwd_lm from each start before the better one goes on */
 #ifndef FWD_START_ROUNDS
 #define FWD_START_ROUNDS 3
@@ -1321,9 +1323,14 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
          * 0.29 and the area balance's line, 0.003 px off, was lost), when
          * its fit zone is wide enough to tell a limb (FWD_AREA_ZONE px;
          * under 15 px of motion 3 px are left, and shaded limbs there
-         * passed for straight with the line 0.013-0.06 px off) */
+         * passed for straight with the line 0.013-0.06 px off). Nor does
+         * a forward fit that misfits (fit_chi2 > FWD_MISFIT_CHI2, 20 x
+         * max_fit_chi2's default) replace an area balance that misfits
+         * less (limbs in shadow whose terminator the detector took, 7-9 px
+         * off: the bound's |offset| and blur are the better fit's) */
         cdsp_real chi_f = fwd_chi2(ws, &fs, var_pix);
-        if (!(out->flat && out->fit_chi2 <= chi_f && W - z >= R(FWD_AREA_ZONE))) {
+        if (!(out->flat && out->fit_chi2 <= chi_f && W - z >= R(FWD_AREA_ZONE)) &&
+            (chi_f <= R(FWD_MISFIT_CHI2) || chi_f <= out->fit_chi2)) {
             out->offset = fs.d;
             out->blur = R_SQRT(fs.sg * fs.sg + fs.w * fs.w / R(12));
             out->contrast = fs.c[2];
