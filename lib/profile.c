@@ -973,12 +973,15 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
  * than (FWD_LIMB_RMS J)^2 (noise-free 16-bit flat sides under 15 px of
  * motion pass the F-test on the kernel's shape alone; a dark pipe's limb
  * there explained (0.06 % J)^2 and its area balance was 0.012 px off) and
- * than a sixteenth of a pixel's noise and rounding (on noise-free 8-bit
- * frames the rounding repeats along the contour and is no noise: a flat
- * side at 10 gray levels, optical blur 1.5, gave F 10-13 for 4e-4 gray
- * levels^2, a shaded one 0.06-0.2; make bench-accuracy). Leaves fwd_r[0]
- * with fs's residuals. */
-static int fwd_limb(cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real var_pix)
+ * than a sixteenth of a pixel's rounding, 1/12 / 16 gray levels^2 (on
+ * noise-free 8-bit frames the rounding repeats along the contour and is
+ * no noise: a flat side at 10 gray levels, optical blur 1.5, gave F 10-13
+ * for 4e-4 gray levels^2, shaded ones 0.06-0.2, make bench-accuracy; the
+ * pixels' noise is the F-test's: averaged over the rows, a sixteenth of
+ * it had rejected the paper's shaded limbs at blur 2.5 px, 0.034 gray
+ * levels^2 against a noise of 3.6).
+ * Leaves fwd_r[0] with fs's residuals. */
+static int fwd_limb(cdsp_profile_ws *ws, const fwd_state *fs)
 {
     fwd_state t = *fs;
     cdsp_real wsum = R(0), J = fs->c[2], floor2;
@@ -991,8 +994,8 @@ static int fwd_limb(cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real var_pix)
     if (n < 12 || !fwd_eval_n(ws, &t, 1, 4))
         return 0;
     floor2 = R(FWD_LIMB_RMS) * R(FWD_LIMB_RMS) * J * J;
-    if (floor2 < (var_pix + R(1) / R(12)) / R(16))
-        floor2 = (var_pix + R(1) / R(12)) / R(16);
+    if (floor2 < R(1) / R(12) / R(16))
+        floor2 = R(1) / R(12) / R(16);
     return t.rss - fs->rss > R(10) * fs->rss / (cdsp_real)(n - 8) && t.rss - fs->rss > floor2 * wsum;
 }
 
@@ -1312,7 +1315,7 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
         }
     }
     if (forward && R_SQRT(s2) > R(FWD_MIN_BLUR) && !(m.St > R(0)) && !clamped &&
-        fwd_fit(ws, d, s2, half, radius_px, &fs) && fwd_limb(ws, &fs, var_pix)) {
+        fwd_fit(ws, d, s2, half, radius_px, &fs) && fwd_limb(ws, &fs)) {
         /* a blur wider than the detector's window on a lit, shaded limb:
          * the forward model (fwd_fit) in place of the area balance, whose
          * pipe side is extrapolated over the blur zone. A straight pipe
