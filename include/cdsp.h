@@ -665,7 +665,11 @@ typedef struct {
  * window leaves the frame are skipped. CDSP_E_FEW_POINTS when fewer than
  * 16 scanlines fit, CDSP_E_NOCONVERGE when the model does not fit (no edge,
  * or the silhouette more than half the window away), CDSP_E_ARG for bad
- * arguments.
+ * arguments. Under a blur wider than the detector's window on a shaded
+ * limb (measured sigma > 1 px) it fits the blurred scene to the whole
+ * window (the forward model, docs/method.md 2a) whatever pp->enable; the
+ * frame path does so only with the model enabled (6-10 M instructions a
+ * contour).
  */
 cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3],
                              const cdsp_real p_in[2], const cdsp_real ends[2][2],
