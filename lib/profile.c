@@ -1036,7 +1036,7 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
     cdsp_real d = R(0), s2 = (half / R(6)) * (half / R(6)), var_pix = R(0), dof = R(0), varM = R(0);
     sides m;
     int b, it, ok = 0, clamped = 0, search, grid_seen = 0, grid_improved = 0, improved;
-    cdsp_real grid_d = R(0), grid_sig = R(0);
+    cdsp_real grid_d = R(0), grid_sig = R(0), s2_first, s2f;
     fwd_state fs;
     m.Rc = radius_px;
     m.St = R(0);
@@ -1104,6 +1104,7 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
                 s2 = v;
         }
     }
+    s2_first = s2;
     for (it = 0; it < 8; it++) {
         cdsp_real a, bb, bm, M, dn = d, d_prev = d, mom;
         int k;
@@ -1314,8 +1315,16 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
                 out->flat = 0;
         }
     }
-    if (forward && R_SQRT(s2) > R(FWD_MIN_BLUR) && !(m.St > R(0)) && !clamped &&
-        fwd_fit(ws, d, s2, half, radius_px, &fs) && fwd_limb(ws, &fs)) {
+    /* the first moment's blur at its floor (1/12, the pixel's footprint)
+     * under a wide edge: on a faint limb under strong shading (10 gray
+     * levels, ambient 0.3) the moment went negative; the profile's slope
+     * (s2_first) still says how wide the edge is */
+    if (s2 <= R(1) / R(12) && s2_first > s2)
+        s2f = s2_first;
+    else
+        s2f = s2;
+    if (forward && R_SQRT(s2f) > R(FWD_MIN_BLUR) && !(m.St > R(0)) && !clamped &&
+        fwd_fit(ws, d, s2f, half, radius_px, &fs) && fwd_limb(ws, &fs)) {
         /* a blur wider than the detector's window on a lit, shaded limb:
          * the forward model (fwd_fit) in place of the area balance, whose
          * pipe side is extrapolated over the blur zone. A straight pipe
