@@ -569,6 +569,14 @@ cdsp_status cdsp_axis_solve(const cdsp_camera *cam, const cdsp_real l1[3],
 #endif
 #define CDSP_PROFILE_BINS_PER_PX 4
 #define CDSP_PROFILE_NBINS (2 * CDSP_PROFILE_RANGE_PX * CDSP_PROFILE_BINS_PER_PX)
+/* The forward model of a blur wider than the detector's window
+ * (lib/profile.c, fwd_*): the blurred basis on a grid of 1/8 px over the
+ * window, the kernel's cells, the pipe side's cell means and the fit's
+ * residual vectors (its scratch, in the workspace: not on an MCU's stack) */
+#define CDSP_PROFILE_FWD_SUB 8
+#define CDSP_PROFILE_FWD_NX (2 * (CDSP_PROFILE_RANGE_PX + 1) * CDSP_PROFILE_FWD_SUB + 1)
+#define CDSP_PROFILE_FWD_NK (2 * CDSP_PROFILE_RANGE_PX * CDSP_PROFILE_FWD_SUB)
+#define CDSP_PROFILE_FWD_NQ ((CDSP_PROFILE_RANGE_PX + 1) * CDSP_PROFILE_FWD_SUB + CDSP_PROFILE_FWD_NK / 2 + 1)
 
 /* Bins of one contour's profile (caller-owned scratch; contents undefined
  * between calls). Sums are exact integers for 8..16-bit pixels up to
@@ -580,6 +588,13 @@ typedef struct {
     cdsp_real sum_u[CDSP_PROFILE_NBINS];
     cdsp_real mean_u[CDSP_PROFILE_NBINS], mean_v[CDSP_PROFILE_NBINS]; /* the fit's
                                bins (here, not on an MCU's small stack) */
+    cdsp_real fwd_p[3][CDSP_PROFILE_FWD_NX];       /* forward model: the blurred
+                                                     basis on the grid */
+    cdsp_real fwd_k[CDSP_PROFILE_FWD_NK];          /* the kernel's cell masses */
+    cdsp_real fwd_q[CDSP_PROFILE_FWD_NQ];          /* the limb term's
+                                                     cell means */
+    cdsp_real fwd_r[4][CDSP_PROFILE_NBINS];        /* residuals: at the estimate
+                                                     and its 3 steps */
 } cdsp_profile_ws;
 
 typedef struct {
@@ -626,7 +641,10 @@ typedef struct {
                                against the pixels' noise, floored at 0.2 %
                                of the step (<~1: the model fits; 1e6: fewer
                                than 4 bins beyond the blur zone, not
-                               checked) */
+                               checked); under a blur wider than the
+                               detector's window on a shaded limb (the
+                               forward model, docs/method.md 2a) the
+                               whole window's, blur zone included */
     int flat;               /* 1: the limb term is not significant
                                (F-test): the pipe side is a straight ramp,
                                which the detector handles exactly */
@@ -652,7 +670,11 @@ typedef struct {
  * window leaves the frame are skipped. CDSP_E_FEW_POINTS when fewer than
  * 16 scanlines fit, CDSP_E_NOCONVERGE when the model does not fit (no edge,
  * or the silhouette more than half the window away), CDSP_E_ARG for bad
- * arguments.
+ * arguments. Under a blur wider than the detector's window on a shaded
+ * limb (measured sigma > 1 px) it fits the blurred scene to the whole
+ * window (the forward model, docs/method.md 2a) whatever pp->enable; the
+ * frame path does so only with the model enabled (6-10 M instructions a
+ * contour).
  */
 cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3],
                              const cdsp_real p_in[2], const cdsp_real ends[2][2],

@@ -13,7 +13,9 @@
  *    (px, + = into the pipe), and that of the line after the edge-profile
  *    model when the library has it. Every cell goes to a CSV file
  *    (argv[1], default build/bench/accuracy_cells.csv, with the profile's
- *    fit and the systematic bound); the worst cells and the worst per
+ *    fit and the systematic bound); the worst cells, per group (a blur
+ *    wider than the window, a limb in shadow, motion along, optical 0.5)
+ *    the cells within 0.01 and over 0.05 px, and the worst per
  *    factor are printed, and the bound's coverage (issue 12: the cells
  *    where |bias| <= cdsp_profile_bound, for the detector's line and the
  *    moved one) with the median bound / |bias|.
@@ -164,6 +166,10 @@ static void grid(const char *csv_path)
     static double rat[2][2000];
     char wd[160] = "", wl[160] = "", wm[160] = "";
     double fw_det[5][8], fw_model[5][8]; /* worst |bias| per factor level */
+    int grp[4][3] = {{0}};               /* per group: cells, within 0.01, over 0.05 px (model) */
+    double grp_worst[4] = {0, 0, 0, 0};
+    static const char *grp_name[4] = {"blur wider than the window", "shadowed limb", "motion along",
+                                      "optical 0.5, lit"};
     memset(fw_det, 0, sizeof fw_det);
     memset(fw_model, 0, sizeof fw_model);
     if (csv)
@@ -221,6 +227,18 @@ static void grid(const char *csv_path)
                             within[1] += fabs(r.model) <= 0.01;
                             within2[0] += fabs(r.line) <= 0.05;
                             within2[1] += fabs(r.model) <= 0.05;
+                            {
+                                /* the study's groups (issue 12's triage): a
+                                 * limb in shadow; a blur wider than the
+                                 * detector's window (optical 1.5 and 3, motion
+                                 * across); motion along; optical 0.5 */
+                                int g = s == NS - 1 ? 1 : (b >= 1 && b <= 4) ? 0 : b == 5 ? 2 : 3;
+                                grp[g][0]++;
+                                grp[g][1] += fabs(r.model) <= 0.01;
+                                grp[g][2] += fabs(r.model) > 0.05;
+                                if (fabs(r.model) > grp_worst[g])
+                                    grp_worst[g] = fabs(r.model);
+                            }
                             if (fabs(r.det) > worst_det) {
                                 worst_det = fabs(r.det);
                                 snprintf(wd, sizeof wd, "%s", name);
@@ -263,6 +281,14 @@ static void grid(const char *csv_path)
                    m ? "line moved by the model" : "detector's line", cov_in[m], cov_n[m],
                    cov_n[m] ? 100.0 * cov_in[m] / cov_n[m] : 0.0,
                    cov_n[m] && cov_in[m] >= 0.95 * cov_n[m] ? "met" : "MISSED", median(rat[m], nrat[m]), nrat[m]);
+    }
+    {
+        int g;
+        printf("  per group (line after the model):");
+        for (g = 0; g < 4; g++)
+            printf(" %s: %d cells, %d within 0.01 px, %d over 0.05 px, worst %.3f px;", grp_name[g], grp[g][0],
+                   grp[g][1], grp[g][2], grp_worst[g]);
+        printf("\n");
     }
     printf("\n  worst |line offset| per factor level (px): detector+line / + model\n");
     {

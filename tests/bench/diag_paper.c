@@ -7,7 +7,10 @@
  * 2048), the model's moved line and cdsp_profile_bound. argv[1]: how many
  * of the light rows (flat, default 0.85, 0.4, second 0.85, 0.4; default
  * 2); argv[2]: a path prefix to write each contour's 2048-row bins to
- * (u, mean, count). Figures, not pass/fail. */
+ * (u, mean, count; "-" for none); argv[3], argv[4]: an optical blur
+ * (sigma, px) and a motion blur (px along the frame's x) in place of the
+ * scene's, for the forward model under a blur wider than the detector's
+ * window (issue 12). Figures, not pass/fail. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,7 +36,8 @@ int main(int argc, char **argv)
     /* short names of sup_paper_lights' rows */
     static const char *names[SUP_PAPER_NLIGHTS] = {"flat", "dir 0.85", "dir 0.4", "2nd 0.85", "2nd 0.4"};
     int nrows = argc > 1 ? atoi(argv[1]) : 2, ri, i, k;
-    const char *dump = argc > 2 ? argv[2] : NULL;
+    const char *dump = argc > 2 && strcmp(argv[2], "-") != 0 ? argv[2] : NULL;
+    double blur = argc > 3 ? atof(argv[3]) : -1, motion = argc > 4 ? atof(argv[4]) : 0;
     cdsp_camera cam;
     cdsp_rng rng;
     sup_paper_camera(&cam, 0, 0);
@@ -50,6 +54,9 @@ int main(int argc, char **argv)
             void *px;
             int en;
             sup_paper_light_scene(&s, i, ri, P, v);
+            if (blur >= 0)
+                s.blur_sigma_px = (cdsp_real)blur;
+            s.motion_px[0] = (cdsp_real)motion;
             px = sup_render(&s, &cam, 8, (uint64_t)(50 + i), &img);
             sup_contour_lines(&cam, P, v, 8, tl, pin);
             for (en = 1; en >= 0; en--) {
