@@ -694,6 +694,22 @@ typedef struct {
                                  0 = the fixed fraction alone. Default 10 */
     cdsp_real min_confidence; /* a pose with a lower confidence is reported as
                                  CDSP_E_NO_PIPE. Default 0 (every pose) */
+    int refine_step;          /* frame path: 0 (default) off; k >= 1 (up to
+                                 CDSP_EDGE_MAX_STEP): once a pose's two
+                                 contours are chosen, only the scanlines'
+                                 segments of +-(inlier_px + 2) px around
+                                 them are read again, every k-th scanline
+                                 along each, and each line is refitted to its
+                                 inliers there (the edge-profile model's move
+                                 kept): the search, its edge budget
+                                 (CDSP_MAX_EDGES) and the confidences are
+                                 untouched, the pose's lines have edge.step / k
+                                 times the points (docs/method.md §3a: the
+                                 line's random error falls by up to
+                                 sqrt(edge.step / k)). Costs about as much
+                                 again as reading those scanlines' segments:
+                                 on the paper's rack (2 pipes, 2448 x 2048)
+                                 k = 1 adds the figure given there. */
 } cdsp_params;
 
 void cdsp_params_default(cdsp_params *p);

@@ -136,6 +136,19 @@ uint32_t cdsp__rng_below_t(cdsp_rng *rng, uint32_t n, uint32_t threshold);
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
                              cdsp_line *lines, int *nlines, int *capped);
+/* lines.c: moments of a point set about a nearby origin (ox, oy): count,
+ * sums of the offsets, their squares and products, and of the gradients;
+ * cdsp__moments_fit gives their total-least-squares line (l, centroid and
+ * dir only; CDSP_E_FEW_POINTS below 2 points, CDSP_E_DEGENERATE when they
+ * spread alike in every direction), as the line finder's fits. */
+typedef struct {
+    cdsp_real ox, oy;
+    cdsp_real n, sx, sy, sxx, syy, sxy;
+    cdsp_real sgx, sgy;
+} cdsp__moments;
+void cdsp__moments_init(cdsp__moments *m, cdsp_real ox, cdsp_real oy);
+void cdsp__moments_add(cdsp__moments *m, const cdsp_edge *e);
+cdsp_status cdsp__moments_fit(const cdsp__moments *m, cdsp_line *out);
 /* The points path's pose (lib/pair.c): score_pairs, cdsp__pair_rank and
  * cdsp__pair_pose without the frame. min_step: the edge step threshold the
  * points were detected with (gray levels; 0 when unknown, e.g. the points
@@ -241,6 +254,18 @@ int cdsp__frame_scatter_mark(const cdsp_frame_ws *ws, cdsp_result *out, cdsp_rea
 void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts, size_t n,
                         const uint8_t *label, cdsp_pair_set *set, const cdsp_pair_eval *c,
                         const cdsp_params *p, cdsp_profile_ws *pws, cdsp__pair_refined *ref);
+/* rescan.c (cdsp_params.refine_step): line ln refitted to its inliers
+ * among the edges of the scanlines its extent crosses, read again at step
+ * p->refine_step around it with the frame's threshold min_step (gray
+ * levels); ln unchanged unless CDSP_OK (nothing done: refine_step 0).
+ * cdsp__rescan_pair: both lines of pair c of set, each with the move
+ * ref->offset of the edge-profile model (ref NULL: none) undone for the
+ * refit and done again after it; neither changed unless both refit. */
+cdsp_status cdsp__rescan_line(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_real min_step, cdsp_line *ln);
+cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_real min_step, cdsp_pair_set *set, const cdsp_pair_eval *c,
+                              const cdsp__pair_refined *ref);
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,

@@ -1,0 +1,199 @@
+/*
+ * rescan.c - the chosen contours re-read at a finer scanline step
+ * (cdsp_params.refine_step; docs/method.md §3a).
+ *
+ * The partial-area detector takes a point's position across the edge from
+ * its middle scanline's 2h + 1 pixels only (the neighbouring lines give the
+ * slope), so at the search's step s only one scanline in s carries position
+ * information about a contour. The search needs no more: it only has to
+ * find the contours. Once a pose's two lines are chosen, this pass reads
+ * again only the scanlines' short segments around each line (+-RESCAN_BAND
+ * px of where it crosses them, as the tracked path's bands, lib/frame.c),
+ * at step refine_step, and refits each line to the edges found there that
+ * are its inliers (p->pair.inlier_px and normal_tol_deg, the line finder's
+ * tests, against the search's line; one pass, so no point is read twice).
+ * Nothing goes through the frame's edge buffer: each segment's few edges
+ * are undistorted and added to the line's moments at once (lines.c's
+ * total-least-squares fit), so the frame's edge budget (CDSP_MAX_EDGES) is
+ * neither used nor hit, and the search, the ranking and the confidences
+ * stay exactly what they were: only the pose's lines, and so the pose and
+ * its sigma, change. With n scanlines in place of n / s the line's random
+ * error falls by up to sqrt(s) (less where the points of neighbouring
+ * scanlines share noise, or where the error is not the points' noise).
+ *
+ * When the edge-profile model moved a line (cdsp__frame_refine), the
+ * refitted line is moved by the same amount: the model measures the edge's
+ * shape, which the scanline step does not change.
+ */
+#include "internal.h"
+
+/* the segment read on each scanline: +-(ceil(inlier_px) + RESCAN_MARGIN)
+ * px of where the line crosses it (cdsp__frame_band; its candidates are
+ * floor(crossing) +- (band - 1), so every inlier within inlier_px is
+ * seen, with a pixel to spare) */
+#define RESCAN_MARGIN 2
+/* edges one segment can hold: a segment of a few px around a 1 px inlier
+ * band has one or two; a full buffer is a busy segment, whose edges are
+ * taken as far as they go */
+#define RESCAN_BUF 16
+
+/* The line ln's inliers on the scanlines `line` = first, first + step, ...
+ * <= last, added to *m; *tmin, *tmax: their extent along ln->dir from its
+ * centroid, *sg the sum of their gradient lengths. */
+static void rescan_family(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                          const cdsp_edge_params *edge, const cdsp_line *ln, int horizontal, int first,
+                          int last, cdsp_real cos2, cdsp__moments *m, cdsp_real *tmin, cdsp_real *tmax,
+                          cdsp_real *sg)
+{
+    int x0, y0, x1, y1, t, h = p->edge.half_window, nodist = cdsp__camera_no_distortion(cam);
+    int step = p->refine_step;
+    int ext = horizontal ? img->width : img->height;
+    cdsp_real band = R_CEIL(p->pair.inlier_px) + R(RESCAN_MARGIN), thr = p->pair.inlier_px;
+    cdsp__edges_clip_roi(img, &p->edge.roi, &x0, &y0, &x1, &y1);
+    for (t = first; t <= last; t += step) {
+        cdsp_edge buf[RESCAN_BUF];
+        size_t k, nb;
+        int from, to;
+        if (!cdsp__frame_band(cam, nodist, ln->l, horizontal, t, band, horizontal ? x0 : y0,
+                              horizontal ? x1 : y1, h, ext, &from, &to))
+            continue;
+        nb = cdsp__edges_scan_segment(img, edge, horizontal, t, from, to, buf, RESCAN_BUF);
+        if (nb == 0 || cdsp_camera_undistort_edges(cam, buf, &nb) != CDSP_OK)
+            continue;
+        for (k = 0; k < nb; k++) {
+            const cdsp_edge *e = &buf[k];
+            cdsp_real d = ln->l[0] * e->x + ln->l[1] * e->y + ln->l[2];
+            cdsp_real gn = ln->l[0] * e->gx + ln->l[1] * e->gy, g2 = e->gx * e->gx + e->gy * e->gy, s;
+            if (d > thr || d < -thr || !(gn > R(0)) || gn * gn < cos2 * g2)
+                continue;
+            cdsp__moments_add(m, e);
+            s = ln->dir[0] * (e->x - ln->centroid[0]) + ln->dir[1] * (e->y - ln->centroid[1]);
+            *tmin = s < *tmin ? s : *tmin;
+            *tmax = s > *tmax ? s : *tmax;
+            *sg += R_SQRT(g2);
+        }
+    }
+}
+
+/* The scanlines (rows when horizontal, else columns) line ln's inlier
+ * extent crosses in the distorted frame, within the roi's [lo, hi) and
+ * the scans' reach (lib/frame.c's bands: 1 .. hi - 2): [*first, *last];
+ * 0 when none, or an end cannot be distorted. */
+static int rescan_range(const cdsp_camera *cam, const cdsp_line *ln, int horizontal, int lo, int hi,
+                        int *first, int *last)
+{
+    cdsp_real a = R_MAX, b = -R_MAX;
+    int e;
+    for (e = 0; e < 2; e++) {
+        cdsp_real q[2], dq[2], c;
+        cdsp_real t = e ? ln->t_max : ln->t_min;
+        q[0] = ln->centroid[0] + t * ln->dir[0];
+        q[1] = ln->centroid[1] + t * ln->dir[1];
+        if (cdsp_camera_distort(cam, q, dq) != CDSP_OK)
+            return 0;
+        c = horizontal ? dq[1] : dq[0];
+        a = c < a ? c : a;
+        b = c > b ? c : b;
+    }
+    if (a < (cdsp_real)(lo > 1 ? lo : 1))
+        a = (cdsp_real)(lo > 1 ? lo : 1);
+    if (b > (cdsp_real)(hi - 2))
+        b = (cdsp_real)(hi - 2);
+    if (!(b >= a))
+        return 0;
+    *first = (int)R_CEIL(a);
+    *last = (int)R_FLOOR(b);
+    return *last >= *first;
+}
+
+cdsp_status cdsp__rescan_line(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_real min_step, cdsp_line *ln)
+{
+    cdsp_edge_params edge = p->edge;
+    cdsp__moments m;
+    cdsp_line out;
+    cdsp_real tmin = R_MAX, tmax = -R_MAX, sg = R(0), cos_tol, mx, my, cxx, cyy, cxy, along, across;
+    int horizontal = R_FABS(ln->l[0]) >= R_FABS(ln->l[1]), x0, y0, x1, y1, first, last;
+    cdsp_status st;
+    if (p->refine_step < 1)
+        return CDSP_OK;
+    cdsp__edges_clip_roi(img, &p->edge.roi, &x0, &y0, &x1, &y1);
+    if (!rescan_range(cam, ln, horizontal, horizontal ? y0 : x0, horizontal ? y1 : x1,
+                      &first, &last))
+        return CDSP_E_FEW_POINTS;
+    /* the frame's threshold, as the search applied it (lib/frame.c) */
+    edge.min_contrast = min_step / (cdsp_real)((1 << img->bits) - 1);
+    if (!(edge.min_contrast < R(1)))
+        edge.min_contrast = R(0.999);
+    cos_tol = R_COS(p->pair.normal_tol_deg * R(0.017453292519943295));
+    cdsp__moments_init(&m, ln->centroid[0], ln->centroid[1]);
+    rescan_family(img, cam, p, &edge, ln, horizontal, first, last, cos_tol * cos_tol, &m, &tmin, &tmax, &sg);
+    if (m.n < (cdsp_real)p->pair.min_inliers)
+        return CDSP_E_FEW_POINTS;
+    st = cdsp__moments_fit(&m, &out);
+    if (st != CDSP_OK)
+        return st;
+    if (out.l[0] * ln->l[0] + out.l[1] * ln->l[1] < R(0))
+        return CDSP_E_DEGENERATE; /* the inliers' gradients point the other way: not this line */
+    /* the centred scatter's quadratic forms: the residual across the new
+     * line and the spread along it (lines.c's line_stats, from the sums) */
+    mx = m.sx / m.n;
+    my = m.sy / m.n;
+    cxx = m.sxx / m.n - mx * mx;
+    cyy = m.syy / m.n - my * my;
+    cxy = m.sxy / m.n - mx * my;
+    across = out.l[0] * out.l[0] * cxx + R(2) * out.l[0] * out.l[1] * cxy + out.l[1] * out.l[1] * cyy;
+    along = out.dir[0] * out.dir[0] * cxx + R(2) * out.dir[0] * out.dir[1] * cxy + out.dir[1] * out.dir[1] * cyy;
+    out.rms = across > R(0) ? R_SQRT(across) : R(0);
+    out.spread = along > R(0) ? along * m.n : R(0);
+    out.count = (uint32_t)m.n;
+    out.strength = sg / m.n;
+    /* the extent, measured along the search's line from its centroid,
+     * taken along the new one from the new centroid (the two differ by
+     * far less than a pixel) */
+    {
+        cdsp_real shift = (ln->centroid[0] - out.centroid[0]) * out.dir[0] +
+                          (ln->centroid[1] - out.centroid[1]) * out.dir[1];
+        cdsp_real sgn = out.dir[0] * ln->dir[0] + out.dir[1] * ln->dir[1] < R(0) ? R(-1) : R(1);
+        cdsp_real a = sgn * tmin + shift, b = sgn * tmax + shift;
+        out.t_min = a < b ? a : b;
+        out.t_max = a < b ? b : a;
+    }
+    *ln = out;
+    return CDSP_OK;
+}
+
+cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_real min_step, cdsp_pair_set *set, const cdsp_pair_eval *c,
+                              const cdsp__pair_refined *ref)
+{
+    cdsp_line L[2];
+    int i;
+    if (p->refine_step < 1)
+        return CDSP_OK;
+    for (i = 0; i < 2; i++) {
+        cdsp_line *ln = &set->lines[i ? c->j : c->i];
+        cdsp_real moved = ref ? ref->offset[i] : R(0), side, s;
+        cdsp_status st;
+        L[i] = *ln;
+        /* the model's move undone first: the inliers are the detector's
+         * points, about the detector's line */
+        side = L[i].l[0] * c->p_in[0] + L[i].l[1] * c->p_in[1] + L[i].l[2];
+        s = side > R(0) ? R(1) : R(-1);
+        L[i].l[2] += moved * s;
+        L[i].centroid[0] -= moved * s * L[i].l[0];
+        L[i].centroid[1] -= moved * s * L[i].l[1];
+        st = cdsp__rescan_line(img, cam, p, min_step, &L[i]);
+        if (st != CDSP_OK)
+            return st; /* neither line changed */
+        /* and done again on the refitted line, toward the pipe */
+        side = L[i].l[0] * c->p_in[0] + L[i].l[1] * c->p_in[1] + L[i].l[2];
+        s = side > R(0) ? R(1) : R(-1);
+        L[i].l[2] -= moved * s;
+        L[i].centroid[0] += moved * s * L[i].l[0];
+        L[i].centroid[1] += moved * s * L[i].l[1];
+    }
+    set->lines[c->i] = L[0];
+    set->lines[c->j] = L[1];
+    return CDSP_OK;
+}
