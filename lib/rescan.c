@@ -2,24 +2,31 @@
  * rescan.c - the chosen contours re-read at a finer scanline step
  * (cdsp_params.refine_step; docs/method.md §3a).
  *
- * The partial-area detector takes a point's position across the edge from
- * its middle scanline's 2h + 1 pixels only (the neighbouring lines give the
- * slope), so at the search's step s only one scanline in s carries position
- * information about a contour. The search needs no more: it only has to
- * find the contours. Once a pose's two lines are chosen, this pass reads
- * again only the scanlines' short segments around each line (+-RESCAN_BAND
- * px of where it crosses them, as the tracked path's bands, lib/frame.c),
- * at step refine_step, and refits each line to the edges found there that
- * are its inliers (p->pair.inlier_px and normal_tol_deg, the line finder's
- * tests, against the search's line; one pass, so no point is read twice).
- * Nothing goes through the frame's edge buffer: each segment's few edges
- * are undistorted and added to the line's moments at once (lines.c's
- * total-least-squares fit), so the frame's edge budget (CDSP_MAX_EDGES) is
- * neither used nor hit, and the search, the ranking and the confidences
- * stay exactly what they were: only the pose's lines, and so the pose and
- * its sigma, change. With n scanlines in place of n / s the line's random
- * error falls by up to sqrt(s) (less where the points of neighbouring
- * scanlines share noise, or where the error is not the points' noise).
+ * The search only has to find the contours; at its step s (default 4) it
+ * reads one scanline in s. The partial-area detector takes a point's
+ * position from the mean over its window's 3 scanlines (lib/edges.c: the
+ * sums S[0..2]), so at s = 4 a contour's points hold 3 of every 4 rows of
+ * pixels along it, and points nearer than 3 scanlines would share pixels,
+ * and noise: the fit, which takes its points as independent, would
+ * overstate what they add (at step 1 its sigma would come out sqrt(3) too
+ * small). Step 3 reads every pixel near the contour exactly once, the
+ * most information the detector's points hold: refine_step is 0 (off) or
+ * at least 3 (lib/pair.c's check). Once a pose's two lines are chosen,
+ * this pass reads again only the scanlines' short segments around each
+ * line (+-(ceil(inlier_px) + RESCAN_MARGIN) px of where it crosses them,
+ * as the tracked path's bands, lib/frame.c), every refine_step-th
+ * scanline over the line's extent, and refits each line to the edges
+ * found there that are its inliers (p->pair.inlier_px and normal_tol_deg,
+ * the line finder's tests, against the search's line; one pass, no point
+ * is read twice). Nothing goes through the frame's edge buffer: each
+ * segment's few edges are undistorted and added to the line's moments at
+ * once (lines.c's total-least-squares fit), so the frame's edge budget
+ * (CDSP_MAX_EDGES) is neither used nor hit, and the search, the ranking
+ * and the confidences stay exactly what they were: only the pose's lines,
+ * and so the pose and its sigma, change. With the points independent the
+ * line's random error falls by sqrt(edge.step / refine_step): by
+ * sqrt(4 / 3) = 1.15 against the default search, by 2 against a search at
+ * step 12 (tests/lib/test_rescan.c).
  *
  * When the edge-profile model moved a line (cdsp__frame_refine), the
  * refitted line is moved by the same amount: the model measures the edge's

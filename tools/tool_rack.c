@@ -76,7 +76,7 @@ static int rack_match(const cdsp_result *out, size_t n, const double c[3], const
     return -1;
 }
 
-int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
+int tool_bench_rack(const char *out_dir, int frames, int refine_step, uint64_t seed, int quiet)
 {
     static cdsp_frame_all_ws ws;
     cdsp_camera cam;
@@ -97,7 +97,7 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
     long npipe[2] = {0, 0};
     int arr, g, f, prof, i;
     char path[4200];
-    FILE *csv;
+    FILE *csv, *pcsv;
     if (!scratch || !px) {
         free(scratch);
         free(px);
@@ -120,12 +120,30 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
     }
     fprintf(csv, "arrangement,group,frame,profile,found,pipes,spacing_mean,spacing_rms_along,"
                  "spacing_rmse\n");
+    snprintf(path, sizeof path, "%s/bench_rack_pipes.csv", out_dir);
+    pcsv = fopen(path, "w");
+    if (!pcsv) {
+        fclose(csv);
+        free(scratch);
+        free(px);
+        return tool_usage_error("bench", "%s: cannot create", path);
+    }
+    /* per pipe found: its errors in the frame of the line of sight u (to
+     * the true foot point), the axis v and w = u x v (across the axis in
+     * the image): the distance error (mm, along u), the lateral one (mm,
+     * along w), the direction's turn toward u and toward w (mrad), and
+     * its contours' inliers and residual RMS */
+    fprintf(pcsv, "arrangement,group,frame,profile,pipe,distance_mm,err_u_mm,err_w_mm,dir_u_mrad,"
+                  "dir_w_mrad,sigma_distance_mm,sigma_dir_mrad,inliers0,inliers1,rms0,rms1\n");
     if (!quiet)
         printf("\nThe paper's real experiment, rendered (--rack): %dx%d, fx = fy = %.2f px "
                "(3.45 um, 16 mm lens),\ntwo 16 mm pipes 300 mm long, axes %.0f mm apart, on "
                "two 12.68 mm columns; light 40 %% ambient,\nblur 0.8 px, noise 2 gray levels; "
-               "%d frames per group; spacing RMSE (Eq. 17-21), mm.\n",
-               RACK_W, RACK_H, RACK_F, RACK_SPACING, frames);
+               "%d frames per group;\nrefine step %d (%s); spacing RMSE (Eq. 17-21), mm.\n",
+               RACK_W, RACK_H, RACK_F, RACK_SPACING, frames, refine_step,
+               refine_step == 3   ? "every pipe's contours refitted to every pixel near them"
+               : refine_step > 0 ? "every pipe's contours refitted on every Kth scanline"
+                                 : "off: the contours from the search's scanlines");
     for (arr = 0; arr < 2; arr++)
         for (g = 0; g < RACK_GROUPS; g++)
             for (f = 0; f < frames; f++) {
@@ -137,6 +155,7 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
                 cdsp_rng_seed(&rng, seed, (uint64_t)(1000 * arr + 100 * g + f));
                 if (cdsp_render(&s, &cam, px, 0, 8, scratch, scratch_len, &rng) != CDSP_OK) {
                     fclose(csv);
+                    fclose(pcsv);
                     free(scratch);
                     free(px);
                     return tool_usage_error("bench", "rack frame cannot be rendered (internal error)");
@@ -155,6 +174,7 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
                     int a, b, ok;
                     cdsp_params_default(&p);
                     p.profile.enable = prof == 1;
+                    p.refine_step = refine_step;
                     if (prof == 2) {
                         double d0 = sqrt(c[0][0] * c[0][0] + c[0][1] * c[0][1] + c[0][2] * c[0][2]);
                         double d1 = sqrt(c[1][0] * c[1][0] + c[1][1] * c[1][1] + c[1][2] * c[1][2]);
@@ -201,6 +221,29 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
                         }
                         dd = sqrt(fo[0] * fo[0] + fo[1] * fo[1] + fo[2] * fo[2]);
                         bias = 100 * ((double)o->distance / dd - 1);
+                        {
+                            double u[3], w[3], eu = 0, ew = 0, du = 0, dw = 0, sg = (dot < 0 ? -1 : 1);
+                            for (q = 0; q < 3; q++)
+                                u[q] = fo[q] / dd;
+                            w[0] = u[1] * v[2] - u[2] * v[1];
+                            w[1] = u[2] * v[0] - u[0] * v[2];
+                            w[2] = u[0] * v[1] - u[1] * v[0];
+                            for (q = 0; q < 3; q++) {
+                                double e = (double)o->point[q] - fo[q], dv = sg * (double)o->direction[q] - v[q];
+                                eu += e * u[q];
+                                ew += e * w[q];
+                                du += dv * u[q];
+                                dw += dv * w[q];
+                            }
+                            fprintf(pcsv, "%c,%d,%d,%d,%d,%.4f,%.5f,%.5f,%.4f,%.4f,%.5f,%.4f,%u,%u,%.4f,%.4f\n",
+                                    'A' + arr, g + 1, f, prof, i, dd, eu, ew, 1e3 * du, 1e3 * dw,
+                                    (double)o->sigma_distance,
+                                    1e3 * sqrt((double)o->sigma_direction[0] * o->sigma_direction[0] +
+                                               (double)o->sigma_direction[1] * o->sigma_direction[1] +
+                                               (double)o->sigma_direction[2] * o->sigma_direction[2]),
+                                    (unsigned)o->inliers[0], (unsigned)o->inliers[1], (double)o->rms[0],
+                                    (double)o->rms[1]);
+                        }
                         bias2[prof] += bias * bias;
                         if (fabs(bias) > fabs(bias_worst[prof]))
                             bias_worst[prof] = bias;
@@ -241,6 +284,7 @@ int tool_bench_rack(const char *out_dir, int frames, uint64_t seed, int quiet)
                 }
             }
     fclose(csv);
+    fclose(pcsv);
     printf("\n| group | model off | model on | paper (ours / Cheng / Doignon) |\n");
     printf("|-------|-----------|----------|--------------------------------|\n");
     for (arr = 0; arr < 2; arr++)
