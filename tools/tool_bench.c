@@ -387,6 +387,10 @@ int tool_bench_main(int argc, char **argv)
         tool_usage_error("bench", "%s: cannot create the directory: %s", B.out, strerror(errno));
         goto out;
     }
+    if (B.rack && B.rack_refine > 0 && B.rack_refine < 3) {
+        tool_usage_error("bench", "--rack-refine-step must be 0 or at least 3 (see --help)");
+        goto out;
+    }
     if (B.rack) {
         rc = tool_bench_rack(B.out, B.rack_frames, B.rack_refine, B.seed, B.quiet);
         goto out;

@@ -710,10 +710,11 @@ int tool_solve_main(int argc, char **argv)
              "A final pass once each pose's two contours are found: only short segments "
              "(+-(--inlier-px + 2) px) of the scanlines around them are read again, on "
              "every Kth scanline, and the contour lines refitted to the edge points there "
-             "(the search, its edge budget and the confidences stay as they are). More "
-             "points per contour: the line's random error falls by up to sqrt(--step / K) "
-             "(less where it is not the points' noise; cdsp_tool bench --rack measures "
-             "it). 0: off.", NULL, 0},
+             "(the search, its edge budget and the confidences stay as they are). 0: off; "
+             "else at least 3: an edge point's position is the mean over 3 scanlines, so 3 "
+             "reads every pixel near the contours once. The lines' random error falls by "
+             "sqrt(--step / K) at most: 1.15 at the default --step 4 (cdsp_tool bench "
+             "--rack measures what it does to a rack's spacing).", NULL, 0},
             {"window", 0, OPT_INT, &J.window, 2, 8, "H",
              "Half-length of the subpixel edge window, px (covers blur up to about "
              "H/3 px sigma).", NULL, 0},
@@ -811,9 +812,10 @@ int tool_solve_main(int argc, char **argv)
      * ranges are inclusive, libcdsp's are not all (0 < min_contrast < 1) */
     if (cdsp_params_check(&J.params) != CDSP_OK) {
         tool_usage_error(J.cmd, "libcdsp refuses these solver options (--step %d --window %d "
-                         "--min-contrast %g --inlier-px %g --band %g): --min-contrast must be "
-                         "below 1, the other ranges are in --help",
-                         J.step, J.window, J.min_contrast, J.inlier_px, J.band);
+                         "--min-contrast %g --inlier-px %g --band %g --refine-step %d): "
+                         "--min-contrast must be below 1, --refine-step 0 or at least 3, the "
+                         "other ranges are in --help",
+                         J.step, J.window, J.min_contrast, J.inlier_px, J.band, J.refine_step);
         goto out;
     }
     rc = run(&J);
