@@ -136,19 +136,6 @@ uint32_t cdsp__rng_below_t(cdsp_rng *rng, uint32_t n, uint32_t threshold);
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
                              cdsp_line *lines, int *nlines, int *capped);
-/* lines.c: moments of a point set about a nearby origin (ox, oy): count,
- * sums of the offsets, their squares and products, and of the gradients;
- * cdsp__moments_fit gives their total-least-squares line (l, centroid and
- * dir only; CDSP_E_FEW_POINTS below 2 points, CDSP_E_DEGENERATE when they
- * spread alike in every direction), as the line finder's fits. */
-typedef struct {
-    cdsp_real ox, oy;
-    cdsp_real n, sx, sy, sxx, syy, sxy;
-    cdsp_real sgx, sgy;
-} cdsp__moments;
-void cdsp__moments_init(cdsp__moments *m, cdsp_real ox, cdsp_real oy);
-void cdsp__moments_add(cdsp__moments *m, const cdsp_edge *e);
-cdsp_status cdsp__moments_fit(const cdsp__moments *m, cdsp_line *out);
 /* The points path's pose (lib/pair.c): score_pairs, cdsp__pair_rank and
  * cdsp__pair_pose without the frame. min_step: the edge step threshold the
  * points were detected with (gray levels; 0 when unknown, e.g. the points

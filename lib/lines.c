@@ -83,9 +83,12 @@ static size_t golden_stride(size_t n)
 #define REFINE_PASSES 4
 
 /* Moments of a point set about a nearby origin (o), enough for the TLS fit
- * and the polarity of the set (internal.h: lib/rescan.c accumulates them
- * too). */
-typedef cdsp__moments moments;
+ * and the polarity of the set. */
+typedef struct {
+    cdsp_real ox, oy;
+    cdsp_real n, sx, sy, sxx, syy, sxy;
+    cdsp_real sgx, sgy;
+} moments;
 
 static void mom_init(moments *m, cdsp_real ox, cdsp_real oy)
 {
@@ -541,20 +544,4 @@ void cdsp_pair_params_default(cdsp_pair_params *p)
     p->min_distance = R(0);
     p->max_distance = R(0);
     p->min_support = R(0.35);
-}
-
-/* The moments' accumulation and fit for other modules (internal.h). */
-void cdsp__moments_init(cdsp__moments *m, cdsp_real ox, cdsp_real oy)
-{
-    mom_init(m, ox, oy);
-}
-
-void cdsp__moments_add(cdsp__moments *m, const cdsp_edge *e)
-{
-    mom_add(m, e);
-}
-
-cdsp_status cdsp__moments_fit(const cdsp__moments *m, cdsp_line *out)
-{
-    return mom_fit(m, out);
 }

@@ -20,7 +20,7 @@
  * the line finder's tests, against the search's line; one pass, no point
  * is read twice). Nothing goes through the frame's edge buffer: each
  * segment's few edges are undistorted and added to the line's moments at
- * once (lines.c's total-least-squares fit), so the frame's edge budget
+ * once (to the sums of a total-least-squares fit), so the frame's edge budget
  * (CDSP_MAX_EDGES) is neither used nor hit, and the search, the ranking
  * and the confidences stay exactly what they were: only the pose's lines,
  * and so the pose and its sigma, change. With the points independent the
@@ -44,13 +44,21 @@
  * taken as far as they go */
 #define RESCAN_BUF 16
 
-/* The line ln's inliers on the scanlines `line` = first, first + step, ...
- * <= last, added to *m; *tmin, *tmax: their extent along ln->dir from its
- * centroid, *sg the sum of their gradient lengths. */
+/* Sums of the inliers' coordinates in the search line's own frame: t
+ * along ln->dir from its centroid, d across it (its signed distance), so
+ * that the residual across the refitted line comes from the small d's
+ * directly: from sums of x and y about a point, the across variance
+ * (~0.01 px^2) is the difference of two variances ~1e5 px^2, beyond float
+ * precision. */
+typedef struct {
+    cdsp_real n, st, sd, stt, sdd, std, sg, tmin, tmax;
+} td_sums;
+
+/* The line ln's inliers on the scanlines first, first + step, ... <= last,
+ * added to *m (sg: the sum of their gradient lengths). */
 static void rescan_family(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                           const cdsp_edge_params *edge, const cdsp_line *ln, int horizontal, int first,
-                          int last, cdsp_real cos2, cdsp__moments *m, cdsp_real *tmin, cdsp_real *tmax,
-                          cdsp_real *sg)
+                          int last, cdsp_real cos2, td_sums *m)
 {
     int x0, y0, x1, y1, t, h = p->edge.half_window, nodist = cdsp__camera_no_distortion(cam);
     int step = p->refine_step;
@@ -73,11 +81,16 @@ static void rescan_family(const cdsp_image *img, const cdsp_camera *cam, const c
             cdsp_real gn = ln->l[0] * e->gx + ln->l[1] * e->gy, g2 = e->gx * e->gx + e->gy * e->gy, s;
             if (d > thr || d < -thr || !(gn > R(0)) || gn * gn < cos2 * g2)
                 continue;
-            cdsp__moments_add(m, e);
             s = ln->dir[0] * (e->x - ln->centroid[0]) + ln->dir[1] * (e->y - ln->centroid[1]);
-            *tmin = s < *tmin ? s : *tmin;
-            *tmax = s > *tmax ? s : *tmax;
-            *sg += R_SQRT(g2);
+            m->n += R(1);
+            m->st += s;
+            m->sd += d;
+            m->stt += s * s;
+            m->sdd += d * d;
+            m->std += s * d;
+            m->sg += R_SQRT(g2);
+            m->tmin = s < m->tmin ? s : m->tmin;
+            m->tmax = s > m->tmax ? s : m->tmax;
         }
     }
 }
@@ -117,55 +130,72 @@ cdsp_status cdsp__rescan_line(const cdsp_image *img, const cdsp_camera *cam, con
                               cdsp_real min_step, cdsp_line *ln)
 {
     cdsp_edge_params edge = p->edge;
-    cdsp__moments m;
+    td_sums m;
     cdsp_line out;
-    cdsp_real tmin = R_MAX, tmax = -R_MAX, sg = R(0), cos_tol, mx, my, cxx, cyy, cxy, along, across;
-    int horizontal = R_FABS(ln->l[0]) >= R_FABS(ln->l[1]), x0, y0, x1, y1, first, last;
-    cdsp_status st;
+    cdsp_real cos_tol, mt, md, ctt, cdd, ctd, h, r, big, small, c, sn, q[2], shift;
+    int horizontal = R_FABS(ln->l[0]) >= R_FABS(ln->l[1]), x0, y0, x1, y1, first, last, i;
     if (p->refine_step < 1)
         return CDSP_OK;
     cdsp__edges_clip_roi(img, &p->edge.roi, &x0, &y0, &x1, &y1);
-    if (!rescan_range(cam, ln, horizontal, horizontal ? y0 : x0, horizontal ? y1 : x1,
-                      &first, &last))
+    if (!rescan_range(cam, ln, horizontal, horizontal ? y0 : x0, horizontal ? y1 : x1, &first, &last))
         return CDSP_E_FEW_POINTS;
     /* the frame's threshold, as the search applied it (lib/frame.c) */
     edge.min_contrast = min_step / (cdsp_real)((1 << img->bits) - 1);
     if (!(edge.min_contrast < R(1)))
         edge.min_contrast = R(0.999);
     cos_tol = R_COS(p->pair.normal_tol_deg * R(0.017453292519943295));
-    cdsp__moments_init(&m, ln->centroid[0], ln->centroid[1]);
-    rescan_family(img, cam, p, &edge, ln, horizontal, first, last, cos_tol * cos_tol, &m, &tmin, &tmax, &sg);
-    if (m.n < (cdsp_real)p->pair.min_inliers)
+    m.n = m.st = m.sd = m.stt = m.sdd = m.std = m.sg = R(0);
+    m.tmin = R_MAX;
+    m.tmax = -R_MAX;
+    rescan_family(img, cam, p, &edge, ln, horizontal, first, last, cos_tol * cos_tol, &m);
+    if (m.n < (cdsp_real)p->pair.min_inliers || m.n < R(3))
         return CDSP_E_FEW_POINTS;
-    st = cdsp__moments_fit(&m, &out);
-    if (st != CDSP_OK)
-        return st;
-    if (out.l[0] * ln->l[0] + out.l[1] * ln->l[1] < R(0))
-        return CDSP_E_DEGENERATE; /* the inliers' gradients point the other way: not this line */
-    /* the centred scatter's quadratic forms: the residual across the new
-     * line and the spread along it (lines.c's line_stats, from the sums) */
-    mx = m.sx / m.n;
-    my = m.sy / m.n;
-    cxx = m.sxx / m.n - mx * mx;
-    cyy = m.syy / m.n - my * my;
-    cxy = m.sxy / m.n - mx * my;
-    across = out.l[0] * out.l[0] * cxx + R(2) * out.l[0] * out.l[1] * cxy + out.l[1] * out.l[1] * cyy;
-    along = out.dir[0] * out.dir[0] * cxx + R(2) * out.dir[0] * out.dir[1] * cxy + out.dir[1] * out.dir[1] * cyy;
-    out.rms = across > R(0) ? R_SQRT(across) : R(0);
-    out.spread = along > R(0) ? along * m.n : R(0);
-    out.count = (uint32_t)m.n;
-    out.strength = sg / m.n;
-    /* the extent, measured along the search's line from its centroid,
-     * taken along the new one from the new centroid (the two differ by
-     * far less than a pixel) */
-    {
-        cdsp_real shift = (ln->centroid[0] - out.centroid[0]) * out.dir[0] +
-                          (ln->centroid[1] - out.centroid[1]) * out.dir[1];
-        cdsp_real sgn = out.dir[0] * ln->dir[0] + out.dir[1] * ln->dir[1] < R(0) ? R(-1) : R(1);
-        cdsp_real a = sgn * tmin + shift, b = sgn * tmax + shift;
-        out.t_min = a < b ? a : b;
-        out.t_max = a < b ? b : a;
+    /* the TLS line of the points in (t, d): through their mean, along the
+     * major axis of their centred scatter [ctt ctd; ctd cdd], at the angle
+     * phi from the search line's direction (tan 2 phi = 2 ctd / (ctt -
+     * cdd)); the eigenvalues big and small = det / big (no cancellation)
+     * are the spread along it and the residual across it, per point */
+    mt = m.st / m.n;
+    md = m.sd / m.n;
+    ctt = m.stt / m.n - mt * mt;
+    cdd = m.sdd / m.n - md * md;
+    ctd = m.std / m.n - mt * md;
+    if (cdd < R(0))
+        cdd = R(0);
+    h = (ctt - cdd) / R(2);
+    r = R_SQRT(h * h + ctd * ctd);
+    big = (ctt + cdd) / R(2) + r;
+    if (!(h > R(0)) || !(big > R(0)) || !R_FINITE(big))
+        return CDSP_E_DEGENERATE; /* the points do not run along the line */
+    small = (ctt * cdd - ctd * ctd) / big;
+    if (small < R(0))
+        small = R(0);
+    /* (cos phi, sin phi) from the half-angle of (h, ctd), h > 0 */
+    c = R_SQRT((R(1) + h / r) / R(2));
+    sn = ctd / (R(2) * r * c);
+    out = *ln;
+    for (i = 0; i < 2; i++) {
+        out.dir[i] = c * ln->dir[i] + sn * ln->l[i];
+        out.centroid[i] = ln->centroid[i] + mt * ln->dir[i] + md * ln->l[i];
     }
+    /* the normal (a, b) = (dir[1], -dir[0]) turned as the direction: it
+     * keeps pointing to the bright side, as ln's (dir = (-b, a)) */
+    out.l[0] = out.dir[1];
+    out.l[1] = -out.dir[0];
+    out.l[2] = -(out.l[0] * out.centroid[0] + out.l[1] * out.centroid[1]);
+    out.rms = R_SQRT(small);
+    out.spread = big * m.n;
+    out.count = (uint32_t)m.n;
+    out.strength = m.sg / m.n;
+    /* the extent, measured along the search's line, taken along the new
+     * one from the new centroid (the two differ by far less than a pixel) */
+    q[0] = ln->centroid[0] - out.centroid[0];
+    q[1] = ln->centroid[1] - out.centroid[1];
+    shift = q[0] * out.dir[0] + q[1] * out.dir[1];
+    out.t_min = m.tmin + shift;
+    out.t_max = m.tmax + shift;
+    if (!R_FINITE(out.l[2]) || !R_FINITE(out.rms))
+        return CDSP_E_DEGENERATE;
     *ln = out;
     return CDSP_OK;
 }
