@@ -129,8 +129,8 @@ static const key_def keys[] = {
     {"solver.roi", K_INT4, O(roi), 0, 65535, NULL, "[0, 0, 0, 0]",
      "region searched [x, y, w, h], px; w or h 0 = whole frame"},
     {"solver.refine_step", K_INT, O(refine_step), 0, 64, NULL, "0",
-     "0 = off; K: each pose's contours read again on every Kth scanline around them and refitted "
-     "(cdsp_params.refine_step, cdsp_tool solve --refine-step)"},
+     "0 = off; K >= 3: each pose's contours read again on every Kth scanline around them and "
+     "refitted (cdsp_params.refine_step, cdsp_tool solve --refine-step; 1 and 2 are refused)"},
     {"solver.track_band_px", K_REAL, O(track_band_px), 1, 1000, NULL, "12",
      "tracking: half-width of the band searched around the previous contours, px"},
     {"solver.track_min_inliers", K_INT, O(track_min_inliers), 2, 100000, NULL, "30",
