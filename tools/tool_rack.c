@@ -19,7 +19,9 @@
  * d_n)^2) over every frame of a group (both directions, 100 points per
  * segment). Printed per group and on average beside the paper's 0.165
  * (its method on real frames), 0.180 (Cheng) and 0.314 (Doignon) mm, with
- * the edge-profile model (cdsp_params.profile.enable) off and on, with
+ * the edge-profile model (cdsp_params.profile.enable) off and on, the
+ * noise floor (the RMSE the poses' own first-order sigmas predict, from
+ * their cov_factor: what the edge points' noise alone would give), with
  * what the spacing is made of: each pipe's distance bias (a scale common
  * to both pipes moves the spacing by that fraction) and its direction
  * error (which tilts one axis against the other), and each pipe's two
@@ -76,6 +78,73 @@ static int rack_match(const cdsp_result *out, size_t n, const double c[3], const
     return -1;
 }
 
+/* Distance from X to the axis (P, v) of r, v unit. */
+static double axis_dist(const double P[3], const double v[3], const double X[3])
+{
+    double d[3], t = 0, e = 0;
+    int i;
+    for (i = 0; i < 3; i++)
+        t += (X[i] - P[i]) * v[i];
+    for (i = 0; i < 3; i++) {
+        d[i] = X[i] - P[i] - t * v[i];
+        e += d[i] * d[i];
+    }
+    return sqrt(e);
+}
+
+/* A pose's axis (P, v) moved by column k of its cov_factor (one standard
+ * deviation of its k-th line parameter; k < 0: not moved), v unit. */
+static void axis_moved(const cdsp_result *r, int k, double P[3], double v[3])
+{
+    double n = 0;
+    int i;
+    for (i = 0; i < 3; i++) {
+        P[i] = (double)r->point[i] + (k >= 0 ? (double)r->cov_factor[i][k] : 0);
+        v[i] = (double)r->direction[i] + (k >= 0 ? (double)r->cov_factor[3 + i][k] : 0);
+        n += v[i] * v[i];
+    }
+    n = sqrt(n);
+    for (i = 0; i < 3; i++)
+        v[i] /= n;
+}
+
+/* The spacing's noise floor (the RMSE's square expected from the two
+ * poses' own first-order sigmas, the random error of their edge points):
+ * the distances d_n from RACK_SAMPLES points along from's segment to to's
+ * axis, each pose moved in turn by each of its 4 independent one-sigma
+ * line changes (cov_factor; the segment's points move with from's axis,
+ * at their positions along it), mean over n of the sum over the 8 changes
+ * of the change of d_n squared. */
+static double spacing_floor2(const cdsp_result *from, const cdsp_result *to)
+{
+    double P[3], v[3], Q[3], w[3], sum = 0;
+    int n, k, i;
+    axis_moved(from, -1, P, v);
+    axis_moved(to, -1, Q, w);
+    for (n = 0; n < RACK_SAMPLES; n++) {
+        double t = (n + 0.5) / RACK_SAMPLES, X[3], s = 0, d0;
+        for (i = 0; i < 3; i++) {
+            X[i] = (double)from->segment[0][i] + t * ((double)from->segment[1][i] - (double)from->segment[0][i]);
+            s += (X[i] - P[i]) * v[i];
+        }
+        d0 = axis_dist(Q, w, X);
+        for (k = 0; k < 8; k++) {
+            double P2[3], v2[3], X2[3], d;
+            if (k < 4) {
+                axis_moved(from, k, P2, v2);
+                for (i = 0; i < 3; i++)
+                    X2[i] = P2[i] + s * v2[i];
+                d = axis_dist(Q, w, X2);
+            } else {
+                axis_moved(to, k - 4, P2, v2);
+                d = axis_dist(P2, v2, X);
+            }
+            sum += (d - d0) * (d - d0);
+        }
+    }
+    return sum / RACK_SAMPLES;
+}
+
 int tool_bench_rack(const char *out_dir, int frames, int refine_step, uint64_t seed, int quiet)
 {
     static cdsp_frame_all_ws ws;
@@ -84,6 +153,8 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, uint64_t s
     float *scratch = malloc(scratch_len * sizeof *scratch);
     uint8_t *px = malloc((size_t)RACK_W * RACK_H);
     double sum2[2][2][RACK_GROUPS], total2[2] = {0, 0};
+    /* the same from the poses' own sigmas: the noise floor */
+    double floor2[2][2][RACK_GROUPS], ftotal2[2] = {0, 0};
     long count[2][2][RACK_GROUPS], found = 0, extra = 0, tries = 0, found_r = 0, extra_r = 0, gaps = 0;
     /* per pipe, model off / on: the distance bias (%) and the direction
      * error (mrad), what the spacing is made of */
@@ -104,6 +175,7 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, uint64_t s
         return tool_usage_error("bench", "out of memory for the rack frames");
     }
     memset(sum2, 0, sizeof sum2);
+    memset(floor2, 0, sizeof floor2);
     memset(count, 0, sizeof count);
     memset(&cam, 0, sizeof cam);
     cam.fx = cam.fy = (cdsp_real)RACK_F;
@@ -276,6 +348,7 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, uint64_t s
                         e2 = ((double)mean - RACK_SPACING) * ((double)mean - RACK_SPACING) +
                              (double)spread * (double)spread;
                         sum2[prof][arr][g] += e2;
+                        floor2[prof][arr][g] += spacing_floor2(from, to);
                         count[prof][arr][g]++;
                         if (i == 0)
                             fprintf(csv, "%c,%d,%d,%d,1,%zu,%.5f,%.5f,%.5f\n", 'A' + arr, g + 1, f,
@@ -285,20 +358,29 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, uint64_t s
             }
     fclose(csv);
     fclose(pcsv);
-    printf("\n| group | model off | model on | paper (ours / Cheng / Doignon) |\n");
-    printf("|-------|-----------|----------|--------------------------------|\n");
+    /* floor: the RMSE the poses' own sigmas predict (spacing_floor2), with
+     * the model off (the model's moves are not in the sigma) */
+    printf("\n| group | model off | model on | floor  | paper (ours / Cheng / Doignon) |\n");
+    printf("|-------|-----------|----------|--------|--------------------------------|\n");
     for (arr = 0; arr < 2; arr++)
         for (g = 0; g < RACK_GROUPS; g++) {
-            double e[2];
+            double e[2], fl[2];
             for (prof = 0; prof < 2; prof++) {
-                e[prof] = count[prof][arr][g] ? sqrt(sum2[prof][arr][g] / (double)count[prof][arr][g]) : NAN;
-                total2[prof] += count[prof][arr][g] ? sum2[prof][arr][g] / (double)count[prof][arr][g] : 0;
+                double c = (double)count[prof][arr][g];
+                e[prof] = c > 0 ? sqrt(sum2[prof][arr][g] / c) : NAN;
+                fl[prof] = c > 0 ? sqrt(floor2[prof][arr][g] / c) : NAN;
+                total2[prof] += c > 0 ? sum2[prof][arr][g] / c : 0;
+                ftotal2[prof] += c > 0 ? floor2[prof][arr][g] / c : 0;
             }
-            printf("| %c%d    | %9.4f | %8.4f |                                |\n", 'A' + arr, g + 1,
-                   e[0], e[1]);
+            printf("| %c%d    | %9.4f | %8.4f | %6.4f |                                |\n", 'A' + arr,
+                   g + 1, e[0], e[1], fl[0]);
         }
-    printf("| mean  | %9.4f | %8.4f | 0.165 / 0.180 / 0.314          |\n",
-           sqrt(total2[0] / (2 * RACK_GROUPS)), sqrt(total2[1] / (2 * RACK_GROUPS)));
+    printf("| mean  | %9.4f | %8.4f | %6.4f | 0.165 / 0.180 / 0.314          |\n",
+           sqrt(total2[0] / (2 * RACK_GROUPS)), sqrt(total2[1] / (2 * RACK_GROUPS)),
+           sqrt(ftotal2[0] / (2 * RACK_GROUPS)));
+    printf("floor: the RMSE the poses' own first-order sigmas predict, their edge points' noise alone "
+           "(model off; on: %.4f)\n",
+           sqrt(ftotal2[1] / (2 * RACK_GROUPS)));
     for (prof = 0; prof < 2; prof++)
         printf("model %s: each pipe's distance bias RMS %.4f %% (worst %+.4f %%, target <= 0.03 %%), "
                "direction error RMS %.3f mrad (%ld pipes)\n",
