@@ -252,6 +252,82 @@ static void test_rescan_noise(void **state)
     }
 }
 
+/* The pass on tracked frames (lib/frame.c's and lib/multi.c's band
+ * searches run it too): a single pipe with its prior and a rack of two
+ * with a tracker, frame 0 a full search, frame 1 the pipes moved 1 mm
+ * sideways and tracked; with refine_step 3 each tracked contour has 4 / 3
+ * the inliers of the same solve without it (within 10 %), the solve stays
+ * tracked, and the pose is within 4 sigma of the truth (direction and
+ * distance; 4 sigma: 6e-5 per check for a Gaussian error). */
+static void test_rescan_tracked(void **state)
+{
+    int pipes;
+    (void)state;
+    for (pipes = 1; pipes <= 2; pipes++) {
+        const rescan_case rc = {"tracked", pipes, 0, 8, 4, 0};
+        cdsp_camera cam;
+        cdsp_result prior, out[2][CDSP_MAX_PIPES];
+        cdsp_tracker trk;
+        size_t n[2] = {0, 0};
+        double c[2][3], v[3];
+        int f, m, k;
+        sup_camera(&cam, W, H, FOC, 0, 0);
+        for (m = 0; m < 2; m++) {
+            cdsp_params p;
+            cdsp_params_default(&p);
+            p.refine_step = 3 * m;
+            cdsp_tracker_init(&trk);
+            for (f = 0; f < 2; f++) {
+                cdsp_scene s;
+                cdsp_image img;
+                cdsp_rng rng;
+                void *buf;
+                layout(&rc, c, v);
+                for (k = 0; k < 2; k++)
+                    c[k][0] += f;
+                scene(&rc, (const double(*)[3])c, v, &s);
+                buf = sup_render(&s, &cam, 8, 300 + (uint64_t)f, &img);
+                assert_non_null(buf);
+                cdsp_rng_seed(&rng, 9, (uint64_t)f);
+                if (pipes == 1) {
+                    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &p, f ? &prior : NULL, &ws, &rng, &out[m][0]),
+                                     CDSP_OK);
+                    prior = out[m][0];
+                    n[m] = 1;
+                } else {
+                    assert_int_equal(cdsp_frame_solve_all(&img, &cam, 8, &p, &trk, &aws, &rng, out[m],
+                                                          CDSP_MAX_PIPES, &n[m]),
+                                     CDSP_OK);
+                }
+                free(buf);
+            }
+        }
+        for (k = 0; k < pipes; k++) {
+            int a = find(out[0], n[0], c[k], v), b = find(out[1], n[1], c[k], v);
+            tally t;
+            double q, zdir, zdist;
+            if (a < 0 || b < 0)
+                fail_msg("tracked, %d pipes: pipe %d not found", pipes, k);
+            assert_true(out[0][a].flags & CDSP_FLAG_TRACKED);
+            assert_true(out[1][b].flags & CDSP_FLAG_TRACKED);
+            q = (double)(out[1][b].inliers[0] + out[1][b].inliers[1]) /
+                (double)(out[0][a].inliers[0] + out[0][a].inliers[1]);
+            memset(&t, 0, sizeof t);
+            add(&t, &out[1][b], c[k], v);
+            zdir = sqrt(t.zdir2);
+            zdist = sqrt(t.zdist2);
+            if (verbose())
+                printf("tracked, %d pipes, pipe %d: inliers x %.3f with the pass; error / sigma direction %.2f, "
+                       "distance %.2f\n", pipes, k, q, zdir, zdist);
+            if (!(q >= 0.9 * 4 / 3.0 && q <= 1.1 * 4 / 3.0))
+                fail_msg("tracked, %d pipes, pipe %d: inliers x %.3f with the pass, not 4 / 3", pipes, k, q);
+            if (!(zdir <= 4 && zdist <= 4))
+                fail_msg("tracked, %d pipes, pipe %d: error / sigma %.2f (direction), %.2f (distance)", pipes, k,
+                         zdir, zdist);
+        }
+    }
+}
+
 /* refine_step's range (include/cdsp.h): 0, or 3..CDSP_EDGE_MAX_STEP (1
  * and 2 would add points sharing noise, whose sigma the fit overstates). */
 static void test_rescan_params(void **state)
@@ -280,6 +356,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rescan_params),
         cmocka_unit_test(test_rescan_noise),
+        cmocka_unit_test(test_rescan_tracked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
