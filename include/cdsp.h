@@ -721,6 +721,24 @@ typedef struct {
                                  0 = the fixed fraction alone. Default 10 */
     cdsp_real min_confidence; /* a pose with a lower confidence is reported as
                                  CDSP_E_NO_PIPE. Default 0 (every pose) */
+    int refine_step;          /* frame path: 0 (default) off; k >= 3 (up to
+                                 CDSP_EDGE_MAX_STEP): once a pose's two
+                                 contours are chosen, only the scanlines'
+                                 segments of +-(pair.inlier_px + 2) px around
+                                 them are read again, every k-th scanline
+                                 along each, and each line is refitted to its
+                                 inliers there (the edge-profile model's move
+                                 kept); the search, its edge budget
+                                 (CDSP_MAX_EDGES) and the confidences are
+                                 untouched. 1 and 2 are refused: a point's
+                                 position is the mean over its window's 3
+                                 scanlines, so points nearer than 3 scanlines
+                                 share noise, and 3 already reads every
+                                 pixel near the contour once (docs/method.md
+                                 §3a): against the default edge.step 4 the
+                                 line's random error falls by sqrt(4 / 3) at
+                                 most, against a coarser search by
+                                 sqrt(edge.step / 3). */
 } cdsp_params;
 
 void cdsp_params_default(cdsp_params *p);

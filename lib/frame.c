@@ -345,6 +345,9 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
     } else {
         cdsp__frame_refine(img, cam, ws->edge, n, ws->label, &ws->pairs, &best, p, &ws->profile, &ref);
     }
+    /* cdsp_params.refine_step (lib/rescan.c): the pair's lines refitted
+     * to a finer scan of their bands; unchanged where that fails */
+    (void)cdsp__rescan_pair(img, cam, p, min_step, &ws->pairs, &best, &ref);
     return cdsp__pair_pose(cam, radius, n, &ws->pairs, &best, nc, ws->cand, p, prior, &ref, out);
 }
 

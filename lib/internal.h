@@ -243,6 +243,18 @@ int cdsp__frame_scatter_mark(const cdsp_frame_ws *ws, cdsp_result *out, cdsp_rea
 void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts, size_t n,
                         const uint8_t *label, cdsp_pair_set *set, const cdsp_pair_eval *c,
                         const cdsp_params *p, cdsp_profile_ws *pws, cdsp__pair_refined *ref);
+/* rescan.c (cdsp_params.refine_step): line ln refitted to its inliers
+ * among the edges of the scanlines its extent crosses, read again at step
+ * p->refine_step around it with the frame's threshold min_step (gray
+ * levels); ln unchanged unless CDSP_OK (nothing done: refine_step 0).
+ * cdsp__rescan_pair: both lines of pair c of set, each with the move
+ * ref->offset of the edge-profile model (ref NULL: none) undone for the
+ * refit and done again after it; neither changed unless both refit. */
+cdsp_status cdsp__rescan_line(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_real min_step, cdsp_line *ln);
+cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
+                              cdsp_real min_step, cdsp_pair_set *set, const cdsp_pair_eval *c,
+                              const cdsp__pair_refined *ref);
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,

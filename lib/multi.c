@@ -680,6 +680,43 @@ static cdsp_status tracker_check(const cdsp_tracker *trk)
     return CDSP_OK;
 }
 
+/* cdsp_params.refine_step (lib/rescan.c) on the pipes solve_all returned
+ * (out[0..m)): each one's lines refitted to a finer scan of their bands
+ * and its pose solved again from them, its confidence, its place and the
+ * scatter rule's verdict on the new lines as solve_all gives them. After
+ * solve_all, not before it: the crossing rule (drop_crossing) compares a
+ * contour's inlier density with the search's edges, at the search's step.
+ * A pipe whose lines do not refit keeps the search's pose. */
+static void rescan_pipes(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
+                         const cdsp_params *p, cdsp_frame_all_ws *ws, size_t n, cdsp_real sigma,
+                         cdsp_real min_step, const int *chosen, int nc, const cdsp__pair_refined *ref,
+                         cdsp_result *out, size_t m)
+{
+    cdsp_pair_set *set = &ws->frame.pairs;
+    size_t i;
+    for (i = 0; i < m; i++) {
+        cdsp_result *r = &out[i];
+        cdsp_real conf = r->confidence;
+        uint32_t ncand = r->n_candidates;
+        int k;
+        for (k = 0; k < nc; k++) {
+            const cdsp_pair_eval *e = &set->pair[chosen[k]];
+            /* either order: cdsp__axis_swap exchanges the contours */
+            if ((r->label[0] == e->i + 1 && r->label[1] == e->j + 1) ||
+                (r->label[1] == e->i + 1 && r->label[0] == e->j + 1))
+                break;
+        }
+        if (k == nc || cdsp__rescan_pair(img, cam, p, min_step, set, &set->pair[chosen[k]], &ref[k]) != CDSP_OK ||
+            cdsp__pair_result(cam, radius, n, set, &set->pair[chosen[k]], &ref[k], r) != CDSP_OK)
+            continue;
+        (void)cdsp__frame_scatter_mark(&ws->frame, r, sigma, &conf);
+        r->confidence = conf;
+        r->n_candidates = ncand;
+        if (cdsp__axis_wants_swap(r->direction))
+            cdsp__axis_swap(r);
+    }
+}
+
 /* The frame path's pipes from the pair set scored on ws->frame.edge[0..n):
  * the matching, the edge-profile model on every chosen pair solve_all may
  * return (the pairs share no line, so the order does not matter; beyond
@@ -693,6 +730,7 @@ static cdsp_status frame_pipes(const cdsp_image *img, const cdsp_camera *cam, cd
     cdsp_pair_set *set = &ws->frame.pairs;
     cdsp__pair_refined ref[MAX_CHOSEN];
     int chosen[MAX_CHOSEN], nc, k;
+    cdsp_status st;
     nc = select_pipes(set, cam, trk, trk ? trk->gate_px : R(1), chosen);
     for (k = 0; k < nc; k++) {
         const cdsp_pair_eval *e = &set->pair[chosen[k]];
@@ -700,8 +738,11 @@ static cdsp_status frame_pipes(const cdsp_image *img, const cdsp_camera *cam, cd
             cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, e, p,
                                &ws->frame.profile, &ref[k]);
     }
-    return solve_all(cam, radius, ws->frame.edge, n, set, chosen, nc, ref, &ws->frame, sigma, p,
-                     min_step, out, cap, n_out);
+    st = solve_all(cam, radius, ws->frame.edge, n, set, chosen, nc, ref, &ws->frame, sigma, p, min_step,
+                   out, cap, n_out);
+    if (st == CDSP_OK && p->refine_step > 0)
+        rescan_pipes(img, cam, radius, p, ws, n, sigma, min_step, chosen, nc, ref, out, *n_out);
+    return st;
 }
 
 /*

@@ -1407,7 +1407,8 @@ cdsp_status cdsp__params_check(const cdsp_params *p)
         cdsp__profile_params_check(&p->profile) != CDSP_OK)
         return CDSP_E_ARG;
     if (!(p->noise_factor >= R(0)) || !R_FINITE(p->noise_factor) || !(p->min_confidence >= R(0)) ||
-        !(p->min_confidence <= R(1)))
+        !(p->min_confidence <= R(1)) || p->refine_step < 0 || (p->refine_step > 0 && p->refine_step < 3) ||
+        p->refine_step > CDSP_EDGE_MAX_STEP)
         return CDSP_E_ARG;
     return cdsp__edge_params_check(&p->edge);
 }
@@ -1461,5 +1462,6 @@ void cdsp_params_default(cdsp_params *p)
     p->track_min_inliers = 30;
     p->noise_factor = R(10);
     p->min_confidence = R(0);
+    p->refine_step = 0;
     cdsp_profile_params_default(&p->profile);
 }

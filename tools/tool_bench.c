@@ -28,7 +28,7 @@
 
 typedef struct {
     const char *out;
-    int trials, points, samples, frame_runs, no_frames, quiet, rack, rack_frames;
+    int trials, points, samples, frame_runs, no_frames, quiet, rack, rack_frames, rack_refine;
     tool_list levels;
     uint64_t seed;
 } bench_opts;
@@ -339,6 +339,7 @@ int tool_bench_main(int argc, char **argv)
     B.frame_runs = 5;
     B.seed = 1;
     B.rack_frames = 2;
+    B.rack_refine = 3;
     B.levels.n = (int)(sizeof default_levels / sizeof default_levels[0]);
     memcpy(B.levels.v, default_levels, sizeof default_levels);
     {
@@ -366,6 +367,11 @@ int tool_bench_main(int argc, char **argv)
              "DIR/bench_rack.csv.", NULL, 0},
             {"rack-frames", 0, OPT_INT, &B.rack_frames, 1, 100, "N",
              "With --rack: frames per group (noise and position change).", NULL, 0},
+            {"rack-refine-step", 0, OPT_INT, &B.rack_refine, 0, 64, "K",
+             "With --rack: the solves' final pass (cdsp_params.refine_step, cdsp_tool solve "
+             "--refine-step): every pipe's contours read again on every Kth scanline "
+             "around them and refitted (K >= 3; 3 reads every pixel near them once); "
+             "0: off, the search's every 4th scanline only.", NULL, 0},
             {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
         };
         rc = tool_parse_alloc("bench", &doc, opts, argc, argv, &pos, &npos);
@@ -381,8 +387,12 @@ int tool_bench_main(int argc, char **argv)
         tool_usage_error("bench", "%s: cannot create the directory: %s", B.out, strerror(errno));
         goto out;
     }
+    if (B.rack && B.rack_refine > 0 && B.rack_refine < 3) {
+        tool_usage_error("bench", "--rack-refine-step must be 0 or at least 3 (see --help)");
+        goto out;
+    }
     if (B.rack) {
-        rc = tool_bench_rack(B.out, B.rack_frames, B.seed, B.quiet);
+        rc = tool_bench_rack(B.out, B.rack_frames, B.rack_refine, B.seed, B.quiet);
         goto out;
     }
     tool_paper_camera(&cam);

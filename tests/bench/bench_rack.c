@@ -12,6 +12,8 @@
  * generator state in both modes:
  *   full   without the tracker (a full search);
  *   track  with it (the tracked solve, when it finds every track).
+ * An optional third argument K sets cdsp_params.refine_step (the final
+ * pass of lib/rescan.c; 0 = off, the default) for both frames.
  * Prints each solve's pipes and flags. Figures, not pass/fail.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -74,7 +76,7 @@ int main(int argc, char **argv)
     cdsp_status st;
     FILE *fp;
     if (argc < 3 || (strcmp(argv[2], "full") && strcmp(argv[2], "track") && strcmp(argv[2], "load"))) {
-        fprintf(stderr, "usage: bench_rack DIR full|track|load\n");
+        fprintf(stderr, "usage: bench_rack DIR full|track|load [REFINE_STEP]\n");
         return 2;
     }
     sup_camera(&cam, W, H, FOC, 0, 0);
@@ -109,6 +111,8 @@ int main(int argc, char **argv)
     if (!strcmp(argv[2], "load"))
         return 0;
     cdsp_params_default(&p);
+    if (argc > 3)
+        p.refine_step = atoi(argv[3]);
     cdsp_tracker_init(&trk);
     cdsp_rng_seed(&rng, 1, 1);
     st = cdsp_frame_solve_all(&img[0], &cam, 8, &p, &trk, &ws, &rng, out, CDSP_MAX_PIPES, &n);
