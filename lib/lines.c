@@ -36,6 +36,18 @@
  * first point's edge direction. Such a pair lies on one contour with
  * probability ~w, not w^2. For input in no particular order the guided
  * samples are merely as good as uniform ones, which the other half stay.
+ *
+ * Seeds (issue 17): tracking knows where the contours were a frame ago, and
+ * the points it reads lie in bands around them. Each line search therefore
+ * scores the seed lines it was given (the prior's two contours) on the
+ * subsample first, both orientations, and the best seed becomes the best
+ * hypothesis so far. It is confirmed, and no sample is drawn, when it holds
+ * more of the free subsample than lies on no seed at all: a line other
+ * than the seeds holds only those points and the few of each seed's where
+ * it crosses it, so the random search would find none with more; the
+ * refinement then fits the seed's inliers as it would the winner of the
+ * draws. A seed the pipe has moved away from holds few points and is not
+ * confirmed: the draws run as without seeds (the seed the best to beat).
  */
 #include "internal.h"
 
@@ -398,6 +410,87 @@ static void search_try(search *s, uint32_t a, uint32_t b)
     }
 }
 
+/* Inliers of l among the search's free subsample (or list), all of them;
+ * *first: the first one (the moments' origin), when any. */
+static uint32_t search_count(const search *s, const cdsp_real l[3], size_t *first)
+{
+    const cdsp_edge *pts = s->pts;
+    uint32_t sc = 0;
+    size_t i, j;
+    if (s->list) {
+        for (j = 0; j < s->nlist; j++)
+            if (is_inlier(&pts[s->list[j]], l, s->thr, s->cos2) && sc++ == 0)
+                *first = s->list[j];
+    } else {
+        for (i = 0, j = 0; j < s->nsub; j++, i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep)
+            if (s->label[i] == LABEL_FREE && is_inlier(&pts[i], l, s->thr, s->cos2) && sc++ == 0)
+                *first = i;
+    }
+    return sc;
+}
+
+/* The seeds not yet used (see the top): the best one becomes the search's
+ * best hypothesis when it beats it; 1 when it is confirmed (it is then
+ * used), 0 when the draws must run. */
+#define MAX_SEEDS 2
+static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_t *used)
+{
+    cdsp_real l[MAX_SEEDS][3];
+    uint32_t sc[MAX_SEEDS], total = 0;
+    size_t first[MAX_SEEDS];
+    int q, b = -1;
+    for (q = 0; q < nseed; q++) {
+        cdsp_real norm;
+        int sg;
+        sc[q] = 0;
+        if (used[q])
+            continue;
+        norm = R_SQRT(seed[q][0] * seed[q][0] + seed[q][1] * seed[q][1]);
+        if (!(norm > R(0)) || !R_FINITE(norm) || !R_FINITE(seed[q][2])) {
+            used[q] = 1;
+            continue;
+        }
+        for (sg = 0; sg < 2; sg++) {
+            cdsp_real t[3], f = sg ? R(-1) / norm : R(1) / norm;
+            size_t at = 0;
+            uint32_t c;
+            t[0] = seed[q][0] * f;
+            t[1] = seed[q][1] * f;
+            t[2] = seed[q][2] * f;
+            c = search_count(s, t, &at);
+            if (c > sc[q]) {
+                sc[q] = c;
+                first[q] = at;
+                l[q][0] = t[0];
+                l[q][1] = t[1];
+                l[q][2] = t[2];
+            }
+        }
+        total += sc[q];
+        if (sc[q] > 0 && (b < 0 || sc[q] > sc[b]))
+            b = q;
+    }
+    if (b < 0)
+        return 0;
+    if (sc[b] > s->best_sub) {
+        long nn;
+        s->best_sub = sc[b];
+        s->best[0] = l[b][0];
+        s->best[1] = l[b][1];
+        s->best[2] = l[b][2];
+        s->origin[0] = s->pts[first[b]].x;
+        s->origin[1] = s->pts[first[b]].y;
+        nn = needed_iterations((cdsp_real)sc[b] / (cdsp_real)s->sub_free, s->confidence, s->cap);
+        if (nn < s->need)
+            s->need = nn;
+    }
+    if (sc[b] > s->sub_free - total) { /* total <= sub_free: a free point is one seed's inlier at most */
+        used[b] = 1;
+        return 1;
+    }
+    return 0;
+}
+
 /* Free points listed (indices into pts) once at most this many are left:
  * drawing from the list makes every draw a sample of free points (drawing
  * from all n, with 19 free points left among the paper frame's tracked
@@ -409,9 +502,10 @@ static void search_try(search *s, uint32_t a, uint32_t b)
 #define FREE_LIST 32u
 
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
-                             const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
-                             cdsp_line *lines, int *nlines, int *capped)
+                             const cdsp_pair_params *p, cdsp_real cos_tol, const cdsp_real (*seed)[3],
+                             int nseed, cdsp_rng *rng, cdsp_line *lines, int *nlines, int *capped)
 {
+    uint8_t used[MAX_SEEDS] = {0, 0};
     cdsp_real cos2 = cos_tol * cos_tol, thr = p->inlier_px;
     size_t i, j, nfree = n;
     int k, max_lines = p->max_lines < CDSP_MAX_LINES ? p->max_lines : CDSP_MAX_LINES;
@@ -431,6 +525,10 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
     s.cos2 = cos2;
     s.confidence = p->confidence;
     s.cap = p->max_iterations;
+    if (!seed || nseed < 0)
+        nseed = 0;
+    if (nseed > MAX_SEEDS)
+        nseed = MAX_SEEDS;
 
     for (k = 0; k < max_lines; k++) {
         long it, tries = 0, max_tries = 20L * p->max_iterations;
@@ -460,7 +558,9 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
         if (s.sub_free == 0 || (s.list && s.nlist < (size_t)p->min_inliers))
             break;
 
-        if (s.list && (long)(s.nlist * (s.nlist - 1) / 2) <= p->max_iterations) {
+        if (nseed && search_seeds(&s, seed, nseed, used)) {
+            /* confirmed: no draws */
+        } else if (s.list && (long)(s.nlist * (s.nlist - 1) / 2) <= p->max_iterations) {
             /* No more distinct samples than iterations: try each once. */
             for (i = 0; i < s.nlist; i++)
                 for (j = i + 1; j < s.nlist; j++)

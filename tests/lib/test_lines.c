@@ -71,7 +71,7 @@ static void test_sparse_tail(void **state)
     p.min_inliers = 12;
     cdsp_rng_seed(&rng, 1, 1);
     assert_int_equal(cdsp__lines_find(pts, 20015, label, &p, R_COS(p.normal_tol_deg * R_PI / R(180)),
-                                      &rng, lines, &nlines, &capped),
+                                      NULL, 0, &rng, lines, &nlines, &capped),
                      CDSP_OK);
     assert_int_equal(nlines, 2);
     assert_int_equal(lines[0].count, 20000);
@@ -82,11 +82,100 @@ static void test_sparse_tail(void **state)
         assert_int_equal(label[i], 2);
 }
 
+/* Seeds (tracking): two contours of a band, 400 points each on
+ * y = 100 + 0.1 x and y = 130 + 0.1 x with opposite gradients, in scan
+ * order, and 20 clutter points spread over the band with random
+ * gradients (few enough that the search for a third line tries every pair
+ * of them, drawing nothing). Given the two lines as seeds (the second with the opposite
+ * orientation, as a prior's line may come), both are confirmed: no sample
+ * is drawn (the generator is untouched) and the lines, their inliers and
+ * labels are those the draws find without seeds (the fit of the same
+ * inlier sets, about another origin: within rounding). A seed 5 px off the
+ * contour (a pipe that moved) holds none of it and is not confirmed: the
+ * draws run and find that contour (the other seed's, confirmed or not,
+ * may come first). */
+#define SEED_N 400
+#define SEED_CLUTTER 20
+static void test_seeds(void **state)
+{
+    static cdsp_edge pts[2 * SEED_N + SEED_CLUTTER];
+    static uint8_t label[2 * SEED_N + SEED_CLUTTER], want[2 * SEED_N + SEED_CLUTTER];
+    cdsp_real nrm = R_SQRT(R(1.01)), a = R(-0.1) / nrm, b = R(1) / nrm;
+    cdsp_real seed[2][3];
+    cdsp_line ref[CDSP_MAX_LINES], got[CDSP_MAX_LINES];
+    cdsp_pair_params p;
+    cdsp_rng rng, fresh;
+    size_t i, n = 2 * SEED_N + SEED_CLUTTER;
+    int nref, ngot, capped, k, off, map[2];
+    (void)state;
+    cdsp_rng_seed(&rng, 5, 1);
+    for (i = 0; i < SEED_N; i++) {
+        cdsp_real x = R(2) * (cdsp_real)i;
+        pts[2 * i].x = pts[2 * i + 1].x = x;
+        pts[2 * i].y = R(100) + R(0.1) * x + R(0.2) * (cdsp_rng_uniform(&rng) - R(0.5));
+        pts[2 * i + 1].y = R(130) + R(0.1) * x + R(0.2) * (cdsp_rng_uniform(&rng) - R(0.5));
+        pts[2 * i].gx = R(20) * a;
+        pts[2 * i].gy = R(20) * b;
+        pts[2 * i + 1].gx = R(-20) * a;
+        pts[2 * i + 1].gy = R(-20) * b;
+    }
+    for (i = 2 * SEED_N; i < n; i++) {
+        cdsp_real t = R(6.283185307179586) * cdsp_rng_uniform(&rng);
+        pts[i].x = R(800) * cdsp_rng_uniform(&rng);
+        pts[i].y = R(95) + R(0.1) * pts[i].x + R(40) * cdsp_rng_uniform(&rng);
+        pts[i].gx = R(10) * R_COS(t);
+        pts[i].gy = R(10) * R_SIN(t);
+    }
+    cdsp_pair_params_default(&p);
+    cdsp_rng_seed(&rng, 1, 1);
+    assert_int_equal(cdsp__lines_find(pts, n, label, &p, R_COS(p.normal_tol_deg * R_PI / R(180)), NULL, 0,
+                                      &rng, ref, &nref, &capped),
+                     CDSP_OK);
+    assert_true(nref >= 2);
+    assert_int_equal(ref[0].count + ref[1].count, 2 * SEED_N);
+    for (i = 0; i < n; i++)
+        want[i] = label[i] <= 2 ? label[i] : 0; /* the two contours' labels */
+    for (off = 0; off < 2; off++) {
+        /* seeds in the order the draws found them, the second reversed */
+        for (k = 0; k < 3; k++) {
+            seed[0][k] = ref[0].l[k];
+            seed[1][k] = -ref[1].l[k];
+        }
+        seed[0][2] -= R(5) * (cdsp_real)off;
+        cdsp_rng_seed(&rng, 1, 1);
+        assert_int_equal(cdsp__lines_find(pts, n, label, &p, R_COS(p.normal_tol_deg * R_PI / R(180)),
+                                          (const cdsp_real(*)[3])seed, 2, &rng, got, &ngot, &capped),
+                         CDSP_OK);
+        assert_true(ngot >= 2);
+        for (k = 0; k < 2; k++) {
+            /* the same contour: the orientations agree (the order may not
+             * when a seed is off) */
+            const cdsp_line *g;
+            int j;
+            map[k] = got[0].l[0] * ref[k].l[0] + got[0].l[1] * ref[k].l[1] > R(0) ? 0 : 1;
+            g = &got[map[k]];
+            assert_int_equal(g->count, ref[k].count);
+            for (j = 0; j < 3; j++)
+                assert_true(R_FABS(g->l[j] - ref[k].l[j]) <= R(1e3) * R_EPS * (R(1) + R_FABS(ref[k].l[2])));
+        }
+        for (i = 0; i < n; i++)
+            if (want[i]) /* the same sets, in the order found */
+                assert_int_equal(label[i], map[want[i] - 1] + 1);
+        /* the draws: none with the seeds on the contours, some with one off */
+        cdsp_rng_seed(&fresh, 1, 1);
+        if (off)
+            assert_true(cdsp_rng_u32(&rng) != cdsp_rng_u32(&fresh));
+        else
+            assert_int_equal(cdsp_rng_u32(&rng), cdsp_rng_u32(&fresh));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_golden_start),
         cmocka_unit_test(test_sparse_tail),
+        cmocka_unit_test(test_seeds),
     };
     return cmocka_run_group_tests_name("lines", tests, NULL, NULL);
 }
