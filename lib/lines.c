@@ -48,6 +48,19 @@
  * refinement then fits the seed's inliers as it would the winner of the
  * draws. A seed the pipe has moved away from holds few points and is not
  * confirmed: the draws run as without seeds (the seed the best to beat).
+ * When every seed was confirmed and taken as the first lines, the search
+ * for more stops once the points left are fewer than a quarter of the
+ * weakest seed line's: what is left of a tracked band is its contours'
+ * stray points (19-32 on the paper's frames, against 611 per contour), and
+ * a line of them is too short to count among the pair tests' interior and
+ * neighbouring contours (lib/pair.c: band_split, edge_of_neighbour) or to
+ * outscore the tracked pair on its weaker contour's evidence. Not a
+ * proof: such a line could still end a contour's corner test (lib/pair.c,
+ * flips_on; without it a track may fall back to a full search) or be a
+ * weak rival pair's side. Measured on bench_frame's 18 tracked solves
+ * (`bench_frame DIR hash` with n_lines left out of the hash): every other
+ * field the same, n_lines 2 instead of 3 on 6 of them (12-15 stray points
+ * along one contour).
  */
 #include "internal.h"
 
@@ -506,6 +519,8 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              int nseed, cdsp_rng *rng, cdsp_line *lines, int *nlines, int *capped)
 {
     uint8_t used[MAX_SEEDS] = {0, 0};
+    int from_seeds = 0;     /* lines found from confirmed seeds */
+    uint32_t weakest = 0;   /* the fewest inliers among them */
     cdsp_real cos2 = cos_tol * cos_tol, thr = p->inlier_px;
     size_t i, j, nfree = n;
     int k, max_lines = p->max_lines < CDSP_MAX_LINES ? p->max_lines : CDSP_MAX_LINES;
@@ -533,10 +548,13 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
     for (k = 0; k < max_lines; k++) {
         long it, tries = 0, max_tries = 20L * p->max_iterations;
         uint32_t cnt = 0, draw_n, draw_t;
-        int pass;
+        int pass, confirmed = 0;
         moments m;
 
         if (nfree < (size_t)p->min_inliers || nfree < 2)
+            break;
+        /* every seed confirmed and found: the rest are strays (see the top) */
+        if (nseed && k == nseed && from_seeds == nseed && nfree < (size_t)(weakest / 4u))
             break;
         s.need = p->max_iterations;
         s.best_sub = 0;
@@ -559,7 +577,7 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
             break;
 
         if (nseed && search_seeds(&s, seed, nseed, used)) {
-            /* confirmed: no draws */
+            confirmed = 1; /* no draws */
         } else if (s.list && (long)(s.nlist * (s.nlist - 1) / 2) <= p->max_iterations) {
             /* No more distinct samples than iterations: try each once. */
             for (i = 0; i < s.nlist; i++)
@@ -623,6 +641,10 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
         line_stats(pts, n, NULL, label, LABEL_TRIAL, (uint8_t)(k + 1), &lines[*nlines]);
         nfree -= cnt;
         (*nlines)++;
+        if (confirmed) {
+            from_seeds++;
+            weakest = from_seeds == 1 || cnt < weakest ? cnt : weakest;
+        }
     }
     /* stopped by the cap while another line's worth of points was left */
     if (*nlines == max_lines && nfree >= (size_t)(2 * p->min_inliers))

@@ -84,28 +84,32 @@ static void test_sparse_tail(void **state)
 
 /* Seeds (tracking): two contours of a band, 400 points each on
  * y = 100 + 0.1 x and y = 130 + 0.1 x with opposite gradients, in scan
- * order, and 20 clutter points spread over the band with random
- * gradients (few enough that the search for a third line tries every pair
- * of them, drawing nothing). Given the two lines as seeds (the second with the opposite
- * orientation, as a prior's line may come), both are confirmed: no sample
- * is drawn (the generator is untouched) and the lines, their inliers and
- * labels are those the draws find without seeds (the fit of the same
- * inlier sets, about another origin: within rounding). A seed 5 px off the
- * contour (a pipe that moved) holds none of it and is not confirmed: the
- * draws run and find that contour (the other seed's, confirmed or not,
- * may come first). */
+ * order, 15 strays on a line 3 px beside the first contour (its polarity)
+ * and 10 clutter points spread over the band with random gradients (few
+ * enough that the search for a third line tries every pair of them,
+ * drawing nothing). Without seeds the draws find the contours and the
+ * strays' line. Given the two contours as seeds (the second with the
+ * opposite orientation, as a prior's line may come), both are confirmed:
+ * no sample is drawn (the generator is untouched), the lines, their
+ * inliers and labels are those the draws find (the fit of the same inlier
+ * sets, about another origin: within rounding), and the 25 points left,
+ * fewer than a quarter of a contour's, are not searched for a third line.
+ * A seed 5 px off the contour (a pipe that moved) holds none of it and is
+ * not confirmed: the draws run and find that contour (the other seed's,
+ * confirmed or not, may come first), and the strays' line after them. */
 #define SEED_N 400
-#define SEED_CLUTTER 20
+#define SEED_STRAY 15
+#define SEED_CLUTTER 10
 static void test_seeds(void **state)
 {
-    static cdsp_edge pts[2 * SEED_N + SEED_CLUTTER];
-    static uint8_t label[2 * SEED_N + SEED_CLUTTER], want[2 * SEED_N + SEED_CLUTTER];
+    static cdsp_edge pts[2 * SEED_N + SEED_STRAY + SEED_CLUTTER];
+    static uint8_t label[2 * SEED_N + SEED_STRAY + SEED_CLUTTER], want[2 * SEED_N + SEED_STRAY + SEED_CLUTTER];
     cdsp_real nrm = R_SQRT(R(1.01)), a = R(-0.1) / nrm, b = R(1) / nrm;
     cdsp_real seed[2][3];
     cdsp_line ref[CDSP_MAX_LINES], got[CDSP_MAX_LINES];
     cdsp_pair_params p;
     cdsp_rng rng, fresh;
-    size_t i, n = 2 * SEED_N + SEED_CLUTTER;
+    size_t i, n = 2 * SEED_N + SEED_STRAY + SEED_CLUTTER;
     int nref, ngot, capped, k, off, map[2];
     (void)state;
     cdsp_rng_seed(&rng, 5, 1);
@@ -119,7 +123,13 @@ static void test_seeds(void **state)
         pts[2 * i + 1].gx = R(-20) * a;
         pts[2 * i + 1].gy = R(-20) * b;
     }
-    for (i = 2 * SEED_N; i < n; i++) {
+    for (i = 2 * SEED_N; i < 2 * SEED_N + SEED_STRAY; i++) {
+        pts[i].x = R(50) * (cdsp_real)(i - 2 * SEED_N);
+        pts[i].y = R(100) + R(3) / b + R(0.1) * pts[i].x;
+        pts[i].gx = R(20) * a;
+        pts[i].gy = R(20) * b;
+    }
+    for (i = 2 * SEED_N + SEED_STRAY; i < n; i++) {
         cdsp_real t = R(6.283185307179586) * cdsp_rng_uniform(&rng);
         pts[i].x = R(800) * cdsp_rng_uniform(&rng);
         pts[i].y = R(95) + R(0.1) * pts[i].x + R(40) * cdsp_rng_uniform(&rng);
@@ -131,8 +141,9 @@ static void test_seeds(void **state)
     assert_int_equal(cdsp__lines_find(pts, n, label, &p, R_COS(p.normal_tol_deg * R_PI / R(180)), NULL, 0,
                                       &rng, ref, &nref, &capped),
                      CDSP_OK);
-    assert_true(nref >= 2);
+    assert_int_equal(nref, 3);
     assert_int_equal(ref[0].count + ref[1].count, 2 * SEED_N);
+    assert_int_equal(ref[2].count, SEED_STRAY);
     for (i = 0; i < n; i++)
         want[i] = label[i] <= 2 ? label[i] : 0; /* the two contours' labels */
     for (off = 0; off < 2; off++) {
@@ -146,7 +157,7 @@ static void test_seeds(void **state)
         assert_int_equal(cdsp__lines_find(pts, n, label, &p, R_COS(p.normal_tol_deg * R_PI / R(180)),
                                           (const cdsp_real(*)[3])seed, 2, &rng, got, &ngot, &capped),
                          CDSP_OK);
-        assert_true(ngot >= 2);
+        assert_int_equal(ngot, off ? 3 : 2);
         for (k = 0; k < 2; k++) {
             /* the same contour: the orientations agree (the order may not
              * when a seed is off) */
