@@ -443,8 +443,9 @@ static uint32_t search_count(const search *s, const cdsp_real l[3], size_t *firs
 }
 
 /* The seeds not yet used (see the top): the best one becomes the search's
- * best hypothesis when it beats it; 1 when it is confirmed (it is then
- * used), 0 when the draws must run. */
+ * best hypothesis when it beats it; 1 when it is confirmed (used[] 1: it
+ * is then the line sought, or none is; 2: a seed of no line), 0 when the
+ * draws must run. */
 #define MAX_SEEDS 2
 static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_t *used)
 {
@@ -460,7 +461,7 @@ static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_
             continue;
         norm = R_SQRT(seed[q][0] * seed[q][0] + seed[q][1] * seed[q][1]);
         if (!(norm > R(0)) || !R_FINITE(norm) || !R_FINITE(seed[q][2])) {
-            used[q] = 1;
+            used[q] = 2;
             continue;
         }
         for (sg = 0; sg < 2; sg++) {
@@ -504,6 +505,21 @@ static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_
     return 0;
 }
 
+/* At line nseed: whether every seed was confirmed, so the lines so far are
+ * the seeds' (a confirmed seed's search ends in its line or in none), and
+ * the nfree points left are fewer than a quarter of the weakest's. */
+static int seeds_found(const uint8_t *used, const cdsp_line *lines, int nseed, size_t nfree)
+{
+    uint32_t weakest = lines[0].count;
+    int q;
+    for (q = 0; q < nseed; q++) {
+        if (used[q] != 1)
+            return 0;
+        weakest = lines[q].count < weakest ? lines[q].count : weakest;
+    }
+    return nfree < (size_t)(weakest / 4u);
+}
+
 /* Free points listed (indices into pts) once at most this many are left:
  * drawing from the list makes every draw a sample of free points (drawing
  * from all n, with 19 free points left among the paper frame's tracked
@@ -516,11 +532,10 @@ static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_
 
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              const cdsp_pair_params *p, cdsp_real cos_tol, const cdsp_real (*seed)[3],
-                             int nseed, cdsp_rng *rng, cdsp_line *lines, int *nlines, int *capped)
+                             cdsp_rng *rng, cdsp_line *lines, int *nlines, int *capped)
 {
+    int nseed = seed ? MAX_SEEDS : 0;
     uint8_t used[MAX_SEEDS] = {0, 0};
-    int from_seeds = 0;     /* lines found from confirmed seeds */
-    uint32_t weakest = 0;   /* the fewest inliers among them */
     cdsp_real cos2 = cos_tol * cos_tol, thr = p->inlier_px;
     size_t i, j, nfree = n;
     int k, max_lines = p->max_lines < CDSP_MAX_LINES ? p->max_lines : CDSP_MAX_LINES;
@@ -540,21 +555,17 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
     s.cos2 = cos2;
     s.confidence = p->confidence;
     s.cap = p->max_iterations;
-    if (!seed || nseed < 0)
-        nseed = 0;
-    if (nseed > MAX_SEEDS)
-        nseed = MAX_SEEDS;
 
     for (k = 0; k < max_lines; k++) {
         long it, tries = 0, max_tries = 20L * p->max_iterations;
         uint32_t cnt = 0, draw_n, draw_t;
-        int pass, confirmed = 0;
+        int pass;
         moments m;
 
         if (nfree < (size_t)p->min_inliers || nfree < 2)
             break;
         /* every seed confirmed and found: the rest are strays (see the top) */
-        if (nseed && k == nseed && from_seeds == nseed && nfree < (size_t)(weakest / 4u))
+        if (nseed && k == nseed && seeds_found(used, lines, nseed, nfree))
             break;
         s.need = p->max_iterations;
         s.best_sub = 0;
@@ -577,7 +588,7 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
             break;
 
         if (nseed && search_seeds(&s, seed, nseed, used)) {
-            confirmed = 1; /* no draws */
+            /* confirmed: no draws */
         } else if (s.list && (long)(s.nlist * (s.nlist - 1) / 2) <= p->max_iterations) {
             /* No more distinct samples than iterations: try each once. */
             for (i = 0; i < s.nlist; i++)
@@ -641,10 +652,6 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
         line_stats(pts, n, NULL, label, LABEL_TRIAL, (uint8_t)(k + 1), &lines[*nlines]);
         nfree -= cnt;
         (*nlines)++;
-        if (confirmed) {
-            from_seeds++;
-            weakest = from_seeds == 1 || cnt < weakest ? cnt : weakest;
-        }
     }
     /* stopped by the cap while another line's worth of points was left */
     if (*nlines == max_lines && nfree >= (size_t)(2 * p->min_inliers))

@@ -1053,7 +1053,7 @@ static cdsp_status score_pairs(const cdsp_camera *cam, cdsp_real radius, const c
         return CDSP_E_FEW_POINTS;
     /* tracking: the prior's contours are the line search's seeds */
     st = cdsp__lines_find(pts, n, label, &p->pair, R_COS(p->pair.normal_tol_deg * R_PI / R(180)),
-                          prior ? prior->lines : NULL, prior ? 2 : 0, rng, lines, &nlines, &capped);
+                          prior ? prior->lines : NULL, rng, lines, &nlines, &capped);
     if (st != CDSP_OK)
         return st;
     set->nlines = nlines;

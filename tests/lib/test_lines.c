@@ -71,7 +71,7 @@ static void test_sparse_tail(void **state)
     p.min_inliers = 12;
     cdsp_rng_seed(&rng, 1, 1);
     assert_int_equal(cdsp__lines_find(pts, 20015, label, &p, R_COS(p.normal_tol_deg * R_PI / R(180)),
-                                      NULL, 0, &rng, lines, &nlines, &capped),
+                                      NULL, &rng, lines, &nlines, &capped),
                      CDSP_OK);
     assert_int_equal(nlines, 2);
     assert_int_equal(lines[0].count, 20000);
@@ -138,7 +138,7 @@ static void test_seeds(void **state)
     }
     cdsp_pair_params_default(&p);
     cdsp_rng_seed(&rng, 1, 1);
-    assert_int_equal(cdsp__lines_find(pts, n, label, &p, R_COS(p.normal_tol_deg * R_PI / R(180)), NULL, 0,
+    assert_int_equal(cdsp__lines_find(pts, n, label, &p, R_COS(p.normal_tol_deg * R_PI / R(180)), NULL,
                                       &rng, ref, &nref, &capped),
                      CDSP_OK);
     assert_int_equal(nref, 3);
@@ -155,7 +155,7 @@ static void test_seeds(void **state)
         seed[0][2] -= R(5) * (cdsp_real)off;
         cdsp_rng_seed(&rng, 1, 1);
         assert_int_equal(cdsp__lines_find(pts, n, label, &p, R_COS(p.normal_tol_deg * R_PI / R(180)),
-                                          (const cdsp_real(*)[3])seed, 2, &rng, got, &ngot, &capped),
+                                          (const cdsp_real(*)[3])seed, &rng, got, &ngot, &capped),
                          CDSP_OK);
         assert_int_equal(ngot, off ? 3 : 2);
         for (k = 0; k < 2; k++) {
