@@ -44,9 +44,14 @@
  * hypothesis so far. It is confirmed, and no sample is drawn, when it holds
  * more of the free subsample than lies on no seed at all: a line other
  * than the seeds holds only those points and the few of each seed's where
- * it crosses it, so the random search would find none with more; the
+ * it crosses it, so the random search would find none with more (the
+ * points on no seed are counted when two seeds could share some); the
  * refinement then fits the seed's inliers as it would the winner of the
- * draws. A seed the pipe has moved away from holds few points and is not
+ * draws. A pipe moves a few pixels between frames, more than the inlier
+ * distance: when the seeds as given are not confirmed, each is moved onto
+ * its contour (fitted to the subsample's points within SEED_REACH inlier
+ * distances of it, then half that, down to twice the inlier distance) and
+ * tried again. A seed with nothing of its contour in reach is not
  * confirmed: the draws run as without seeds (the seed the best to beat).
  * When every seed was confirmed and taken as the first lines, the search
  * for more stops once the points left are fewer than a quarter of the
@@ -423,38 +428,135 @@ static void search_try(search *s, uint32_t a, uint32_t b)
     }
 }
 
-/* Inliers of l among the search's free subsample (or list), all of them;
- * *first: the first one (the moments' origin), when any. */
-static uint32_t search_count(const search *s, const cdsp_real l[3], size_t *first)
+/* Inliers of l within distance thr among the search's free subsample (or
+ * list), all of them, their moments added to m (unless NULL); *first: the
+ * first one (the moments' origin), when any. */
+static uint32_t search_count(const search *s, const cdsp_real l[3], cdsp_real thr, moments *m, size_t *first)
 {
     const cdsp_edge *pts = s->pts;
     uint32_t sc = 0;
     size_t i, j;
     if (s->list) {
         for (j = 0; j < s->nlist; j++)
-            if (is_inlier(&pts[s->list[j]], l, s->thr, s->cos2) && sc++ == 0)
-                *first = s->list[j];
+            if (is_inlier(&pts[s->list[j]], l, thr, s->cos2)) {
+                if (sc++ == 0)
+                    *first = s->list[j];
+                if (m)
+                    mom_add(m, &pts[s->list[j]]);
+            }
     } else {
         for (i = 0, j = 0; j < s->nsub; j++, i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep)
-            if (s->label[i] == LABEL_FREE && is_inlier(&pts[i], l, s->thr, s->cos2) && sc++ == 0)
-                *first = i;
+            if (s->label[i] == LABEL_FREE && is_inlier(&pts[i], l, thr, s->cos2)) {
+                if (sc++ == 0)
+                    *first = i;
+                if (m)
+                    mom_add(m, &pts[i]);
+            }
     }
     return sc;
+}
+
+#define SEED_REACH 8 /* inlier distances: how far a seed is moved from (seed_fit) */
+/* search_count for a seed as given: the inliers (*first: the first), and
+ * in *reach the free points within SEED_REACH inlier distances. */
+static uint32_t seed_count(const search *s, const cdsp_real l[3], uint32_t *reach, size_t *first)
+{
+    const cdsp_edge *pts = s->pts;
+    cdsp_real wide = R(SEED_REACH) * s->thr;
+    uint32_t sc = 0, cr = 0;
+    size_t i, j, k;
+    for (i = 0, j = 0; j < (s->list ? s->nlist : s->nsub); j++) {
+        k = s->list ? s->list[j] : i;
+        if ((s->list || s->label[k] == LABEL_FREE) && is_inlier(&pts[k], l, wide, s->cos2)) {
+            cdsp_real d = l[0] * pts[k].x + l[1] * pts[k].y + l[2];
+            cr++;
+            if (!(d > s->thr || d < -s->thr) && sc++ == 0) /* is_inlier's test at thr */
+                *first = k;
+        }
+        if (!s->list)
+            i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep;
+    }
+    *reach = cr;
+    return sc;
+}
+
+/* A seed moved onto its contour: the seed's line l (oriented) fitted to the
+ * free subsample's points within SEED_REACH, then half that, ..., down to
+ * twice the inlier distance, each time about the fit before; l is left
+ * as it was when a fit fails. A pipe moves a few pixels a frame (the
+ * tracking tests' sequences: 1-7 of the 80 subsample points of a contour
+ * within the inlier distance of the prior's line), and the band's points
+ * are its two contours of opposite polarity, so the points of a contour
+ * within reach are mostly that contour's. */
+static void seed_fit(const search *s, cdsp_real l[3])
+{
+    cdsp_real reach;
+    for (reach = R(SEED_REACH) * s->thr; reach >= R(2) * s->thr; reach /= R(2)) {
+        moments m;
+        cdsp_line fit;
+        size_t at = 0;
+        if (search_count(s, l, reach, NULL, &at) < 2)
+            return;
+        mom_init(&m, s->pts[at].x, s->pts[at].y);
+        (void)search_count(s, l, reach, &m, &at);
+        if (mom_fit(&m, &fit) != CDSP_OK || !(fit.l[0] * l[0] + fit.l[1] * l[1] > R(0)))
+            return;
+        l[0] = fit.l[0];
+        l[1] = fit.l[1];
+        l[2] = fit.l[2];
+    }
+}
+
+/* How many of the free subsample (or list) are inliers of at least one of
+ * the unused seeds' lines l that have any (sc): their sum when no point can
+ * be an inlier of two (one such seed, or normals more than twice the
+ * angular tolerance apart, as a pipe's two contours' are: cos of the
+ * angle below cos(2 tol) = 2 cos^2(tol) - 1), else counted. */
+static uint32_t seeds_union(const search *s, cdsp_real (*l)[3], const uint32_t *sc, const uint8_t *used,
+                            int nseed)
+{
+    uint32_t u = 0;
+    size_t i, j, k;
+    int q, m = 0;
+    for (q = 0; q < nseed; q++)
+        if (!used[q] && sc[q]) {
+            u += sc[q];
+            m++;
+        }
+    if (m < 2 || (nseed == 2 && l[0][0] * l[1][0] + l[0][1] * l[1][1] < R(2) * s->cos2 - R(1)))
+        return u;
+    u = 0;
+    for (i = 0, j = 0; j < (s->list ? s->nlist : s->nsub); j++) {
+        k = s->list ? s->list[j] : i;
+        if (s->list || s->label[k] == LABEL_FREE)
+            for (q = 0; q < nseed; q++)
+                if (!used[q] && sc[q] && is_inlier(&s->pts[k], l[q], s->thr, s->cos2)) {
+                    u++;
+                    break;
+                }
+        if (!s->list)
+            i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep;
+    }
+    return u;
 }
 
 /* The seeds not yet used (see the top): the best one becomes the search's
  * best hypothesis when it beats it; 1 when it is confirmed (used[] 1: it
  * is then the line sought, or none is; 2: a seed of no line), 0 when the
- * draws must run. */
+ * draws must run. The seeds as given first; when the best is not
+ * confirmed, each moved onto its contour (seed_fit) and tried again. */
 #define MAX_SEEDS 2
 static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_t *used)
 {
     cdsp_real l[MAX_SEEDS][3];
-    uint32_t sc[MAX_SEEDS], total = 0;
+    uint32_t sc[MAX_SEEDS], total;
+    /* l[q], sc[q]: seed q's line (moved, after the first round) and its
+     * inliers; unset for used seeds, which no loop reads */
     size_t first[MAX_SEEDS];
-    int q, b = -1;
+    int q, b, round;
     for (q = 0; q < nseed; q++) {
         cdsp_real norm;
+        uint32_t reach = 0;
         int sg;
         sc[q] = 0;
         if (used[q])
@@ -464,15 +566,18 @@ static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_
             used[q] = 2;
             continue;
         }
+        /* the orientation with more points in reach (a moved seed may
+         * have none or a stray within the inlier distance) */
         for (sg = 0; sg < 2; sg++) {
             cdsp_real t[3], f = sg ? R(-1) / norm : R(1) / norm;
             size_t at = 0;
-            uint32_t c;
+            uint32_t c, cr;
             t[0] = seed[q][0] * f;
             t[1] = seed[q][1] * f;
             t[2] = seed[q][2] * f;
-            c = search_count(s, t, &at);
-            if (c > sc[q]) {
+            c = seed_count(s, t, &cr, &at);
+            if (sg == 0 || cr > reach) {
+                reach = cr;
                 sc[q] = c;
                 first[q] = at;
                 l[q][0] = t[0];
@@ -480,27 +585,43 @@ static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_
                 l[q][2] = t[2];
             }
         }
-        total += sc[q];
-        if (sc[q] > 0 && (b < 0 || sc[q] > sc[b]))
-            b = q;
     }
-    if (b < 0)
-        return 0;
-    if (sc[b] > s->best_sub) {
-        long nn;
-        s->best_sub = sc[b];
-        s->best[0] = l[b][0];
-        s->best[1] = l[b][1];
-        s->best[2] = l[b][2];
-        s->origin[0] = s->pts[first[b]].x;
-        s->origin[1] = s->pts[first[b]].y;
-        nn = needed_iterations((cdsp_real)sc[b] / (cdsp_real)s->sub_free, s->confidence, s->cap);
-        if (nn < s->need)
-            s->need = nn;
-    }
-    if (sc[b] > s->sub_free - total) { /* total <= sub_free: a free point is one seed's inlier at most */
-        used[b] = 1;
-        return 1;
+    for (round = 0; round < 2; round++) {
+        total = 0;
+        b = -1;
+        for (q = 0; q < nseed; q++) {
+            if (used[q])
+                continue;
+            if (round) {
+                seed_fit(s, l[q]);
+                sc[q] = search_count(s, l[q], s->thr, NULL, &first[q]);
+            }
+            total += sc[q];
+            if (sc[q] > 0 && (b < 0 || sc[q] > sc[b]))
+                b = q;
+        }
+        if (b < 0)
+            continue;
+        if (sc[b] > s->best_sub) {
+            long nn;
+            s->best_sub = sc[b];
+            s->best[0] = l[b][0];
+            s->best[1] = l[b][1];
+            s->best[2] = l[b][2];
+            s->origin[0] = s->pts[first[b]].x;
+            s->origin[1] = s->pts[first[b]].y;
+            nn = needed_iterations((cdsp_real)sc[b] / (cdsp_real)s->sub_free, s->confidence, s->cap);
+            if (nn < s->need)
+                s->need = nn;
+        }
+        /* the points on no seed: the seeds' counts summed, or when that
+         * would confirm, counted (two seeds may share points: both moved
+         * onto one contour) */
+        if (total <= s->sub_free && sc[b] > s->sub_free - total &&
+            sc[b] > s->sub_free - seeds_union(s, l, sc, used, nseed)) {
+            used[b] = 1;
+            return 1;
+        }
     }
     return 0;
 }
