@@ -457,80 +457,110 @@ static uint32_t search_count(const search *s, const cdsp_real l[3], cdsp_real th
 }
 
 #define SEED_REACH 8 /* inlier distances: how far a seed is moved from (seed_fit) */
-/* search_count for a seed as given: the inliers (*first: the first), and
- * in *reach the free points within SEED_REACH inlier distances. */
-static uint32_t seed_count(const search *s, const cdsp_real l[3], uint32_t *reach, size_t *first)
+/* Seed states (lines_find's state[]): not yet looked at; oriented (its
+ * line in sl[]); oriented and moved onto its contour; confirmed (its
+ * search ends in its line or in none); not a line. */
+#define SEED_NEW 0u
+#define SEED_READY 1u
+#define SEED_MOVED 2u
+#define SEED_USED 3u
+#define SEED_BAD 4u
+
+/* A seed's orientation: of the free subsample's (or list's) points within
+ * SEED_REACH inlier distances of the unit line l whose gradient is within
+ * the angular tolerance of one of its two normals, the side with more
+ * (ties: l as given); l oriented so, *sc its inliers (the first: *first)
+ * and *at the first of its points in reach. */
+static void seed_orient(const search *s, cdsp_real l[3], uint32_t *sc, size_t *first, size_t *at)
 {
     const cdsp_edge *pts = s->pts;
     cdsp_real wide = R(SEED_REACH) * s->thr;
-    uint32_t sc = 0, cr = 0;
-    size_t i, j, k;
+    uint32_t nr[2] = {0, 0}, ni[2] = {0, 0};
+    size_t fr[2] = {0, 0}, fi[2] = {0, 0}, i, j, k;
+    int sg;
     for (i = 0, j = 0; j < (s->list ? s->nlist : s->nsub); j++) {
+        const cdsp_edge *e;
+        cdsp_real d, gn;
         k = s->list ? s->list[j] : i;
-        if ((s->list || s->label[k] == LABEL_FREE) && is_inlier(&pts[k], l, wide, s->cos2)) {
-            cdsp_real d = l[0] * pts[k].x + l[1] * pts[k].y + l[2];
-            cr++;
-            if (!(d > s->thr || d < -s->thr) && sc++ == 0) /* is_inlier's test at thr */
-                *first = k;
-        }
         if (!s->list)
             i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep;
+        if (!s->list && s->label[k] != LABEL_FREE)
+            continue;
+        e = &pts[k];
+        d = l[0] * e->x + l[1] * e->y + l[2];
+        if (d > wide || d < -wide)
+            continue;
+        gn = l[0] * e->gx + l[1] * e->gy;
+        if (gn == R(0) || gn * gn < s->cos2 * (e->gx * e->gx + e->gy * e->gy))
+            continue;
+        sg = gn < R(0);
+        if (nr[sg]++ == 0)
+            fr[sg] = k;
+        if (!(d > s->thr || d < -s->thr) && ni[sg]++ == 0) /* is_inlier at thr, of l or -l */
+            fi[sg] = k;
     }
-    *reach = cr;
-    return sc;
+    sg = nr[1] > nr[0];
+    if (sg) {
+        l[0] = -l[0];
+        l[1] = -l[1];
+        l[2] = -l[2];
+    }
+    *sc = ni[sg];
+    *first = fi[sg];
+    *at = fr[sg];
 }
 
-/* A seed moved onto its contour: the seed's line l (oriented) fitted to the
- * free subsample's points within SEED_REACH, then half that, ..., down to
- * twice the inlier distance, each time about the fit before; l is left
- * as it was when a fit fails. A pipe moves a few pixels a frame (the
- * tracking tests' sequences: 1-7 of the 80 subsample points of a contour
- * within the inlier distance of the prior's line), and the band's points
- * are its two contours of opposite polarity, so the points of a contour
- * within reach are mostly that contour's. */
-static void seed_fit(const search *s, cdsp_real l[3])
+/* A seed moved onto its contour: the oriented line l fitted to the free
+ * subsample's points within SEED_REACH inlier distances, then half that,
+ * down to twice the inlier distance, each time about the fit before
+ * (moments about a point in reach, *at, the first of the pass before); l
+ * is left as it was when a fit fails. A pipe moves a few pixels a frame
+ * (the tracking tests' sequences: 1-7 of the 80 subsample points of a
+ * contour within the inlier distance of the prior's line), and the band's
+ * points are its two contours of opposite polarity, so the points of a
+ * contour within reach are mostly that contour's. */
+static void seed_fit(const search *s, cdsp_real l[3], size_t *at)
 {
     cdsp_real reach;
     for (reach = R(SEED_REACH) * s->thr; reach >= R(2) * s->thr; reach /= R(2)) {
         moments m;
         cdsp_line fit;
-        size_t at = 0;
-        if (search_count(s, l, reach, NULL, &at) < 2)
-            return;
-        mom_init(&m, s->pts[at].x, s->pts[at].y);
-        (void)search_count(s, l, reach, &m, &at);
-        if (mom_fit(&m, &fit) != CDSP_OK || !(fit.l[0] * l[0] + fit.l[1] * l[1] > R(0)))
+        size_t next = *at;
+        mom_init(&m, s->pts[*at].x, s->pts[*at].y);
+        if (search_count(s, l, reach, &m, &next) < 2 || mom_fit(&m, &fit) != CDSP_OK ||
+            !(fit.l[0] * l[0] + fit.l[1] * l[1] > R(0)))
             return;
         l[0] = fit.l[0];
         l[1] = fit.l[1];
         l[2] = fit.l[2];
+        *at = next;
     }
 }
 
 /* How many of the free subsample (or list) are inliers of at least one of
- * the unused seeds' lines l that have any (sc): their sum when no point can
- * be an inlier of two (one such seed, or normals more than twice the
- * angular tolerance apart, as a pipe's two contours' are: cos of the
- * angle below cos(2 tol) = 2 cos^2(tol) - 1), else counted. */
-static uint32_t seeds_union(const search *s, cdsp_real (*l)[3], const uint32_t *sc, const uint8_t *used,
+ * the seeds' lines sl that are not used and have any (sc): their sum when
+ * no point can be an inlier of two (one such seed, or normals more than
+ * twice the angular tolerance apart, as a pipe's two contours' are: cos of
+ * the angle below cos(2 tol) = 2 cos^2(tol) - 1), else counted. */
+static uint32_t seeds_union(const search *s, cdsp_real (*sl)[3], const uint32_t *sc, const uint8_t *state,
                             int nseed)
 {
     uint32_t u = 0;
     size_t i, j, k;
     int q, m = 0;
     for (q = 0; q < nseed; q++)
-        if (!used[q] && sc[q]) {
+        if (state[q] < SEED_USED && sc[q]) {
             u += sc[q];
             m++;
         }
-    if (m < 2 || (nseed == 2 && l[0][0] * l[1][0] + l[0][1] * l[1][1] < R(2) * s->cos2 - R(1)))
+    if (m < 2 || (nseed == 2 && sl[0][0] * sl[1][0] + sl[0][1] * sl[1][1] < R(2) * s->cos2 - R(1)))
         return u;
     u = 0;
     for (i = 0, j = 0; j < (s->list ? s->nlist : s->nsub); j++) {
         k = s->list ? s->list[j] : i;
         if (s->list || s->label[k] == LABEL_FREE)
             for (q = 0; q < nseed; q++)
-                if (!used[q] && sc[q] && is_inlier(&s->pts[k], l[q], s->thr, s->cos2)) {
+                if (state[q] < SEED_USED && sc[q] && is_inlier(&s->pts[k], sl[q], s->thr, s->cos2)) {
                     u++;
                     break;
                 }
@@ -540,74 +570,62 @@ static uint32_t seeds_union(const search *s, cdsp_real (*l)[3], const uint32_t *
     return u;
 }
 
-/* The seeds not yet used (see the top): the best one becomes the search's
- * best hypothesis when it beats it; 1 when it is confirmed (used[] 1: it
- * is then the line sought, or none is; 2: a seed of no line), 0 when the
- * draws must run. The seeds as given first; when the best is not
- * confirmed, each moved onto its contour (seed_fit) and tried again. */
+/* The seeds not used yet (see the top; sl, state: lines_find's, kept from
+ * one line's search to the next): the best one becomes the search's best
+ * hypothesis when it beats it; 1 when it is confirmed (then SEED_USED), 0
+ * when the draws must run. The seeds as they are first; when the best is
+ * not confirmed, those not moved yet are moved onto their contours
+ * (seed_fit) and tried again. */
 #define MAX_SEEDS 2
-static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_t *used)
+static int search_seeds(search *s, const cdsp_real (*seed)[3], cdsp_real (*sl)[3], uint8_t *state, int nseed)
 {
-    cdsp_real l[MAX_SEEDS][3];
     uint32_t sc[MAX_SEEDS], total;
-    /* l[q], sc[q]: seed q's line (moved, after the first round) and its
-     * inliers; unset for used seeds, which no loop reads */
-    size_t first[MAX_SEEDS];
+    size_t first[MAX_SEEDS], at[MAX_SEEDS];
     int q, b, round;
     for (q = 0; q < nseed; q++) {
-        cdsp_real norm;
-        uint32_t reach = 0;
-        int sg;
         sc[q] = 0;
-        if (used[q])
-            continue;
-        norm = R_SQRT(seed[q][0] * seed[q][0] + seed[q][1] * seed[q][1]);
-        if (!(norm > R(0)) || !R_FINITE(norm) || !R_FINITE(seed[q][2])) {
-            used[q] = 2;
-            continue;
-        }
-        /* the orientation with more points in reach (a moved seed may
-         * have none or a stray within the inlier distance) */
-        for (sg = 0; sg < 2; sg++) {
-            cdsp_real t[3], f = sg ? R(-1) / norm : R(1) / norm;
-            size_t at = 0;
-            uint32_t c, cr;
-            t[0] = seed[q][0] * f;
-            t[1] = seed[q][1] * f;
-            t[2] = seed[q][2] * f;
-            c = seed_count(s, t, &cr, &at);
-            if (sg == 0 || cr > reach) {
-                reach = cr;
-                sc[q] = c;
-                first[q] = at;
-                l[q][0] = t[0];
-                l[q][1] = t[1];
-                l[q][2] = t[2];
+        first[q] = at[q] = 0;
+        if (state[q] == SEED_NEW) {
+            cdsp_real norm = R_SQRT(seed[q][0] * seed[q][0] + seed[q][1] * seed[q][1]);
+            if (!(norm > R(0)) || !R_FINITE(norm) || !R_FINITE(seed[q][2])) {
+                state[q] = SEED_BAD;
+                continue;
             }
+            sl[q][0] = seed[q][0] / norm;
+            sl[q][1] = seed[q][1] / norm;
+            sl[q][2] = seed[q][2] / norm;
+            state[q] = SEED_READY;
+            seed_orient(s, sl[q], &sc[q], &first[q], &at[q]);
+        } else if (state[q] < SEED_USED) {
+            sc[q] = search_count(s, sl[q], s->thr, NULL, &first[q]);
+            at[q] = first[q];
         }
     }
     for (round = 0; round < 2; round++) {
+        int moved = 0;
         total = 0;
         b = -1;
         for (q = 0; q < nseed; q++) {
-            if (used[q])
+            if (state[q] >= SEED_USED)
                 continue;
-            if (round) {
-                seed_fit(s, l[q]);
-                sc[q] = search_count(s, l[q], s->thr, NULL, &first[q]);
+            if (round && state[q] == SEED_READY) {
+                state[q] = SEED_MOVED;
+                moved = 1;
+                seed_fit(s, sl[q], &at[q]);
+                sc[q] = search_count(s, sl[q], s->thr, NULL, &first[q]);
             }
             total += sc[q];
             if (sc[q] > 0 && (b < 0 || sc[q] > sc[b]))
                 b = q;
         }
-        if (b < 0)
+        if ((round && !moved) || b < 0)
             continue;
         if (sc[b] > s->best_sub) {
             long nn;
             s->best_sub = sc[b];
-            s->best[0] = l[b][0];
-            s->best[1] = l[b][1];
-            s->best[2] = l[b][2];
+            s->best[0] = sl[b][0];
+            s->best[1] = sl[b][1];
+            s->best[2] = sl[b][2];
             s->origin[0] = s->pts[first[b]].x;
             s->origin[1] = s->pts[first[b]].y;
             nn = needed_iterations((cdsp_real)sc[b] / (cdsp_real)s->sub_free, s->confidence, s->cap);
@@ -618,8 +636,8 @@ static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_
          * would confirm, counted (two seeds may share points: both moved
          * onto one contour) */
         if (total <= s->sub_free && sc[b] > s->sub_free - total &&
-            sc[b] > s->sub_free - seeds_union(s, l, sc, used, nseed)) {
-            used[b] = 1;
+            sc[b] > s->sub_free - seeds_union(s, sl, sc, state, nseed)) {
+            state[b] = SEED_USED;
             return 1;
         }
     }
@@ -629,12 +647,12 @@ static int search_seeds(search *s, const cdsp_real (*seed)[3], int nseed, uint8_
 /* At line nseed: whether every seed was confirmed, so the lines so far are
  * the seeds' (a confirmed seed's search ends in its line or in none), and
  * the nfree points left are fewer than a quarter of the weakest's. */
-static int seeds_found(const uint8_t *used, const cdsp_line *lines, int nseed, size_t nfree)
+static int seeds_found(const uint8_t *state, const cdsp_line *lines, int nseed, size_t nfree)
 {
     uint32_t weakest = lines[0].count;
     int q;
     for (q = 0; q < nseed; q++) {
-        if (used[q] != 1)
+        if (state[q] != SEED_USED)
             return 0;
         weakest = lines[q].count < weakest ? lines[q].count : weakest;
     }
@@ -656,7 +674,8 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
                              cdsp_rng *rng, cdsp_line *lines, int *nlines, int *capped)
 {
     int nseed = seed ? MAX_SEEDS : 0;
-    uint8_t used[MAX_SEEDS] = {0, 0};
+    uint8_t state[MAX_SEEDS] = {SEED_NEW, SEED_NEW};
+    cdsp_real sl[MAX_SEEDS][3]; /* the seeds' lines, oriented, moved (search_seeds) */
     cdsp_real cos2 = cos_tol * cos_tol, thr = p->inlier_px;
     size_t i, j, nfree = n;
     int k, max_lines = p->max_lines < CDSP_MAX_LINES ? p->max_lines : CDSP_MAX_LINES;
@@ -686,7 +705,7 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
         if (nfree < (size_t)p->min_inliers || nfree < 2)
             break;
         /* every seed confirmed and found: the rest are strays (see the top) */
-        if (nseed && k == nseed && seeds_found(used, lines, nseed, nfree))
+        if (nseed && k == nseed && seeds_found(state, lines, nseed, nfree))
             break;
         s.need = p->max_iterations;
         s.best_sub = 0;
@@ -708,7 +727,7 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
         if (s.sub_free == 0 || (s.list && s.nlist < (size_t)p->min_inliers))
             break;
 
-        if (nseed && search_seeds(&s, seed, nseed, used)) {
+        if (nseed && search_seeds(&s, seed, sl, state, nseed)) {
             /* confirmed: no draws */
         } else if (s.list && (long)(s.nlist * (s.nlist - 1) / 2) <= p->max_iterations) {
             /* No more distinct samples than iterations: try each once. */
