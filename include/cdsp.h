@@ -829,7 +829,9 @@ size_t cdsp_frame_ws_size(void);
  * selection (polarity, pipe side, overlap, radius/distance plausibility),
  * refit, closed-form solve, uncertainty and visible segment.
  * pts must be undistorted (cdsp_camera_undistort_edges); n <= CDSP_MAX_POINTS.
- * prior may be NULL; when given, only the direction sign follows it.
+ * prior may be NULL; when given, the line search tries its two contours
+ * first (seeds: no random samples when they hold the points, docs/method.md
+ * §3) and the direction sign follows it.
  * Returns CDSP_OK, CDSP_E_FEW_POINTS, CDSP_E_NO_PIPE, CDSP_E_DEGENERATE,
  * CDSP_E_CAPACITY, CDSP_E_ARG, CDSP_E_NONFINITE.
  */
@@ -842,8 +844,9 @@ cdsp_status cdsp_points_solve(const cdsp_camera *cam, cdsp_real radius,
  * Frame -> pipe axis. With prior == NULL: full search over p->edge.roi.
  * With a prior (the previous frame's result): edges are searched only in
  * bands of +-track_band_px around the prior's contours (distorted back into
- * the frame); if that yields too few inliers or no pipe, a full search
- * follows. out->flags tells which path produced the result.
+ * the frame), and the line search tries the prior's contours first (as in
+ * cdsp_points_solve); if that yields too few inliers or no pipe, a full
+ * search follows. out->flags tells which path produced the result.
  * The frame's size must equal the calibration's (CDSP_E_ARG otherwise).
  * When a contour of the pose has points scattered beyond the frame's
  * noise (rms above 1.5 x 3 sigma / step and more than 0.2 px beyond it,

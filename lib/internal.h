@@ -132,10 +132,13 @@ static inline int img_px(const cdsp_image *img, int x, int y)
 uint32_t cdsp__rng_threshold(uint32_t n);
 uint32_t cdsp__rng_below_t(cdsp_rng *rng, uint32_t n, uint32_t threshold);
 /* cos_tol = cos(p->normal_tol_deg): computed by the caller, which keeps the
- * trigonometry (and libm's deep range reduction) off this call's stack. */
+ * trigonometry (and libm's deep range reduction) off this call's stack.
+ * seed: NULL, or the two lines where contours are expected (the tracking
+ * prior's, in the points' coordinates), tried before any draw
+ * (lib/lines.c). */
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
-                             const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
-                             cdsp_line *lines, int *nlines, int *capped);
+                             const cdsp_pair_params *p, cdsp_real cos_tol, const cdsp_real (*seed)[3],
+                             cdsp_rng *rng, cdsp_line *lines, int *nlines, int *capped);
 /* The points path's pose (lib/pair.c): score_pairs, cdsp__pair_rank and
  * cdsp__pair_pose without the frame. min_step: the edge step threshold the
  * points were detected with (gray levels; 0 when unknown, e.g. the points

@@ -36,6 +36,36 @@
  * first point's edge direction. Such a pair lies on one contour with
  * probability ~w, not w^2. For input in no particular order the guided
  * samples are merely as good as uniform ones, which the other half stay.
+ *
+ * Seeds (issue 17): tracking knows where the contours were a frame ago, and
+ * the points it reads lie in bands around them. Each line search therefore
+ * scores the seed lines it was given (the prior's two contours) on the
+ * subsample first, both orientations, and the best seed becomes the best
+ * hypothesis so far. It is confirmed, and no sample is drawn, when it holds
+ * more of the free subsample than lies on no seed at all: a line other
+ * than the seeds holds only those points and the few of each seed's where
+ * it crosses it, so the random search would find none with more (the
+ * points on no seed are counted when two seeds could share some); the
+ * refinement then fits the seed's inliers as it would the winner of the
+ * draws. A pipe moves a few pixels between frames, more than the inlier
+ * distance: when the seeds as given are not confirmed, each is moved onto
+ * its contour (fitted to the subsample's points within SEED_REACH inlier
+ * distances of it, then half that, down to twice the inlier distance) and
+ * tried again. A seed with nothing of its contour in reach is not
+ * confirmed: the draws run as without seeds (the seed the best to beat).
+ * When every seed was confirmed and taken as the first lines, the search
+ * for more stops once the points left are fewer than a quarter of the
+ * weakest seed line's: what is left of a tracked band is its contours'
+ * stray points (19-32 on the paper's frames, against 611 per contour), and
+ * a line of them is too short to count among the pair tests' interior and
+ * neighbouring contours (lib/pair.c: band_split, edge_of_neighbour) or to
+ * outscore the tracked pair on its weaker contour's evidence. Not a
+ * proof: such a line could still end a contour's corner test (lib/pair.c,
+ * flips_on; without it a track may fall back to a full search) or be a
+ * weak rival pair's side. Measured on bench_frame's 18 tracked solves
+ * (`bench_frame DIR hash` with n_lines left out of the hash): every other
+ * field the same, n_lines 2 instead of 3 on 6 of them (12-15 stray points
+ * along one contour).
  */
 #include "internal.h"
 
@@ -398,6 +428,237 @@ static void search_try(search *s, uint32_t a, uint32_t b)
     }
 }
 
+/* Inliers of l within distance thr among the search's free subsample (or
+ * list), all of them, their moments added to m (unless NULL); *first: the
+ * first one (the moments' origin), when any. */
+static uint32_t search_count(const search *s, const cdsp_real l[3], cdsp_real thr, moments *m, size_t *first)
+{
+    const cdsp_edge *pts = s->pts;
+    uint32_t sc = 0;
+    size_t i, j;
+    if (s->list) {
+        for (j = 0; j < s->nlist; j++)
+            if (is_inlier(&pts[s->list[j]], l, thr, s->cos2)) {
+                if (sc++ == 0)
+                    *first = s->list[j];
+                if (m)
+                    mom_add(m, &pts[s->list[j]]);
+            }
+    } else {
+        for (i = 0, j = 0; j < s->nsub; j++, i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep)
+            if (s->label[i] == LABEL_FREE && is_inlier(&pts[i], l, thr, s->cos2)) {
+                if (sc++ == 0)
+                    *first = i;
+                if (m)
+                    mom_add(m, &pts[i]);
+            }
+    }
+    return sc;
+}
+
+#define SEED_REACH 8 /* inlier distances: how far a seed is moved from (seed_fit) */
+/* Seed states (lines_find's state[]): not yet looked at; oriented (its
+ * line in sl[]); oriented and moved onto its contour; confirmed (its
+ * search ends in its line or in none); not a line. */
+#define SEED_NEW 0u
+#define SEED_READY 1u
+#define SEED_MOVED 2u
+#define SEED_USED 3u
+#define SEED_BAD 4u
+
+/* A seed's orientation: of the free subsample's (or list's) points within
+ * SEED_REACH inlier distances of the unit line l whose gradient is within
+ * the angular tolerance of one of its two normals, the side with more
+ * (ties: l as given); l oriented so, *sc its inliers (the first: *first)
+ * and *at the first of its points in reach. */
+static void seed_orient(const search *s, cdsp_real l[3], uint32_t *sc, size_t *first, size_t *at)
+{
+    const cdsp_edge *pts = s->pts;
+    cdsp_real wide = R(SEED_REACH) * s->thr;
+    uint32_t nr[2] = {0, 0}, ni[2] = {0, 0};
+    size_t fr[2] = {0, 0}, fi[2] = {0, 0}, i, j, k;
+    int sg;
+    for (i = 0, j = 0; j < (s->list ? s->nlist : s->nsub); j++) {
+        const cdsp_edge *e;
+        cdsp_real d, gn;
+        k = s->list ? s->list[j] : i;
+        if (!s->list)
+            i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep;
+        if (!s->list && s->label[k] != LABEL_FREE)
+            continue;
+        e = &pts[k];
+        d = l[0] * e->x + l[1] * e->y + l[2];
+        if (d > wide || d < -wide)
+            continue;
+        gn = l[0] * e->gx + l[1] * e->gy;
+        if (gn == R(0) || gn * gn < s->cos2 * (e->gx * e->gx + e->gy * e->gy))
+            continue;
+        sg = gn < R(0);
+        if (nr[sg]++ == 0)
+            fr[sg] = k;
+        if (!(d > s->thr || d < -s->thr) && ni[sg]++ == 0) /* is_inlier at thr, of l or -l */
+            fi[sg] = k;
+    }
+    sg = nr[1] > nr[0];
+    if (sg) {
+        l[0] = -l[0];
+        l[1] = -l[1];
+        l[2] = -l[2];
+    }
+    *sc = ni[sg];
+    *first = fi[sg];
+    *at = fr[sg];
+}
+
+/* A seed moved onto its contour: the oriented line l fitted to the free
+ * subsample's points within SEED_REACH inlier distances, then half that,
+ * down to twice the inlier distance, each time about the fit before
+ * (moments about a point in reach, *at, the first of the pass before); l
+ * is left as it was when a fit fails. A pipe moves a few pixels a frame
+ * (the tracking tests' sequences: 1-7 of the 80 subsample points of a
+ * contour within the inlier distance of the prior's line), and the band's
+ * points are its two contours of opposite polarity, so the points of a
+ * contour within reach are mostly that contour's. */
+static void seed_fit(const search *s, cdsp_real l[3], size_t *at)
+{
+    cdsp_real reach;
+    for (reach = R(SEED_REACH) * s->thr; reach >= R(2) * s->thr; reach /= R(2)) {
+        moments m;
+        cdsp_line fit;
+        size_t next = *at;
+        mom_init(&m, s->pts[*at].x, s->pts[*at].y);
+        if (search_count(s, l, reach, &m, &next) < 2 || mom_fit(&m, &fit) != CDSP_OK ||
+            !(fit.l[0] * l[0] + fit.l[1] * l[1] > R(0)))
+            return;
+        l[0] = fit.l[0];
+        l[1] = fit.l[1];
+        l[2] = fit.l[2];
+        *at = next;
+    }
+}
+
+/* How many of the free subsample (or list) are inliers of at least one of
+ * the seeds' lines sl that are not used and have any (sc): their sum when
+ * no point can be an inlier of two (one such seed, or normals more than
+ * twice the angular tolerance apart, as a pipe's two contours' are: cos of
+ * the angle below cos(2 tol) = 2 cos^2(tol) - 1), else counted. */
+static uint32_t seeds_union(const search *s, cdsp_real (*sl)[3], const uint32_t *sc, const uint8_t *state,
+                            int nseed)
+{
+    uint32_t u = 0;
+    size_t i, j, k;
+    int q, m = 0;
+    for (q = 0; q < nseed; q++)
+        if (state[q] < SEED_USED && sc[q]) {
+            u += sc[q];
+            m++;
+        }
+    if (m < 2 || (nseed == 2 && sl[0][0] * sl[1][0] + sl[0][1] * sl[1][1] < R(2) * s->cos2 - R(1)))
+        return u;
+    u = 0;
+    for (i = 0, j = 0; j < (s->list ? s->nlist : s->nsub); j++) {
+        k = s->list ? s->list[j] : i;
+        if (s->list || s->label[k] == LABEL_FREE)
+            for (q = 0; q < nseed; q++)
+                if (state[q] < SEED_USED && sc[q] && is_inlier(&s->pts[k], sl[q], s->thr, s->cos2)) {
+                    u++;
+                    break;
+                }
+        if (!s->list)
+            i = i + s->sstep >= s->n ? i + s->sstep - s->n : i + s->sstep;
+    }
+    return u;
+}
+
+/* The seeds not used yet (see the top; sl, state: lines_find's, kept from
+ * one line's search to the next): the best one becomes the search's best
+ * hypothesis when it beats it; 1 when it is confirmed (then SEED_USED), 0
+ * when the draws must run. The seeds as they are first; when the best is
+ * not confirmed, those not moved yet are moved onto their contours
+ * (seed_fit) and tried again. */
+#define MAX_SEEDS 2
+static int search_seeds(search *s, const cdsp_real (*seed)[3], cdsp_real (*sl)[3], uint8_t *state, int nseed)
+{
+    uint32_t sc[MAX_SEEDS], total;
+    size_t first[MAX_SEEDS], at[MAX_SEEDS];
+    int q, b, round;
+    for (q = 0; q < nseed; q++) {
+        sc[q] = 0;
+        first[q] = at[q] = 0;
+        if (state[q] == SEED_NEW) {
+            cdsp_real norm = R_SQRT(seed[q][0] * seed[q][0] + seed[q][1] * seed[q][1]);
+            if (!(norm > R(0)) || !R_FINITE(norm) || !R_FINITE(seed[q][2])) {
+                state[q] = SEED_BAD;
+                continue;
+            }
+            sl[q][0] = seed[q][0] / norm;
+            sl[q][1] = seed[q][1] / norm;
+            sl[q][2] = seed[q][2] / norm;
+            state[q] = SEED_READY;
+            seed_orient(s, sl[q], &sc[q], &first[q], &at[q]);
+        } else if (state[q] < SEED_USED) {
+            sc[q] = search_count(s, sl[q], s->thr, NULL, &first[q]);
+            at[q] = first[q];
+        }
+    }
+    for (round = 0; round < 2; round++) {
+        int moved = 0;
+        total = 0;
+        b = -1;
+        for (q = 0; q < nseed; q++) {
+            if (state[q] >= SEED_USED)
+                continue;
+            if (round && state[q] == SEED_READY) {
+                state[q] = SEED_MOVED;
+                moved = 1;
+                seed_fit(s, sl[q], &at[q]);
+                sc[q] = search_count(s, sl[q], s->thr, NULL, &first[q]);
+            }
+            total += sc[q];
+            if (sc[q] > 0 && (b < 0 || sc[q] > sc[b]))
+                b = q;
+        }
+        if ((round && !moved) || b < 0)
+            continue;
+        if (sc[b] > s->best_sub) {
+            long nn;
+            s->best_sub = sc[b];
+            s->best[0] = sl[b][0];
+            s->best[1] = sl[b][1];
+            s->best[2] = sl[b][2];
+            s->origin[0] = s->pts[first[b]].x;
+            s->origin[1] = s->pts[first[b]].y;
+            nn = needed_iterations((cdsp_real)sc[b] / (cdsp_real)s->sub_free, s->confidence, s->cap);
+            if (nn < s->need)
+                s->need = nn;
+        }
+        /* the points on no seed: the seeds' counts summed, or when that
+         * would confirm, counted (two seeds may share points: both moved
+         * onto one contour) */
+        if (total <= s->sub_free && sc[b] > s->sub_free - total &&
+            sc[b] > s->sub_free - seeds_union(s, sl, sc, state, nseed)) {
+            state[b] = SEED_USED;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* At line nseed: whether every seed was confirmed, so the lines so far are
+ * the seeds' (a confirmed seed's search ends in its line or in none), and
+ * the nfree points left are fewer than a quarter of the weakest's. */
+static int seeds_found(const uint8_t *state, const cdsp_line *lines, int nseed, size_t nfree)
+{
+    uint32_t weakest = lines[0].count;
+    int q;
+    for (q = 0; q < nseed; q++) {
+        if (state[q] != SEED_USED)
+            return 0;
+        weakest = lines[q].count < weakest ? lines[q].count : weakest;
+    }
+    return nfree < (size_t)(weakest / 4u);
+}
+
 /* Free points listed (indices into pts) once at most this many are left:
  * drawing from the list makes every draw a sample of free points (drawing
  * from all n, with 19 free points left among the paper frame's tracked
@@ -409,9 +670,12 @@ static void search_try(search *s, uint32_t a, uint32_t b)
 #define FREE_LIST 32u
 
 cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
-                             const cdsp_pair_params *p, cdsp_real cos_tol, cdsp_rng *rng,
-                             cdsp_line *lines, int *nlines, int *capped)
+                             const cdsp_pair_params *p, cdsp_real cos_tol, const cdsp_real (*seed)[3],
+                             cdsp_rng *rng, cdsp_line *lines, int *nlines, int *capped)
 {
+    int nseed = seed ? MAX_SEEDS : 0;
+    uint8_t state[MAX_SEEDS] = {SEED_NEW, SEED_NEW};
+    cdsp_real sl[MAX_SEEDS][3]; /* the seeds' lines, oriented, moved (search_seeds) */
     cdsp_real cos2 = cos_tol * cos_tol, thr = p->inlier_px;
     size_t i, j, nfree = n;
     int k, max_lines = p->max_lines < CDSP_MAX_LINES ? p->max_lines : CDSP_MAX_LINES;
@@ -440,6 +704,9 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
 
         if (nfree < (size_t)p->min_inliers || nfree < 2)
             break;
+        /* every seed confirmed and found: the rest are strays (see the top) */
+        if (nseed && k == nseed && seeds_found(state, lines, nseed, nfree))
+            break;
         s.need = p->max_iterations;
         s.best_sub = 0;
         s.sub_free = 0;
@@ -460,7 +727,9 @@ cdsp_status cdsp__lines_find(const cdsp_edge *pts, size_t n, uint8_t *label,
         if (s.sub_free == 0 || (s.list && s.nlist < (size_t)p->min_inliers))
             break;
 
-        if (s.list && (long)(s.nlist * (s.nlist - 1) / 2) <= p->max_iterations) {
+        if (nseed && search_seeds(&s, seed, sl, state, nseed)) {
+            /* confirmed: no draws */
+        } else if (s.list && (long)(s.nlist * (s.nlist - 1) / 2) <= p->max_iterations) {
             /* No more distinct samples than iterations: try each once. */
             for (i = 0; i < s.nlist; i++)
                 for (j = i + 1; j < s.nlist; j++)

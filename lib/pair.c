@@ -1080,8 +1080,9 @@ static cdsp_status score_pairs(const cdsp_camera *cam, cdsp_real radius, const c
     set->nlines = set->npairs = set->capped = 0;
     if (n < 4)
         return CDSP_E_FEW_POINTS;
+    /* tracking: the prior's contours are the line search's seeds */
     st = cdsp__lines_find(pts, n, label, &p->pair, R_COS(p->pair.normal_tol_deg * R_PI / R(180)),
-                          rng, lines, &nlines, &capped);
+                          prior ? prior->lines : NULL, rng, lines, &nlines, &capped);
     if (st != CDSP_OK)
         return st;
     set->nlines = nlines;

@@ -26,7 +26,10 @@
  * for 3 camera models (the paper camera without distortion and with two
  * radial models) and each frame, a hash of the full search's and the
  * tracked path's result (every field): an optimisation that must not change
- * what is found leaves these lines unchanged.
+ * what is found leaves these lines unchanged. `bench_frame DIR poses` prints
+ * the same solves' points, directions, distances, their sigmas, inliers,
+ * lines, candidates and confidence in full, to compare two builds where a
+ * change is not meant to be exact.
  * Figures, not pass/fail; the machine is shared: compare within one run.
  */
 #define _DEFAULT_SOURCE /* MAP_ANONYMOUS */
@@ -223,8 +226,29 @@ static uint64_t result_hash(cdsp_status st, const cdsp_result *r)
     return h;
 }
 
-/* The hash mode (see the top). */
-static int hash_poses(const unsigned char *frames, int nuse)
+/* The poses mode: the fields a pose is judged by, full precision, for each
+ * camera model and frame, full search then tracked (the same solves as the
+ * hash mode): to compare two builds within the poses' sigmas where a change
+ * is not meant to be exact. */
+static void print_pose(const char *what, cdsp_status st, const cdsp_result *r)
+{
+    int k;
+    printf(" %s %d", what, (int)st);
+    for (k = 0; k < 3; k++)
+        printf(" %.17g", (double)r->point[k]);
+    for (k = 0; k < 3; k++)
+        printf(" %.17g", (double)r->direction[k]);
+    printf(" %.17g", (double)r->distance);
+    for (k = 0; k < 3; k++)
+        printf(" %.17g", (double)r->sigma_point[k]);
+    for (k = 0; k < 3; k++)
+        printf(" %.17g", (double)r->sigma_direction[k]);
+    printf(" %.17g %u %u %u %u %.17g", (double)r->sigma_distance, (unsigned)r->inliers[0],
+           (unsigned)r->inliers[1], (unsigned)r->n_lines, (unsigned)r->n_candidates, (double)r->confidence);
+}
+
+/* The hash mode (see the top); poses: the poses mode instead. */
+static int hash_poses(const unsigned char *frames, int nuse, int poses)
 {
     static const double model[3][2] = {{0, 0}, {-0.05, 0}, {0.03, -0.01}};
     int m, i;
@@ -246,8 +270,15 @@ static int hash_poses(const unsigned char *frames, int nuse)
                 cdsp_rng_seed(&rng, 1, 1);
                 stk = cdsp_frame_solve(&img, &cam, 8, &prm, &r, &ws, &rng, &t);
             }
-            printf("model %d frame %d full %016llx track %016llx\n", m, i,
-                   (unsigned long long)result_hash(sf, &r), (unsigned long long)result_hash(stk, &t));
+            if (poses) {
+                printf("model %d frame %d", m, i);
+                print_pose("full", sf, &r);
+                print_pose("track", stk, &t);
+                printf("\n");
+            } else {
+                printf("model %d frame %d full %016llx track %016llx\n", m, i,
+                       (unsigned long long)result_hash(sf, &r), (unsigned long long)result_hash(stk, &t));
+            }
         }
     }
     return 0;
@@ -267,7 +298,7 @@ int main(int argc, char **argv)
     double tf[NFRAMES * 64], tt[NFRAMES * 64];
     int i, k, nf = 0, nt = 0, ok[NFRAMES];
     if (!frames || reps < 1 || reps > 64 || nuse < 1 || nuse > NFRAMES) {
-        fprintf(stderr, "usage: bench_frame DIR [time|full|track|load|hash] [REPS 1..64] [FRAMES 1..%d]\n",
+        fprintf(stderr, "usage: bench_frame DIR [time|full|track|load|hash|poses] [REPS 1..64] [FRAMES 1..%d]\n",
                 NFRAMES);
         return 2;
     }
@@ -277,8 +308,8 @@ int main(int argc, char **argv)
         return 1;
     if (strcmp(mode, "load") == 0)
         return 0;
-    if (strcmp(mode, "hash") == 0) {
-        hash_poses(frames, nuse);
+    if (strcmp(mode, "hash") == 0 || strcmp(mode, "poses") == 0) {
+        hash_poses(frames, nuse, strcmp(mode, "poses") == 0);
         free(frames);
         return 0;
     }
