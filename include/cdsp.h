@@ -376,9 +376,11 @@ typedef struct {
     cdsp_real lines[2][3];   /* the two contours, undistorted px (see top) */
     cdsp_real segment[2][3]; /* visible axis segment, ordered along direction;
                                 equal to point twice when extents are unknown */
-    /* First-order uncertainty propagated from the line fits' residuals:
-     * cov is the covariance of (point[0..2], direction[0..2]). It covers the
-     * random error of the edge points only; systematic errors (calibration,
+    /* First-order uncertainty propagated from the line fits' residuals
+     * (on the frame path scaled for points that share scanlines at an
+     * edge.step below 3, docs/method.md §6; the points path takes its
+     * points as independent): cov is the covariance of (point[0..2],
+     * direction[0..2]). It covers the random error of the edge points only; systematic errors (calibration,
      * a wrong radius, the edge bias of a shaded pipe's limb, see README
      * "Accuracy") are not in it. cov = F F^T, F = cov_factor: positive
      * semi-definite of rank 4 (the axis' 4 degrees of freedom: 2 of

@@ -394,6 +394,22 @@ static inline size_t scan_segment(const cdsp_image *img, const cdsp_edge_params 
                                   int line, int from, int to, cdsp_edge *out, size_t cap,
                                   cdsp_edge *htop, size_t *nh);
 
+/* A point's position is the mean of its window's three scanlines'
+ * partial-area estimates (refine_core: (S[0] + S[1] + S[2]) / 3), so points
+ * d * step apart along a family share max(0, 3 - d step) of them: with
+ * v the variance of one scanline's estimate a point has v / 3 and two
+ * such neighbours covariance (3 - d step) v / 9. A line fitted to them as
+ * if independent has its variance low by the sum of the correlations over
+ * all lags, 1 + (2/3) sum_d max(0, 3 - d step): 3 at step 1, 5/3 at 2, 1
+ * from 3 on (tests/lib/test_frame.c test_sigma_step measures it). */
+cdsp_real cdsp__edges_scan_var(int step)
+{
+    int d, shared = 0;
+    for (d = 1; step > 0 && d * step < 3; d++)
+        shared += 3 - d * step;
+    return R(1) + R(2) * (cdsp_real)shared / R(3);
+}
+
 size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p, int horizontal,
                                 int line, int from, int to, cdsp_edge *out, size_t cap)
 {

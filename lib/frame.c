@@ -283,6 +283,7 @@ void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cds
         ref->offset[i] = ref->blur[i] = ref->bound[i] = R(0);
     ref->profiled = 0;
     ref->bounded = 1;
+    ref->var_scale = cdsp__edges_scan_var(p->edge.step);
     for (i = 0; i < 2; i++) {
         int k = i ? c->j : c->i;
         cdsp_profile pr;
@@ -342,6 +343,7 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
         }
         ref.profiled = 0;
         ref.bounded = R_FINITE(b) && b >= R(0);
+        ref.var_scale = cdsp__edges_scan_var(p->edge.step);
     } else {
         cdsp__frame_refine(img, cam, ws->edge, n, ws->label, &ws->pairs, &best, p, &ws->profile, &ref);
     }

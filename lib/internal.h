@@ -158,6 +158,9 @@ typedef struct {
     cdsp_real offset[2], blur[2];
     cdsp_real bound[2]; /* cdsp_result.edge_bound, valid when bounded */
     int profiled, bounded;
+    cdsp_real var_scale; /* the line fits' variance factor for points that
+                            share scanlines (cdsp__edges_scan_var); 1:
+                            independent points */
 } cdsp__pair_refined;
 /* The ranking of set's scored pairs into cand (confidences included; the
  * best pair in *best, the candidates' number in *n_cand; CDSP_E_NO_PIPE when
@@ -257,7 +260,7 @@ cdsp_status cdsp__rescan_line(const cdsp_image *img, const cdsp_camera *cam, con
                               cdsp_real min_step, cdsp_line *ln);
 cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_real min_step, cdsp_pair_set *set, const cdsp_pair_eval *c,
-                              const cdsp__pair_refined *ref);
+                              cdsp__pair_refined *ref);
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,
@@ -288,6 +291,9 @@ size_t cdsp__edges_scan_segment(const cdsp_image *img, const cdsp_edge_params *p
  * across it; horizontal: s is x on row t): 1 and *e filled when it is a
  * valid edge owned by this scan direction. The scans call it; so does the
  * reference scan of tests/lib/test_edges_scan.c. */
+/* The variance factor of a line fitted to one family's points read at
+ * scanline spacing step (see lib/edges.c): 3 at step 1, 5/3 at 2, 1 from 3. */
+cdsp_real cdsp__edges_scan_var(int step);
 int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
                        cdsp_edge *e);
 /* The scans' candidate test on n parallel positions (8-bit samples,

@@ -689,7 +689,7 @@ static cdsp_status tracker_check(const cdsp_tracker *trk)
  * A pipe whose lines do not refit keeps the search's pose. */
 static void rescan_pipes(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
                          const cdsp_params *p, cdsp_frame_all_ws *ws, size_t n, cdsp_real sigma,
-                         cdsp_real min_step, const int *chosen, int nc, const cdsp__pair_refined *ref,
+                         cdsp_real min_step, const int *chosen, int nc, cdsp__pair_refined *ref,
                          cdsp_result *out, size_t m)
 {
     cdsp_pair_set *set = &ws->frame.pairs;

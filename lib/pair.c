@@ -642,7 +642,7 @@ static void axis_change(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp
  * F's column k the one-standard-deviation change of (P_C, v) for parameter
  * k, cov = F F^T exactly: rank 4, singular along the two constraints. */
 static void propagate(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp_line *L[2],
-                      cdsp_result *out)
+                      cdsp_real var_scale, cdsp_result *out)
 {
     cdsp_real cov7[7][7], u[3], w[3];
     int k, a, b, i;
@@ -655,7 +655,7 @@ static void propagate(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp_l
     for (k = 0; k < 4; k++) {
         const cdsp_line *ln = L[k / 2];
         cdsp_real dof = ln->count > 2 ? (cdsp_real)(ln->count - 2) : R(1);
-        cdsp_real s2 = ln->rms * ln->rms * (cdsp_real)ln->count / dof;
+        cdsp_real s2 = ln->rms * ln->rms * (cdsp_real)ln->count / dof * var_scale;
         cdsp_real var = (k % 2 == 0) ? s2 / (cdsp_real)ln->count
                                      : (ln->spread > R(0) ? s2 / ln->spread : R(0));
         cdsp_real h = R_SQRT(var), dl[3], J[7];
@@ -1253,7 +1253,7 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, size_t n
     }
     out->score = c->score;
     out->n_lines = (uint32_t)set->nlines;
-    propagate(cam, &ax, L, out);
+    propagate(cam, &ax, L, ref ? ref->var_scale : R(1), out);
     if (ref && ref->bounded) /* the frame path's: the points carry no profile */
         bound_propagate(cam, &ax, L, out->edge_bound, out);
     visible_segment(cam, L, out);

@@ -202,7 +202,7 @@ cdsp_status cdsp__rescan_line(const cdsp_image *img, const cdsp_camera *cam, con
 
 cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_real min_step, cdsp_pair_set *set, const cdsp_pair_eval *c,
-                              const cdsp__pair_refined *ref)
+                              cdsp__pair_refined *ref)
 {
     cdsp_line L[2];
     int i;
@@ -232,5 +232,7 @@ cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, con
     }
     set->lines[c->i] = L[0];
     set->lines[c->j] = L[1];
+    if (ref) /* the lines' points now at refine_step's spacing */
+        ref->var_scale = cdsp__edges_scan_var(p->refine_step);
     return CDSP_OK;
 }

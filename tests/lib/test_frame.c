@@ -126,6 +126,73 @@ static void test_clean_frames(void **state)
     assert_true(done >= 8);
 }
 
+/* The reported sigma at every scanline spacing (lib/edges.c
+ * cdsp__edges_scan_var): at step 1 and 2 neighbouring points share
+ * scanlines of their windows, and the line fits' variance, taken as of
+ * independent points, was low by 3 and 5/3 (the rack engineer's
+ * measurement, 2026-12-03). A flat-lit pipe, 40 noise seeds per step: the
+ * errors of the distance and of the direction (its angle over the RMS of
+ * its sigmas) over their reported sigmas have an RMS of 1 when the sigma
+ * is right; 80 such ratios give it to about +-8 % (1 / sqrt(2 * 80)), so
+ * [0.75, 1.3] holds it within 3 of those. Without the factor step 1 gives
+ * about sqrt(3) = 1.73. */
+static void test_sigma_step(void **state)
+{
+    static const int steps[] = {1, 2, 4};
+    cdsp_camera cam;
+    size_t si;
+    (void)state;
+    sup_camera(&cam, W, H, F, 0, 0);
+    for (si = 0; si < sizeof steps / sizeof steps[0]; si++) {
+        double P[3] = {4, -3, 420}, v[3] = {0.3, 1, 0.15}, z2 = 0, n, rms;
+        int t, k, m = 0;
+        n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        for (k = 0; k < 3; k++)
+            v[k] /= n;
+        for (t = 0; t < 40; t++) {
+            cdsp_scene s;
+            cdsp_image img;
+            cdsp_params prm;
+            cdsp_result r;
+            cdsp_rng rng;
+            double d_true = 0, foot[3], tt = P[0] * v[0] + P[1] * v[1] + P[2] * v[2], sd;
+            void *buf;
+            sup_scene(&s, P, v, 8);
+            s.ambient = 1;
+            s.noise_sigma = (cdsp_real)0.03;
+            buf = sup_render(&s, &cam, 8, 500 + (uint64_t)t, &img);
+            assert_non_null(buf);
+            cdsp_params_default(&prm);
+            prm.edge.step = steps[si];
+            cdsp_rng_seed(&rng, (uint64_t)t, 3);
+            assert_int_equal(cdsp_frame_solve(&img, &cam, s.radius, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+            free(buf);
+            assert_false(r.flags & CDSP_FLAG_TRUNCATED);
+            for (k = 0; k < 3; k++) {
+                foot[k] = P[k] - tt * v[k];
+                d_true += foot[k] * foot[k];
+            }
+            d_true = sqrt(d_true);
+            z2 += ((double)r.distance - d_true) * ((double)r.distance - d_true) /
+                  ((double)r.sigma_distance * (double)r.sigma_distance);
+            sd = sqrt((double)(r.sigma_direction[0] * r.sigma_direction[0] + r.sigma_direction[1] * r.sigma_direction[1] +
+                               r.sigma_direction[2] * r.sigma_direction[2]) /
+                      2);
+            {
+                double dir[3] = {(double)r.direction[0], (double)r.direction[1], (double)r.direction[2]};
+                double ang = sup_axis_angle(dir, v);
+                z2 += ang * ang / (2 * sd * sd);
+            }
+            m += 2;
+        }
+        rms = sqrt(z2 / m);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("step %d: error / sigma RMS %.3f over %d ratios\n", steps[si], rms, m);
+        if (rms < 0.75 || rms > 1.3)
+            fail_msg("step %d: errors over their sigma have RMS %.3f (want 1: [0.75, 1.3])", steps[si], rms);
+    }
+}
+
 /* A finite pipe whose near end cap is in view, under directional light,
  * with three support bars behind it (one crossing it): the pipe is found,
  * not a bar and not the cap's edge, and the visible segment stops at the cap. */
@@ -641,6 +708,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_clean_frames),
         cmocka_unit_test(test_clutter_and_caps),
+        cmocka_unit_test(test_sigma_step),
         cmocka_unit_test(test_tracking_sequence),
         cmocka_unit_test(test_tracking_fallback),
         cmocka_unit_test(test_16bit),
