@@ -635,7 +635,8 @@ static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const
 
 typedef struct {
     cdsp_real d, sg, w; /* silhouette, the kernel's Gaussian sd and box width */
-    cdsp_real c[5];     /* D, E, A - D, B - E, C */
+    cdsp_real T, Rc;    /* the terminator (px from d; 0: none) and the limb's radius */
+    cdsp_real c[5];     /* D, E, A - D, B - E, C (T > 0: D, E, A - D, B, C) */
     cdsp_real rss, Wf;  /* residual sum of squares over |x| <= Wf */
     int i0, i1, J;      /* the grid's range, the kernel's half-width in cells */
 } fwd_state;
@@ -686,8 +687,18 @@ static void fwd_basis(cdsp_profile_ws *ws, fwd_state *fs)
      * [j, j + 1] / SUB): p0 = sum M_j, p1 = sum (rel - j - 1/2) M_j / SUB;
      * p2 by the convolution with the cell means of sq */
     {
-        cdsp_real S0 = R(0), S1 = R(0);
-        int jc = -J - 1;
+        cdsp_real S0 = R(0), S1 = R(0), sqT = R(0), qT = R(0);
+        int jc = -J - 1, kT = 0;
+        if (fs->T > R(0)) {
+            sides geo;
+            cdsp_real e;
+            geo.Rc = fs->Rc;
+            geo.St = R(0);
+            kT = (int)R_FLOOR(fs->T * R(FWD_SUB));
+            sqT = sq_at(&geo, fs->T);
+            e = (cdsp_real)(kT + 1) / R(FWD_SUB);
+            qT = (sq_int(&geo, e) - sq_int(&geo, fs->T) - sqT * (e - fs->T)) * R(FWD_SUB);
+        }
         for (i = fs->i0; i <= fs->i1; i++) {
             int rel = i - FWD_IX, k0 = rel - J, k1 = rel + J - 1, k, jm = rel - 1 < J - 1 ? rel - 1 : J - 1;
             cdsp_real a2 = R(0);
@@ -698,8 +709,17 @@ static void fwd_basis(cdsp_profile_ws *ws, fwd_state *fs)
             }
             if (k0 < 0)
                 k0 = 0;
-            for (k = k0; k <= k1; k++)
-                a2 += ws->fwd_k[rel - k - 1 + J] * ws->fwd_q[k];
+            if (fs->T > R(0)) {
+                /* the lit part beyond the terminator, (sq(s) - sq(T))_+:
+                 * the cells before T hold 0, the one across T its part */
+                if (k0 < kT)
+                    k0 = kT;
+                for (k = k0; k <= k1; k++)
+                    a2 += ws->fwd_k[rel - k - 1 + J] * (k == kT ? qT : ws->fwd_q[k] - sqT);
+            } else {
+                for (k = k0; k <= k1; k++)
+                    a2 += ws->fwd_k[rel - k - 1 + J] * ws->fwd_q[k];
+            }
             ws->fwd_p[0][i] = S0;
             ws->fwd_p[1][i] = (((cdsp_real)rel - R(0.5)) * S0 - S1) / R(FWD_SUB);
             ws->fwd_p[2][i] = a2;
@@ -760,6 +780,20 @@ static void fwd_row(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real x,
     f[1] = x;
     for (j = 0; j < 3; j++)
         f[2 + j] = ws->fwd_p[j][ii] + fr * (ws->fwd_p[j][ii + 1] - ws->fwd_p[j][ii]);
+    if (fs->T > R(0)) {
+        /* a limb in shadow: the background's slope E on the background
+         * only (x - K * s_+), the lit part's ramp K * (s - T)_+ (p1 at
+         * x - T; 0 below the grid) */
+        f[1] = x - f[3];
+        t = (x - fs->T) * R(FWD_SUB) + R(FWD_IX);
+        ii = (int)R_FLOOR(t);
+        if (ii < fs->i0) {
+            f[3] = R(0);
+        } else {
+            fr = t - (cdsp_real)ii;
+            f[3] = ws->fwd_p[1][ii] + fr * (ws->fwd_p[1][ii + 1] - ws->fwd_p[1][ii]);
+        }
+    }
 }
 
 /* The linear coefficients and the weighted residuals (into fwd_r[slot])
@@ -919,6 +953,8 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
     geo.Rc = Rc;
     geo.St = R(0);
     cur.d = d0;
+    cur.T = R(0);
+    cur.Rc = Rc;
     cur.Wf = half - R_FABS(d0) - R(0.25);
     if (!(cur.Wf >= R(4)))
         return 0;
@@ -962,6 +998,77 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
         return 0;
     /* the better fit's residuals in slot 0 */
     return have && fwd_eval(ws, out, 0);
+}
+
+
+/* The forward model with a limb in shadow (a terminator T px beyond the
+ * silhouette, the pipe side flat up to it: pipe_at's model, blurred):
+ * from the fit without one (fs), T on a grid of 1/2 px over the window
+ * with (d, sg, w) held, then by turns fwd_lm on (d, sg, w) with T held
+ * and T on a finer grid about the best, T0 > 0 (the area balance's
+ * terminator) on the grid too. Replaces *fs when the terminator lowers
+ * the residuals beyond chance (F > 10 for its one parameter, as
+ * fwd_limb) and beyond the 8-bit rounding's floor (fwd_limb's). */
+static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, cdsp_real T0, fwd_state *fs)
+{
+    fwd_state best = *fs, t;
+    cdsp_real T, step, lo, hi, wsum = R(0), floor2, J = fs->c[2];
+    int b, n = 0, round;
+    for (b = 0; b < NB; b++)
+        if (ws->count[b] && R_FABS(ws->mean_u[b] - fs->d) <= fs->Wf) {
+            n++;
+            wsum += (cdsp_real)ws->count[b];
+        }
+    if (n < 16)
+        return 0;
+    best.rss = R(-1);
+    for (T = R(1); T <= fs->Wf - R(3); T += T < R(6) ? R(1) : R(2)) {
+        t = *fs;
+        t.T = T;
+        if (fwd_lm(ws, d0, half, FWD_START_ROUNDS, &t) && (best.rss < R(0) || t.rss < best.rss))
+            best = t;
+    }
+    if (T0 > R(0) && T0 <= fs->Wf - R(3)) {
+        t = *fs;
+        t.T = T0;
+        if (fwd_lm(ws, d0, half, FWD_START_ROUNDS, &t) && (best.rss < R(0) || t.rss < best.rss))
+            best = t;
+    }
+    if (!(best.rss >= R(0)) || !(best.rss < fs->rss))
+        return 0;
+    for (round = 0, step = R(0.1); round < 3; round++, step /= R(4)) {
+        fwd_state c;
+        if (!fwd_lm(ws, d0, half, 20, &best))
+            return 0;
+        c = best;
+        lo = best.T - R(5) * step;
+        hi = best.T + R(5) * step;
+        for (T = lo; T <= hi + step / R(2); T += step) {
+            if (!(T > R(0)) || T > fs->Wf - R(3))
+                continue;
+            t = c;
+            t.T = T;
+            if (fwd_eval(ws, &t, 1) && t.rss < best.rss)
+                best = t;
+        }
+    }
+    if (!fwd_lm(ws, d0, half, 20, &best) || !fwd_eval(ws, &best, 0))
+        return 0;
+    floor2 = R(FWD_LIMB_RMS) * R(FWD_LIMB_RMS) * J * J;
+    if (floor2 < R(1) / R(12) / R(16))
+        floor2 = R(1) / R(12) / R(16);
+    if (!(fs->rss - best.rss > R(10) * best.rss / (cdsp_real)(n - 9) && fs->rss - best.rss > floor2 * wsum))
+        return 0;
+    *fs = best;
+    return 1;
+}
+
+/* fwd_terminator_fit, and slot 0 back to fs's residuals when it keeps fs
+ * (its trials overwrite slot 0) */
+static void fwd_terminator(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, cdsp_real T0, fwd_state *fs)
+{
+    if (!fwd_terminator_fit(ws, d0, half, T0, fs))
+        (void)fwd_eval(ws, fs, 0);
 }
 
 
@@ -1324,7 +1431,7 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
     else
         s2f = s2;
     if (forward && R_SQRT(s2f) > R(FWD_MIN_BLUR) && !(m.St > R(0)) && !clamped &&
-        fwd_fit(ws, d, s2f, half, radius_px, &fs) && fwd_limb(ws, &fs)) {
+        fwd_fit(ws, d, s2f, half, radius_px, &fs) && (fwd_terminator(ws, d, half, m.St, &fs), fwd_limb(ws, &fs))) {
         /* a blur wider than the detector's window on a lit, shaded limb:
          * the forward model (fwd_fit) in place of the area balance, whose
          * pipe side is extrapolated over the blur zone. A straight pipe
@@ -1348,6 +1455,7 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
             out->contrast = fs.c[2];
             out->half_width = fs.Wf;
             out->fit_chi2 = chi_f;
+            out->shadow = fs.T;
             out->flat = 0;
             if (R_FABS(fs.c[2]) > R(0))
                 out->sigma_offset = R_SQRT(varM) / R_FABS(fs.c[2]);
