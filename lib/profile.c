@@ -1012,8 +1012,8 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
 static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, cdsp_real T0, fwd_state *fs)
 {
     fwd_state best = *fs, t;
-    cdsp_real T, step, lo, hi, wsum = R(0), floor2, J = fs->c[2];
-    int b, n = 0, round;
+    cdsp_real T, h, wsum = R(0), floor2, J = fs->c[2];
+    int b, n = 0;
     for (b = 0; b < NB; b++)
         if (ws->count[b] && R_FABS(ws->mean_u[b] - fs->d) <= fs->Wf) {
             n++;
@@ -1036,21 +1036,33 @@ static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half,
     }
     if (!(best.rss >= R(0)) || !(best.rss < fs->rss))
         return 0;
-    for (round = 0, step = R(0.1); round < 3; round++, step /= R(4)) {
-        fwd_state c;
-        if (!fwd_lm(ws, d0, half, 20, &best))
-            return 0;
-        c = best;
-        lo = best.T - R(5) * step;
-        hi = best.T + R(5) * step;
-        for (T = lo; T <= hi + step / R(2); T += step) {
-            if (!(T > R(0)) || T > fs->Wf - R(3))
-                continue;
-            t = c;
-            t.T = T;
-            if (fwd_eval(ws, &t, 1) && t.rss < best.rss)
+    /* T and d are nearly collinear over the blur (moving T alone moves
+     * the fit's d): each trial T with a few rounds of fwd_lm, and the
+     * parabola through T - h, T, T + h */
+    for (h = R(0.5); h > R(0.02); h /= R(4)) {
+        fwd_state c[3];
+        cdsp_real den, Tn;
+        int k, ok = 1;
+        for (k = 0; k < 3; k += 2) {
+            c[k] = best;
+            c[k].T = best.T + (cdsp_real)(k - 1) * h;
+            if (!(c[k].T > R(0)) || c[k].T > fs->Wf - R(3) || !fwd_lm(ws, d0, half, FWD_START_ROUNDS, &c[k]))
+                ok = 0;
+        }
+        if (!ok)
+            continue;
+        c[1] = best;
+        den = c[0].rss - R(2) * c[1].rss + c[2].rss;
+        if (den > R(0)) {
+            Tn = best.T - h * (c[2].rss - c[0].rss) / (R(2) * den);
+            t = best;
+            t.T = Tn;
+            if (R_FABS(Tn - best.T) < h && fwd_lm(ws, d0, half, FWD_START_ROUNDS, &t) && t.rss < best.rss)
                 best = t;
         }
+        for (k = 0; k < 3; k += 2)
+            if (c[k].rss < best.rss)
+                best = c[k];
     }
     if (!fwd_lm(ws, d0, half, 20, &best) || !fwd_eval(ws, &best, 0))
         return 0;
