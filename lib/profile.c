@@ -629,6 +629,12 @@ static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const
 #ifndef FWD_START_ROUNDS
 #define FWD_START_ROUNDS 3
 #endif
+#ifndef FWD_TERM_ROUNDS
+#define FWD_TERM_ROUNDS 6
+#endif
+#ifndef FWD_TERM_RMS
+#define FWD_TERM_RMS 1e-4
+#endif
 #ifndef FWD_LIMB_RMS
 #define FWD_LIMB_RMS 3e-4
 #endif
@@ -1039,14 +1045,14 @@ static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half,
     /* T and d are nearly collinear over the blur (moving T alone moves
      * the fit's d): each trial T with a few rounds of fwd_lm, and the
      * parabola through T - h, T, T + h */
-    for (h = R(0.5); h > R(0.02); h /= R(4)) {
+    for (h = R(0.5); h > R(0.01); h /= R(2)) {
         fwd_state c[3];
         cdsp_real den, Tn;
         int k, ok = 1;
         for (k = 0; k < 3; k += 2) {
             c[k] = best;
             c[k].T = best.T + (cdsp_real)(k - 1) * h;
-            if (!(c[k].T > R(0)) || c[k].T > fs->Wf - R(3) || !fwd_lm(ws, d0, half, FWD_START_ROUNDS, &c[k]))
+            if (!(c[k].T > R(0)) || c[k].T > fs->Wf - R(3) || !fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &c[k]))
                 ok = 0;
         }
         if (!ok)
@@ -1057,7 +1063,7 @@ static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half,
             Tn = best.T - h * (c[2].rss - c[0].rss) / (R(2) * den);
             t = best;
             t.T = Tn;
-            if (R_FABS(Tn - best.T) < h && fwd_lm(ws, d0, half, FWD_START_ROUNDS, &t) && t.rss < best.rss)
+            if (R_FABS(Tn - best.T) < h && fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &t) && t.rss < best.rss)
                 best = t;
         }
         for (k = 0; k < 3; k += 2)
@@ -1066,7 +1072,7 @@ static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half,
     }
     if (!fwd_lm(ws, d0, half, 20, &best) || !fwd_eval(ws, &best, 0))
         return 0;
-    floor2 = R(FWD_LIMB_RMS) * R(FWD_LIMB_RMS) * J * J;
+    floor2 = R(FWD_TERM_RMS) * R(FWD_TERM_RMS) * J * J;
     if (floor2 < R(1) / R(12) / R(16))
         floor2 = R(1) / R(12) / R(16);
     if (!(fs->rss - best.rss > R(10) * best.rss / (cdsp_real)(n - 9) && fs->rss - best.rss > floor2 * wsum))
@@ -1146,9 +1152,10 @@ static cdsp_real fwd_chi2(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_r
 }
 
 /* The model on the bins: silhouette d (px from the line toward the pipe),
- * blur, contrast, noise of d. */
-static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px, int forward,
-                               cdsp_profile *out)
+ * blur, contrast, noise of d. *s2_start receives the first blur (from the
+ * profile's slope) before the area balance's rounds, which can fail. */
+static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px, int forward,
+                              cdsp_profile *out, cdsp_real *s2_start)
 {
     cdsp_real *ub = ws->mean_u, *mb = ws->mean_v;
     /* start from a wide blur (fit zones at the window's ends), then adapt */
@@ -1224,6 +1231,7 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
         }
     }
     s2_first = s2;
+    *s2_start = s2;
     for (it = 0; it < 8; it++) {
         cdsp_real a, bb, bm, M, dn = d, d_prev = d, mom;
         int k;
@@ -1474,6 +1482,76 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
         }
     }
     return CDSP_OK;
+}
+
+/* Where the area balance's rounds fail (a faint limb under strong
+ * shading, a shadow whose terminator outweighs the silhouette's step:
+ * Newton's G' vanished or d ran off), the forward model alone, from the
+ * line (d = 0) and the profile's first blur s2, with its terminator
+ * search; the pipe side's noise from the bins beyond its blur zone
+ * (3.5 sigma + 1.5 px, as the area balance's). Its fit_chi2 decides
+ * whether the line moves (cdsp_profile_applies). */
+static cdsp_status fwd_alone(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px, cdsp_real s2,
+                             cdsp_profile *out)
+{
+    fwd_state fs;
+    cdsp_real var_pix = R(0), dof = R(0), varM = R(0), z, blur;
+    int b;
+    if (!fwd_fit(ws, R(0), s2, half, radius_px, &fs))
+        return CDSP_E_NOCONVERGE;
+    {
+        /* an edge at all: the step lowers the residuals of the sides'
+         * line D + E x beyond chance and the 8-bit rounding's floor (a
+         * frame without an edge must not report one) */
+        fwd_state t = fs;
+        cdsp_real wsum = R(0);
+        int n = 0;
+        for (b = 0; b < NB; b++)
+            if (ws->count[b] && R_FABS(ws->mean_u[b] - fs.d) <= fs.Wf) {
+                n++;
+                wsum += (cdsp_real)ws->count[b];
+            }
+        if (n < 16 || !fwd_eval_n(ws, &t, 1, 2) || !(t.rss - fs.rss > R(10) * fs.rss / (cdsp_real)(n - 8)) ||
+            !(t.rss - fs.rss > wsum / R(12) / R(16)))
+            return CDSP_E_NOCONVERGE;
+    }
+    fwd_terminator(ws, R(0), half, R(0), &fs);
+    blur = R_SQRT(fs.sg * fs.sg + fs.w * fs.w / R(12));
+    z = R(3.5) * blur + R(1.5) + fs.w / R(2);
+    for (b = 0; b < NB; b++) {
+        cdsp_real x = ws->mean_u[b] - fs.d;
+        if (ws->count[b] > 1 && R_FABS(x) >= z && R_FABS(x) <= fs.Wf) {
+            uint64_t c = ws->count[b], sm = ws->sum[b], q = c * ws->sumsq[b] - sm * sm;
+            var_pix += (cdsp_real)q / (cdsp_real)c;
+            dof += (cdsp_real)c - R(1);
+        }
+    }
+    if (dof > R(0))
+        var_pix /= dof;
+    for (b = 0; b < NB; b++)
+        if (ws->count[b] && R_FABS(ws->mean_u[b] - fs.d) <= fs.Wf)
+            varM += var_pix / (cdsp_real)ws->count[b] / (cdsp_real)(BPP * BPP);
+    out->offset = fs.d;
+    out->blur = blur;
+    out->contrast = fs.c[2];
+    out->sigma_offset = R_FABS(fs.c[2]) > R(0) ? R_SQRT(varM) / R_FABS(fs.c[2]) : R(0);
+    out->half_width = fs.Wf;
+    out->shadow = fs.T;
+    out->noise = R_SQRT(var_pix);
+    out->blur_clamped = 0;
+    out->flat = 0;
+    out->fit_chi2 = fwd_chi2(ws, &fs, var_pix);
+    return CDSP_OK;
+}
+
+static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px, int forward,
+                               cdsp_profile *out)
+{
+    cdsp_real s2 = R(0);
+    cdsp_status st = area_solve(ws, half, radius_px, forward, out, &s2);
+    if (st == CDSP_E_NOCONVERGE && forward)
+        st = fwd_alone(ws, half, radius_px, s2, out);
+    return st;
 }
 
 /* Any bin within a gray level of full scale (255, 4095, 65535): a

@@ -310,6 +310,60 @@ static void test_shadowed_limb(void **state)
         }
 }
 
+/* A limb in shadow whose terminator is inside the blur zone (optical blur
+ * 3 px, terminator 5.03 px from the silhouette at radius 80, light l_n
+ * -0.35, l_v 0.94, ambient 0.3; make bench-accuracy's shadowed-limb cells):
+ * the area balance cannot place the terminator there (shadow 0) and the
+ * forward model without one took the kink for the limb's square root,
+ * 0.23-0.35 px off (main before the terminator: 0.23356 px at contrast
+ * -10, 0.345 at +10, 16 bit). With the terminator fitted (fwd_terminator)
+ * the silhouette is within 1e-3 px and the terminator within 0.05 px of
+ * s_t. Noise-free 16 bit, the line 0.2 px off as the detector put it;
+ * rows: contrast 10 and 40 both polarities, angles 0.7, 45, 67.5, and a
+ * second light (l_n -0.28: s_t 3.27 px). Tolerance 3e-3 px (measured in
+ * the table's comments), the move applied (cdsp_profile_applies). */
+static void test_shadow_in_blur(void **state)
+{
+    static const struct {
+        double contrast, angle, ln, lv;
+        int pol;
+    } rows[] = {
+        {10, 0.7, -0.35, 0.94, -1}, {10, 45, -0.35, 0.94, 1}, {40, 67.5, -0.35, 0.94, -1},
+        {40, 22.5, -0.35, 0.94, 1}, {10, 0.7, -0.28, 0.96, -1}, {40, 45, -0.28, 0.96, 1},
+    };
+    size_t r;
+    (void)state;
+    for (r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        sup_edge_spec e;
+        cdsp_profile pr;
+        cdsp_profile_params pp;
+        double want_st;
+        sup_edge_spec_default(&e);
+        e.bits = 16;
+        e.angle_deg = rows[r].angle;
+        e.offset_px = 0.3;
+        e.ambient = 0.3;
+        e.light_n = rows[r].ln;
+        e.light_v = rows[r].lv;
+        e.blur_px = 3;
+        e.background = (rows[r].pol > 0 ? 60 : 60 + rows[r].contrast) * 257;
+        e.pipe = (rows[r].pol > 0 ? 60 + rows[r].contrast : 60) * 257;
+        want_st = e.radius_px * (1 - cos(atan(-e.light_n / e.light_v)));
+        assert_int_equal(fit_shifted(&e, 0.2, &pr), CDSP_OK);
+        cdsp_profile_params_default(&pp);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("row %zu: offset %+.5f (want -0.2) shadow %.3f (want %.3f) blur %.4f chi2 %.3g applies %d\n",
+                          r, (double)pr.offset, (double)pr.shadow, want_st, (double)pr.blur, (double)pr.fit_chi2,
+                          cdsp_profile_applies(&pr, &pp, 4));
+        if (fabs((double)pr.offset + 0.2) > 3e-3)
+            fail_msg("row %zu: offset %.5f, want -0.2", r, (double)pr.offset);
+        if (fabs((double)pr.shadow - want_st) > 0.05)
+            fail_msg("row %zu: shadow %.3f, want %.3f", r, (double)pr.shadow, want_st);
+        if (!cdsp_profile_applies(&pr, &pp, 4))
+            fail_msg("row %zu: not applied (fit_chi2 %.3g, flat %d)", r, (double)pr.fit_chi2, pr.flat);
+    }
+}
+
 /* cdsp_profile_applies's rules, on made-up fits (h = 4: the detector's
  * window spans a blur up to (h + 1/2) / 4.66 = 0.966 px). */
 static void test_applies(void **state)
@@ -759,6 +813,7 @@ int main(void)
         cmocka_unit_test(test_wide_blur_limb),
         cmocka_unit_test(test_wide_blur_flat),
         cmocka_unit_test(test_shadowed_limb),
+        cmocka_unit_test(test_shadow_in_blur),
         cmocka_unit_test(test_applies),
         cmocka_unit_test(test_short_shadow),
         cmocka_unit_test(test_noise),
