@@ -630,7 +630,7 @@ static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const
 #define FWD_START_ROUNDS 3
 #endif
 #ifndef FWD_TERM_ROUNDS
-#define FWD_TERM_ROUNDS 6
+#define FWD_TERM_ROUNDS 4
 #endif
 #ifndef FWD_TERM_RMS
 #define FWD_TERM_RMS 1e-4
@@ -803,8 +803,10 @@ static void fwd_row(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real x,
 }
 
 /* The linear coefficients and the weighted residuals (into fwd_r[slot])
- * for fs's (d, sg, w); fs->rss. 0 when singular. */
-static int fwd_eval_n(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc)
+ * for fs's (d, sg, w); fs->rss. 0 when singular. basis 0: the grid
+ * already holds fs's basis (the same sg, w and T as the last call's: a
+ * step in d alone). */
+static int fwd_eval_b(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc, int basis)
 {
     cdsp_real N[5][5], r[5], y0 = R(0), f[5];
     const cdsp_real *ub = ws->mean_u, *mb = ws->mean_v;
@@ -814,7 +816,8 @@ static int fwd_eval_n(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc)
         for (j = 0; j < 5; j++)
             N[i][j] = R(0);
     }
-    fwd_basis(ws, fs);
+    if (basis)
+        fwd_basis(ws, fs);
     for (b = 0; b < NB; b++) {
         cdsp_real x = ub[b] - fs->d, w = (cdsp_real)ws->count[b], y;
         if (!ws->count[b] || R_FABS(x) > fs->Wf)
@@ -852,6 +855,11 @@ static int fwd_eval_n(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc)
     return 1;
 }
 
+static int fwd_eval_n(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc)
+{
+    return fwd_eval_b(ws, fs, slot, nc, 1);
+}
+
 static int fwd_eval(cdsp_profile_ws *ws, fwd_state *fs, int slot)
 {
     return fwd_eval_n(ws, fs, slot, 5);
@@ -874,7 +882,8 @@ static int fwd_lm(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, int maxit, 
         cdsp_real JJ[3][3], Jr[3], del[3] = {R(0), R(0), R(0)};
         int i, j, b, tries, acc = 0;
         /* the Jacobian by forward differences: slot 1 + k holds the
-         * residuals at the step in d, sg, w */
+         * residuals at the step in d, sg, w (the step in d on cur's
+         * basis, the grid's since the last accepted step) */
         for (k = 0; k < 3; k++) {
             trial = cur;
             if (k == 0)
@@ -883,7 +892,7 @@ static int fwd_lm(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, int maxit, 
                 trial.sg += step[1];
             else
                 trial.w = R_SQRT(cur.w * cur.w + R(12) * step[2]);
-            if (!fwd_eval(ws, &trial, 1 + k))
+            if (!fwd_eval_b(ws, &trial, 1 + k, 5, k != 0))
                 return 0;
         }
         for (i = 0; i < 3; i++) {
@@ -1045,7 +1054,7 @@ static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half,
     /* T and d are nearly collinear over the blur (moving T alone moves
      * the fit's d): each trial T with a few rounds of fwd_lm, and the
      * parabola through T - h, T, T + h */
-    for (h = R(0.5); h > R(0.01); h /= R(2)) {
+    for (h = R(0.5); h > R(0.01); h /= R(2.5)) {
         fwd_state c[3];
         cdsp_real den, Tn;
         int k, ok = 1;
