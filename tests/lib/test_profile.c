@@ -318,10 +318,12 @@ static void test_shadowed_limb(void **state)
  * 0.23-0.35 px off (main before the terminator: 0.23356 px at contrast
  * -10, 0.345 at +10, 16 bit). With the terminator fitted (fwd_terminator)
  * the silhouette is within 1e-3 px and the terminator within 0.05 px of
- * s_t. Noise-free 16 bit, the line 0.2 px off as the detector put it;
+ * s_t (measured: 1.0e-3 px at worst, row 1 at 45 degrees, terminators
+ * within 0.012 px; float alike). Noise-free 16 bit, the line 0.2 px off;
  * rows: contrast 10 and 40 both polarities, angles 0.7, 45, 67.5, and a
- * second light (l_n -0.28: s_t 3.27 px). Tolerance 3e-3 px (measured in
- * the table's comments), the move applied (cdsp_profile_applies). */
+ * second light (l_n -0.28: s_t 3.20 px). Tolerance 3e-3 px (3x the
+ * worst), the move applied (cdsp_profile_applies). On main row 0 was
+ * 0.237 px off and row 3 CDSP_E_NOCONVERGE. */
 static void test_shadow_in_blur(void **state)
 {
     static const struct {
@@ -359,6 +361,57 @@ static void test_shadow_in_blur(void **state)
             fail_msg("row %zu: offset %.5f, want -0.2", r, (double)pr.offset);
         if (fabs((double)pr.shadow - want_st) > 0.05)
             fail_msg("row %zu: shadow %.3f, want %.3f", r, (double)pr.shadow, want_st);
+        if (!cdsp_profile_applies(&pr, &pp, 4))
+            fail_msg("row %zu: not applied (fit_chi2 %.3g, flat %d)", r, (double)pr.fit_chi2, pr.flat);
+    }
+}
+
+/* A faint limb under strong shading (ambient 0.3, front light l_n 0.3,
+ * pipe 70 on 60: 10 gray levels at the pipe's middle, the shading darker
+ * than the background next to the silhouette; noise-free 16 bit): the
+ * area balance's rounds fail there (Newton's G' vanishes or d runs off:
+ * CDSP_E_NOCONVERGE on main, the detector's line kept 0.15-1.3 px off,
+ * make bench-accuracy's 63 faint-limb cells) and the forward model alone
+ * (fwd_alone) places the silhouette: measured within 1.2e-3 px on the
+ * study's 16-bit cells; here the line where the detector put it (the
+ * study's line offsets): measured 3e-4 to 9e-4 px, double and float.
+ * Tolerance 3e-3 px, and the move applied. */
+static void test_faint_limb_alone(void **state)
+{
+    static const struct {
+        double blur, motion, motion_deg, angle, shift;
+    } rows[] = {
+        {0.5, 0, 0, 0.7, 0.154}, {1.5, 0, 0, 22.5, -0.657}, {0.7, 7, 0, 67.5, -1.32}, {0.7, 15, 90, 22.5, -0.023},
+    };
+    size_t r;
+    (void)state;
+    for (r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        sup_edge_spec e;
+        cdsp_profile pr;
+        cdsp_profile_params pp;
+        cdsp_status st;
+        sup_edge_spec_default(&e);
+        e.bits = 16;
+        e.angle_deg = rows[r].angle;
+        e.offset_px = 0.3;
+        e.ambient = 0.3;
+        e.light_n = 0.3;
+        e.light_v = 0.95;
+        e.blur_px = rows[r].blur;
+        e.motion_px = rows[r].motion;
+        e.motion_deg = rows[r].motion_deg;
+        e.background = 60 * 257;
+        e.pipe = 70 * 257;
+        st = fit_shifted(&e, rows[r].shift, &pr);
+        cdsp_profile_params_default(&pp);
+        if (getenv("CDSP_TEST_VERBOSE"))
+            print_message("row %zu: status %d offset %+.5f (want %+.5f) blur %.4f chi2 %.3g applies %d\n", r, (int)st,
+                          (double)pr.offset, -rows[r].shift, (double)pr.blur, (double)pr.fit_chi2,
+                          cdsp_profile_applies(&pr, &pp, 4));
+        if (st != CDSP_OK)
+            fail_msg("row %zu: status %d", r, (int)st);
+        if (fabs((double)pr.offset + rows[r].shift) > 3e-3)
+            fail_msg("row %zu: offset %.5f, want %.5f", r, (double)pr.offset, -rows[r].shift);
         if (!cdsp_profile_applies(&pr, &pp, 4))
             fail_msg("row %zu: not applied (fit_chi2 %.3g, flat %d)", r, (double)pr.fit_chi2, pr.flat);
     }
@@ -814,6 +867,7 @@ int main(void)
         cmocka_unit_test(test_wide_blur_flat),
         cmocka_unit_test(test_shadowed_limb),
         cmocka_unit_test(test_shadow_in_blur),
+        cmocka_unit_test(test_faint_limb_alone),
         cmocka_unit_test(test_applies),
         cmocka_unit_test(test_short_shadow),
         cmocka_unit_test(test_noise),
