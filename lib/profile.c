@@ -1034,7 +1034,8 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
  * fwd_limb) and beyond the 8-bit rounding's floor (fwd_limb's). */
 static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, cdsp_real T0, fwd_state *fs)
 {
-    fwd_state best = *fs, t;
+    /* three states (an MCU's stack): the best, and the trials lo, hi */
+    fwd_state best = *fs, lo, hi;
     cdsp_real T, h, wsum = R(0), floor2, J = fs->c[2];
     int b, n = 0;
     for (b = 0; b < NB; b++)
@@ -1046,16 +1047,16 @@ static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half,
         return 0;
     best.rss = R(-1);
     for (T = R(1); T <= fs->Wf - R(3); T += T < R(6) ? R(1) : R(2)) {
-        t = *fs;
-        t.T = T;
-        if (fwd_lm(ws, d0, half, FWD_START_ROUNDS, &t) && (best.rss < R(0) || t.rss < best.rss))
-            best = t;
+        lo = *fs;
+        lo.T = T;
+        if (fwd_lm(ws, d0, half, FWD_START_ROUNDS, &lo) && (best.rss < R(0) || lo.rss < best.rss))
+            best = lo;
     }
     if (T0 > R(0) && T0 <= fs->Wf - R(3)) {
-        t = *fs;
-        t.T = T0;
-        if (fwd_lm(ws, d0, half, FWD_START_ROUNDS, &t) && (best.rss < R(0) || t.rss < best.rss))
-            best = t;
+        lo = *fs;
+        lo.T = T0;
+        if (fwd_lm(ws, d0, half, FWD_START_ROUNDS, &lo) && (best.rss < R(0) || lo.rss < best.rss))
+            best = lo;
     }
     if (!(best.rss >= R(0)) || !(best.rss < fs->rss))
         return 0;
@@ -1063,29 +1064,28 @@ static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half,
      * the fit's d): each trial T with a few rounds of fwd_lm, and the
      * parabola through T - h, T, T + h */
     for (h = R(0.5); h > R(0.01); h /= R(2.5)) {
-        fwd_state c[3];
-        cdsp_real den, Tn;
-        int k, ok = 1;
-        for (k = 0; k < 3; k += 2) {
-            c[k] = best;
-            c[k].T = best.T + (cdsp_real)(k - 1) * h;
-            if (!(c[k].T > R(0)) || c[k].T > fs->Wf - R(3) || !fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &c[k]))
-                ok = 0;
-        }
-        if (!ok)
+        cdsp_real den, Tn, r0, r2;
+        lo = best;
+        lo.T = best.T - h;
+        hi = best;
+        hi.T = best.T + h;
+        if (!(lo.T > R(0)) || hi.T > fs->Wf - R(3) || !fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &lo) ||
+            !fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &hi))
             continue;
-        c[1] = best;
-        den = c[0].rss - R(2) * c[1].rss + c[2].rss;
+        r0 = lo.rss;
+        r2 = hi.rss;
+        if (hi.rss < lo.rss)
+            lo = hi; /* lo: the better trial; hi free for the parabola's */
+        den = r0 - R(2) * best.rss + r2;
         if (den > R(0)) {
-            Tn = best.T - h * (c[2].rss - c[0].rss) / (R(2) * den);
-            t = best;
-            t.T = Tn;
-            if (R_FABS(Tn - best.T) < h && fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &t) && t.rss < best.rss)
-                best = t;
+            Tn = best.T - h * (r2 - r0) / (R(2) * den);
+            hi = best;
+            hi.T = Tn;
+            if (R_FABS(Tn - best.T) < h && fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &hi) && hi.rss < best.rss)
+                best = hi;
         }
-        for (k = 0; k < 3; k += 2)
-            if (c[k].rss < best.rss)
-                best = c[k];
+        if (lo.rss < best.rss)
+            best = lo;
     }
     if (!fwd_lm(ws, d0, half, 20, &best) || !fwd_eval(ws, &best, 0))
         return 0;
@@ -1522,16 +1522,17 @@ static cdsp_status fwd_alone(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radi
         /* an edge at all: the step lowers the residuals of the sides'
          * line D + E x beyond chance and the 8-bit rounding's floor (a
          * frame without an edge must not report one) */
-        fwd_state t = fs;
-        cdsp_real wsum = R(0);
+        cdsp_real wsum = R(0), rss = fs.rss;
         int n = 0;
         for (b = 0; b < NB; b++)
             if (ws->count[b] && R_FABS(ws->mean_u[b] - fs.d) <= fs.Wf) {
                 n++;
                 wsum += (cdsp_real)ws->count[b];
             }
-        if (n < 16 || !fwd_eval_n(ws, &t, 1, 2) || !(t.rss - fs.rss > R(10) * fs.rss / (cdsp_real)(n - 8)) ||
-            !(t.rss - fs.rss > wsum / R(12) / R(16)))
+        /* fs itself for the line's fit, then back (one state less on an
+         * MCU's stack) */
+        if (n < 16 || !fwd_eval_n(ws, &fs, 1, 2) || !(fs.rss - rss > R(10) * rss / (cdsp_real)(n - 8)) ||
+            !(fs.rss - rss > wsum / R(12) / R(16)) || !fwd_eval(ws, &fs, 0))
             return CDSP_E_NOCONVERGE;
     }
     fwd_terminator(ws, R(0), half, R(0), &fs);
