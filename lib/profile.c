@@ -42,15 +42,19 @@
  * St and lit beyond: P = A + B (s - St)_+ + C (sq(s) - sq(St))_+, St
  * searched (fit_sides); the window then ends before the kink.
  *
- * A blur wider than the detector's window (sigma > 1 px) on a lit limb:
- * the blurred scene itself fitted to every bin (the forward model, fwd_*
- * below) in place of (1), whose pipe side is extrapolated over the blur
- * zone.
+ * A blur wider than the detector's window (sigma > 1 px): the blurred
+ * scene itself fitted to every bin (the forward model, fwd_* below) in
+ * place of (1), whose pipe side is extrapolated over the blur zone; a
+ * shadow ending inside the blur zone as a terminator fitted with it
+ * (fwd_terminator). Where the area balance's rounds fail (faint limbs, a
+ * terminator's step outweighing the silhouette's), the forward model alone
+ * (fwd_alone).
  *
  * Limits (measured in make bench's accuracy study): a shadow ending inside
- * the blur zone, a specular stripe or a saturation plateau inside the fit
- * zone break the side model; the window must stay inside the pipe (0.9 of
- * its half-width is used).
+ * the blur zone under a blur of at most 1 px, or on 8-bit frames (the
+ * rounding hides the kink), a specular stripe or a saturation plateau
+ * inside the fit zone break the side model; the window must stay inside
+ * the pipe (0.9 of its half-width is used).
  */
 #include "internal.h"
 
