@@ -42,15 +42,19 @@
  * St and lit beyond: P = A + B (s - St)_+ + C (sq(s) - sq(St))_+, St
  * searched (fit_sides); the window then ends before the kink.
  *
- * A blur wider than the detector's window (sigma > 1 px) on a lit limb:
- * the blurred scene itself fitted to every bin (the forward model, fwd_*
- * below) in place of (1), whose pipe side is extrapolated over the blur
- * zone.
+ * A blur wider than the detector's window (sigma > 1 px): the blurred
+ * scene itself fitted to every bin (the forward model, fwd_* below) in
+ * place of (1), whose pipe side is extrapolated over the blur zone; a
+ * shadow ending inside the blur zone as a terminator fitted with it
+ * (fwd_terminator). Where the area balance's rounds fail (faint limbs, a
+ * terminator's step outweighing the silhouette's), the forward model alone
+ * (fwd_alone).
  *
  * Limits (measured in make bench's accuracy study): a shadow ending inside
- * the blur zone, a specular stripe or a saturation plateau inside the fit
- * zone break the side model; the window must stay inside the pipe (0.9 of
- * its half-width is used).
+ * the blur zone under a blur of at most 1 px, or on 8-bit frames (the
+ * rounding hides the kink), a specular stripe or a saturation plateau
+ * inside the fit zone break the side model; the window must stay inside
+ * the pipe (0.9 of its half-width is used).
  */
 #include "internal.h"
 
@@ -629,13 +633,28 @@ static cdsp_real integrate(const cdsp_profile_ws *ws, const cdsp_real *ub, const
 #ifndef FWD_START_ROUNDS
 #define FWD_START_ROUNDS 3
 #endif
+/* the terminator is searched where the forward fit without one misfits
+ * beyond this fit_chi2 (fwd_chi2): noise-free 16-bit lit limbs in make
+ * bench-accuracy reach 0.0027, a shadow ending 3.2 px from the silhouette
+ * under 3 px of blur 0.0106 (test_shadow_in_blur), 5.03 px 0.10-0.18; the
+ * search is 5-7 times the fit's cost */
+#ifndef FWD_TERM_CHI2
+#define FWD_TERM_CHI2 5e-3
+#endif
+#ifndef FWD_TERM_ROUNDS
+#define FWD_TERM_ROUNDS 4
+#endif
+#ifndef FWD_TERM_RMS
+#define FWD_TERM_RMS 1e-4
+#endif
 #ifndef FWD_LIMB_RMS
 #define FWD_LIMB_RMS 3e-4
 #endif
 
 typedef struct {
     cdsp_real d, sg, w; /* silhouette, the kernel's Gaussian sd and box width */
-    cdsp_real c[5];     /* D, E, A - D, B - E, C */
+    cdsp_real T, Rc;    /* the terminator (px from d; 0: none) and the limb's radius */
+    cdsp_real c[5];     /* D, E, A - D, B - E, C (T > 0: D, E, A - D, B, C) */
     cdsp_real rss, Wf;  /* residual sum of squares over |x| <= Wf */
     int i0, i1, J;      /* the grid's range, the kernel's half-width in cells */
 } fwd_state;
@@ -686,8 +705,18 @@ static void fwd_basis(cdsp_profile_ws *ws, fwd_state *fs)
      * [j, j + 1] / SUB): p0 = sum M_j, p1 = sum (rel - j - 1/2) M_j / SUB;
      * p2 by the convolution with the cell means of sq */
     {
-        cdsp_real S0 = R(0), S1 = R(0);
-        int jc = -J - 1;
+        cdsp_real S0 = R(0), S1 = R(0), sqT = R(0), qT = R(0);
+        int jc = -J - 1, kT = 0;
+        if (fs->T > R(0)) {
+            sides geo;
+            cdsp_real e;
+            geo.Rc = fs->Rc;
+            geo.St = R(0);
+            kT = (int)R_FLOOR(fs->T * R(FWD_SUB));
+            sqT = sq_at(&geo, fs->T);
+            e = (cdsp_real)(kT + 1) / R(FWD_SUB);
+            qT = (sq_int(&geo, e) - sq_int(&geo, fs->T) - sqT * (e - fs->T)) * R(FWD_SUB);
+        }
         for (i = fs->i0; i <= fs->i1; i++) {
             int rel = i - FWD_IX, k0 = rel - J, k1 = rel + J - 1, k, jm = rel - 1 < J - 1 ? rel - 1 : J - 1;
             cdsp_real a2 = R(0);
@@ -698,8 +727,17 @@ static void fwd_basis(cdsp_profile_ws *ws, fwd_state *fs)
             }
             if (k0 < 0)
                 k0 = 0;
-            for (k = k0; k <= k1; k++)
-                a2 += ws->fwd_k[rel - k - 1 + J] * ws->fwd_q[k];
+            if (fs->T > R(0)) {
+                /* the lit part beyond the terminator, (sq(s) - sq(T))_+:
+                 * the cells before T hold 0, the one across T its part */
+                if (k0 < kT)
+                    k0 = kT;
+                for (k = k0; k <= k1; k++)
+                    a2 += ws->fwd_k[rel - k - 1 + J] * (k == kT ? qT : ws->fwd_q[k] - sqT);
+            } else {
+                for (k = k0; k <= k1; k++)
+                    a2 += ws->fwd_k[rel - k - 1 + J] * ws->fwd_q[k];
+            }
             ws->fwd_p[0][i] = S0;
             ws->fwd_p[1][i] = (((cdsp_real)rel - R(0.5)) * S0 - S1) / R(FWD_SUB);
             ws->fwd_p[2][i] = a2;
@@ -760,11 +798,27 @@ static void fwd_row(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real x,
     f[1] = x;
     for (j = 0; j < 3; j++)
         f[2 + j] = ws->fwd_p[j][ii] + fr * (ws->fwd_p[j][ii + 1] - ws->fwd_p[j][ii]);
+    if (fs->T > R(0)) {
+        /* a limb in shadow: the background's slope E on the background
+         * only (x - K * s_+), the lit part's ramp K * (s - T)_+ (p1 at
+         * x - T; 0 below the grid) */
+        f[1] = x - f[3];
+        t = (x - fs->T) * R(FWD_SUB) + R(FWD_IX);
+        ii = (int)R_FLOOR(t);
+        if (ii < fs->i0) {
+            f[3] = R(0);
+        } else {
+            fr = t - (cdsp_real)ii;
+            f[3] = ws->fwd_p[1][ii] + fr * (ws->fwd_p[1][ii + 1] - ws->fwd_p[1][ii]);
+        }
+    }
 }
 
 /* The linear coefficients and the weighted residuals (into fwd_r[slot])
- * for fs's (d, sg, w); fs->rss. 0 when singular. */
-static int fwd_eval_n(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc)
+ * for fs's (d, sg, w); fs->rss. 0 when singular. basis 0: the grid
+ * already holds fs's basis (the same sg, w and T as the last call's: a
+ * step in d alone). */
+static int fwd_eval_b(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc, int basis)
 {
     cdsp_real N[5][5], r[5], y0 = R(0), f[5];
     const cdsp_real *ub = ws->mean_u, *mb = ws->mean_v;
@@ -774,7 +828,8 @@ static int fwd_eval_n(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc)
         for (j = 0; j < 5; j++)
             N[i][j] = R(0);
     }
-    fwd_basis(ws, fs);
+    if (basis)
+        fwd_basis(ws, fs);
     for (b = 0; b < NB; b++) {
         cdsp_real x = ub[b] - fs->d, w = (cdsp_real)ws->count[b], y;
         if (!ws->count[b] || R_FABS(x) > fs->Wf)
@@ -812,6 +867,11 @@ static int fwd_eval_n(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc)
     return 1;
 }
 
+static int fwd_eval_n(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc)
+{
+    return fwd_eval_b(ws, fs, slot, nc, 1);
+}
+
 static int fwd_eval(cdsp_profile_ws *ws, fwd_state *fs, int slot)
 {
     return fwd_eval_n(ws, fs, slot, 5);
@@ -834,7 +894,8 @@ static int fwd_lm(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, int maxit, 
         cdsp_real JJ[3][3], Jr[3], del[3] = {R(0), R(0), R(0)};
         int i, j, b, tries, acc = 0;
         /* the Jacobian by forward differences: slot 1 + k holds the
-         * residuals at the step in d, sg, w */
+         * residuals at the step in d, sg, w (the step in d on cur's
+         * basis, the grid's since the last accepted step) */
         for (k = 0; k < 3; k++) {
             trial = cur;
             if (k == 0)
@@ -843,7 +904,7 @@ static int fwd_lm(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, int maxit, 
                 trial.sg += step[1];
             else
                 trial.w = R_SQRT(cur.w * cur.w + R(12) * step[2]);
-            if (!fwd_eval(ws, &trial, 1 + k))
+            if (!fwd_eval_b(ws, &trial, 1 + k, 5, k != 0))
                 return 0;
         }
         for (i = 0; i < 3; i++) {
@@ -919,6 +980,8 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
     geo.Rc = Rc;
     geo.St = R(0);
     cur.d = d0;
+    cur.T = R(0);
+    cur.Rc = Rc;
     cur.Wf = half - R_FABS(d0) - R(0.25);
     if (!(cur.Wf >= R(4)))
         return 0;
@@ -962,6 +1025,89 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
         return 0;
     /* the better fit's residuals in slot 0 */
     return have && fwd_eval(ws, out, 0);
+}
+
+
+/* The forward model with a limb in shadow (a terminator T px beyond the
+ * silhouette, the pipe side flat up to it: pipe_at's model, blurred):
+ * from the fit without one (fs), T on a grid of 1/2 px over the window
+ * with (d, sg, w) held, then by turns fwd_lm on (d, sg, w) with T held
+ * and T on a finer grid about the best, T0 > 0 (the area balance's
+ * terminator) on the grid too. Replaces *fs when the terminator lowers
+ * the residuals beyond chance (F > 10 for its one parameter, as
+ * fwd_limb) and beyond the 8-bit rounding's floor (fwd_limb's). */
+static int fwd_terminator_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, cdsp_real T0, fwd_state *fs)
+{
+    /* three states (an MCU's stack): the best, and the trials lo, hi */
+    fwd_state best = *fs, lo, hi;
+    cdsp_real T, h, wsum = R(0), floor2, J = fs->c[2];
+    int b, n = 0;
+    for (b = 0; b < NB; b++)
+        if (ws->count[b] && R_FABS(ws->mean_u[b] - fs->d) <= fs->Wf) {
+            n++;
+            wsum += (cdsp_real)ws->count[b];
+        }
+    if (n < 16)
+        return 0;
+    best.rss = R(-1);
+    for (T = R(1); T <= fs->Wf - R(3); T += T < R(6) ? R(1) : R(2)) {
+        lo = *fs;
+        lo.T = T;
+        if (fwd_lm(ws, d0, half, FWD_START_ROUNDS, &lo) && (best.rss < R(0) || lo.rss < best.rss))
+            best = lo;
+    }
+    if (T0 > R(0) && T0 <= fs->Wf - R(3)) {
+        lo = *fs;
+        lo.T = T0;
+        if (fwd_lm(ws, d0, half, FWD_START_ROUNDS, &lo) && (best.rss < R(0) || lo.rss < best.rss))
+            best = lo;
+    }
+    if (!(best.rss >= R(0)) || !(best.rss < fs->rss))
+        return 0;
+    /* T and d are nearly collinear over the blur (moving T alone moves
+     * the fit's d): each trial T with a few rounds of fwd_lm, and the
+     * parabola through T - h, T, T + h */
+    for (h = R(0.5); h > R(0.01); h /= R(2.5)) {
+        cdsp_real den, Tn, r0, r2;
+        lo = best;
+        lo.T = best.T - h;
+        hi = best;
+        hi.T = best.T + h;
+        if (!(lo.T > R(0)) || hi.T > fs->Wf - R(3) || !fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &lo) ||
+            !fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &hi))
+            continue;
+        r0 = lo.rss;
+        r2 = hi.rss;
+        if (hi.rss < lo.rss)
+            lo = hi; /* lo: the better trial; hi free for the parabola's */
+        den = r0 - R(2) * best.rss + r2;
+        if (den > R(0)) {
+            Tn = best.T - h * (r2 - r0) / (R(2) * den);
+            hi = best;
+            hi.T = Tn;
+            if (R_FABS(Tn - best.T) < h && fwd_lm(ws, d0, half, FWD_TERM_ROUNDS, &hi) && hi.rss < best.rss)
+                best = hi;
+        }
+        if (lo.rss < best.rss)
+            best = lo;
+    }
+    if (!fwd_lm(ws, d0, half, 20, &best) || !fwd_eval(ws, &best, 0))
+        return 0;
+    floor2 = R(FWD_TERM_RMS) * R(FWD_TERM_RMS) * J * J;
+    if (floor2 < R(1) / R(12) / R(16))
+        floor2 = R(1) / R(12) / R(16);
+    if (!(fs->rss - best.rss > R(10) * best.rss / (cdsp_real)(n - 9) && fs->rss - best.rss > floor2 * wsum))
+        return 0;
+    *fs = best;
+    return 1;
+}
+
+/* fwd_terminator_fit, and slot 0 back to fs's residuals when it keeps fs
+ * (its trials overwrite slot 0) */
+static void fwd_terminator(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real half, cdsp_real T0, fwd_state *fs)
+{
+    if (!fwd_terminator_fit(ws, d0, half, T0, fs))
+        (void)fwd_eval(ws, fs, 0);
 }
 
 
@@ -1027,9 +1173,10 @@ static cdsp_real fwd_chi2(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_r
 }
 
 /* The model on the bins: silhouette d (px from the line toward the pipe),
- * blur, contrast, noise of d. */
-static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px, int forward,
-                               cdsp_profile *out)
+ * blur, contrast, noise of d. *s2_start receives the first blur (from the
+ * profile's slope) before the area balance's rounds, which can fail. */
+static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px, int forward,
+                              cdsp_profile *out, cdsp_real *s2_start)
 {
     cdsp_real *ub = ws->mean_u, *mb = ws->mean_v;
     /* start from a wide blur (fit zones at the window's ends), then adapt */
@@ -1105,6 +1252,7 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
         }
     }
     s2_first = s2;
+    *s2_start = s2;
     for (it = 0; it < 8; it++) {
         cdsp_real a, bb, bm, M, dn = d, d_prev = d, mom;
         int k;
@@ -1324,7 +1472,9 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
     else
         s2f = s2;
     if (forward && R_SQRT(s2f) > R(FWD_MIN_BLUR) && !(m.St > R(0)) && !clamped &&
-        fwd_fit(ws, d, s2f, half, radius_px, &fs) && fwd_limb(ws, &fs)) {
+        fwd_fit(ws, d, s2f, half, radius_px, &fs) &&
+        (fwd_chi2(ws, &fs, var_pix) <= R(FWD_TERM_CHI2) || (fwd_terminator(ws, d, half, m.St, &fs), 1)) &&
+        fwd_limb(ws, &fs)) {
         /* a blur wider than the detector's window on a lit, shaded limb:
          * the forward model (fwd_fit) in place of the area balance, whose
          * pipe side is extrapolated over the blur zone. A straight pipe
@@ -1348,12 +1498,84 @@ static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real ra
             out->contrast = fs.c[2];
             out->half_width = fs.Wf;
             out->fit_chi2 = chi_f;
+            out->shadow = fs.T;
             out->flat = 0;
             if (R_FABS(fs.c[2]) > R(0))
                 out->sigma_offset = R_SQRT(varM) / R_FABS(fs.c[2]);
         }
     }
     return CDSP_OK;
+}
+
+/* Where the area balance's rounds fail (a faint limb under strong
+ * shading, a shadow whose terminator outweighs the silhouette's step:
+ * Newton's G' vanished or d ran off), the forward model alone, from the
+ * line (d = 0) and the profile's first blur s2, with its terminator
+ * search; the pipe side's noise from the bins beyond its blur zone
+ * (3.5 sigma + 1.5 px, as the area balance's). Its fit_chi2 decides
+ * whether the line moves (cdsp_profile_applies). */
+static cdsp_status fwd_alone(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px, cdsp_real s2,
+                             cdsp_profile *out)
+{
+    fwd_state fs;
+    cdsp_real var_pix = R(0), dof = R(0), varM = R(0), z, blur;
+    int b;
+    if (!fwd_fit(ws, R(0), s2, half, radius_px, &fs))
+        return CDSP_E_NOCONVERGE;
+    {
+        /* an edge at all: the step lowers the residuals of the sides'
+         * line D + E x beyond chance and the 8-bit rounding's floor (a
+         * frame without an edge must not report one) */
+        cdsp_real wsum = R(0), rss = fs.rss;
+        int n = 0;
+        for (b = 0; b < NB; b++)
+            if (ws->count[b] && R_FABS(ws->mean_u[b] - fs.d) <= fs.Wf) {
+                n++;
+                wsum += (cdsp_real)ws->count[b];
+            }
+        /* fs itself for the line's fit, then back (one state less on an
+         * MCU's stack) */
+        if (n < 16 || !fwd_eval_n(ws, &fs, 1, 2) || !(fs.rss - rss > R(10) * rss / (cdsp_real)(n - 8)) ||
+            !(fs.rss - rss > wsum / R(12) / R(16)) || !fwd_eval(ws, &fs, 0))
+            return CDSP_E_NOCONVERGE;
+    }
+    fwd_terminator(ws, R(0), half, R(0), &fs);
+    blur = R_SQRT(fs.sg * fs.sg + fs.w * fs.w / R(12));
+    z = R(3.5) * blur + R(1.5) + fs.w / R(2);
+    for (b = 0; b < NB; b++) {
+        cdsp_real x = ws->mean_u[b] - fs.d;
+        if (ws->count[b] > 1 && R_FABS(x) >= z && R_FABS(x) <= fs.Wf) {
+            uint64_t c = ws->count[b], sm = ws->sum[b], q = c * ws->sumsq[b] - sm * sm;
+            var_pix += (cdsp_real)q / (cdsp_real)c;
+            dof += (cdsp_real)c - R(1);
+        }
+    }
+    if (dof > R(0))
+        var_pix /= dof;
+    for (b = 0; b < NB; b++)
+        if (ws->count[b] && R_FABS(ws->mean_u[b] - fs.d) <= fs.Wf)
+            varM += var_pix / (cdsp_real)ws->count[b] / (cdsp_real)(BPP * BPP);
+    out->offset = fs.d;
+    out->blur = blur;
+    out->contrast = fs.c[2];
+    out->sigma_offset = R_FABS(fs.c[2]) > R(0) ? R_SQRT(varM) / R_FABS(fs.c[2]) : R(0);
+    out->half_width = fs.Wf;
+    out->shadow = fs.T;
+    out->noise = R_SQRT(var_pix);
+    out->blur_clamped = 0;
+    out->flat = 0;
+    out->fit_chi2 = fwd_chi2(ws, &fs, var_pix);
+    return CDSP_OK;
+}
+
+static cdsp_status model_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radius_px, int forward,
+                               cdsp_profile *out)
+{
+    cdsp_real s2 = R(0);
+    cdsp_status st = area_solve(ws, half, radius_px, forward, out, &s2);
+    if (st == CDSP_E_NOCONVERGE && forward)
+        st = fwd_alone(ws, half, radius_px, s2, out);
+    return st;
 }
 
 /* Any bin within a gray level of full scale (255, 4095, 65535): a
