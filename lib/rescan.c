@@ -33,6 +33,9 @@
  * shape, which the scanline step does not change.
  */
 #include "internal.h"
+#ifdef PF_DEBUG
+#include <stdio.h>
+#endif
 
 /* the segment read on each scanline: +-(ceil(inlier_px) + RESCAN_MARGIN)
  * px of where the line crosses it (cdsp__frame_band; its candidates are
@@ -93,9 +96,9 @@ typedef struct {
     int n;
 } pf_win;
 
-/* the contour's profile: spread s, the sides' slopes (gray levels / px) */
+/* the contour's profile: its edge spread s (px) */
 typedef struct {
-    cdsp_real s, sa, sb;
+    cdsp_real s;
 } pf_prof;
 
 /* The window of the edge e (distorted px, on scanline t of the family
@@ -121,14 +124,14 @@ static int pf_window(const cdsp_image *img, int horizontal, int h, const cdsp_ed
     return 1;
 }
 
-/* Gauss-Newton on the model above: par = (A, C, d, s, Sa, Sb), the first
- * three free, all six when full; iters steps (each d step clamped to 1
- * px). 1 when it ends with |d| < 2 px and s in [0.2, 4] px. */
-static int pf_fit(const pf_win *w, cdsp_real par[6], int full, int iters)
+/* Gauss-Newton on the model above: par = (A, C, d, s), the first three
+ * free, all four when full; iters steps (each d step clamped to 1 px). 1
+ * when it ends with |d| < 2 px and s in [0.2, 4] px. */
+static int pf_fit(const pf_win *w, cdsp_real par[4], int full, int iters)
 {
-    int it, k, i, np = full ? 6 : 3;
+    int it, k, i, np = full ? 4 : 3;
     for (it = 0; it < iters; it++) {
-        cdsp_real H[6][7], J[6];
+        cdsp_real H[4][5], J[4];
         int a, b, r;
         for (a = 0; a < np; a++)
             for (b = 0; b <= np; b++)
@@ -138,14 +141,11 @@ static int pf_fit(const pf_win *w, cdsp_real par[6], int full, int iters)
                 cdsp_real u = w->u[k][i], z = (u - par[2]) / par[3];
                 cdsp_real P = R(0.5) * PF_ERFC(-z * R(0.70710678118654752));
                 cdsp_real g = R(0.39894228040143268) * R_EXP(R(-0.5) * z * z);
-                cdsp_real step = par[1] + par[5] * u - par[4] * u; /* the jump at the edge */
-                cdsp_real res = w->v[k][i] - (par[0] + par[4] * u * (R(1) - P) + (par[1] + par[5] * u) * P);
+                cdsp_real res = w->v[k][i] - (par[0] + par[1] * P);
                 J[0] = R(1);
                 J[1] = P;
-                J[2] = -step * g / par[3];
-                J[3] = -step * g * z / par[3];
-                J[4] = u * (R(1) - P);
-                J[5] = u * P;
+                J[2] = -par[1] * g / par[3];
+                J[3] = -par[1] * g * z / par[3];
                 for (a = 0; a < np; a++) {
                     H[a][np] += J[a] * res;
                     for (b = 0; b <= a; b++)
@@ -182,7 +182,7 @@ static int pf_fit(const pf_win *w, cdsp_real par[6], int full, int iters)
 }
 
 /* A, C from the window's pixels beyond 2 px on either side, d = 0 */
-static void pf_start(const pf_win *w, const pf_prof *pr, cdsp_real par[6])
+static void pf_start(const pf_win *w, const pf_prof *pr, cdsp_real par[4])
 {
     cdsp_real sa = R(0), sb = R(0), na = R(0), nb = R(0);
     int k, i;
@@ -200,8 +200,6 @@ static void pf_start(const pf_win *w, const pf_prof *pr, cdsp_real par[6])
     par[1] = (nb > R(0) ? sb / nb : w->v[1][w->n - 1]) - par[0];
     par[2] = R(0);
     par[3] = pr->s;
-    par[4] = pr->sa;
-    par[5] = pr->sb;
 }
 
 /* The point fit's move of e (distorted px) along its scanline: 1 when it
@@ -210,7 +208,7 @@ static int pf_point(const cdsp_image *img, int horizontal, int h, const pf_prof 
                     cdsp_real ny, cdsp_edge *e)
 {
     pf_win w;
-    cdsp_real par[6], ns = horizontal ? nx : ny;
+    cdsp_real par[4], ns = horizontal ? nx : ny;
     if (!pf_window(img, horizontal, h, e, nx, ny, &w))
         return 0;
     pf_start(&w, pr, par);
@@ -286,9 +284,9 @@ static int pf_profile(const cdsp_image *img, const cdsp_camera *cam, const cdsp_
                       const cdsp_edge_params *edge, const cdsp_line *ln, int horizontal, int first,
                       int last, cdsp_real cos2, pf_prof *pr)
 {
-    cdsp_real ss[PF_PROFILE], sa[PF_PROFILE], sb[PF_PROFILE], thr = p->pair.inlier_px;
+    cdsp_real ss[PF_PROFILE], thr = p->pair.inlier_px;
     cdsp_real band = R_CEIL(p->pair.inlier_px) + R(RESCAN_MARGIN);
-    const pf_prof start = {R(1), R(0), R(0)};
+    const pf_prof start = {R(1)};
     int x0, y0, x1, y1, j, n = 0, h = p->edge.half_window, nodist = cdsp__camera_no_distortion(cam);
     int ext = horizontal ? img->width : img->height, span = last - first;
     cdsp__edges_clip_roi(img, &p->edge.roi, &x0, &y0, &x1, &y1);
@@ -307,7 +305,7 @@ static int pf_profile(const cdsp_image *img, const cdsp_camera *cam, const cdsp_
             continue;
         for (k = 0; k < nb && n < PF_PROFILE; k++) {
             const cdsp_edge *e = &und[k];
-            cdsp_real d = ln->l[0] * e->x + ln->l[1] * e->y + ln->l[2], par[6];
+            cdsp_real d = ln->l[0] * e->x + ln->l[1] * e->y + ln->l[2], par[4];
             cdsp_real gn = ln->l[0] * e->gx + ln->l[1] * e->gy, g2 = e->gx * e->gx + e->gy * e->gy;
             pf_win w;
             if (d > thr || d < -thr || !(gn > R(0)) || gn * gn < cos2 * g2)
@@ -315,22 +313,18 @@ static int pf_profile(const cdsp_image *img, const cdsp_camera *cam, const cdsp_
             if (!pf_window(img, horizontal, h, &buf[k], ln->l[0], ln->l[1], &w))
                 continue;
             pf_start(&w, &start, par);
-            if (!pf_fit(&w, par, 1, PF_FULL_ITERS) || !R_FINITE(par[4]) || !R_FINITE(par[5]))
+            if (!pf_fit(&w, par, 1, PF_FULL_ITERS))
                 continue;
-            ss[n] = par[3];
-            sa[n] = par[4];
-            sb[n] = par[5];
-            n++;
+            ss[n++] = par[3];
         }
     }
     if (n < 8)
         return 0;
     pf_sort(ss, n);
-    pf_sort(sa, n);
-    pf_sort(sb, n);
     pr->s = ss[n / 2];
-    pr->sa = sa[n / 2];
-    pr->sb = sb[n / 2];
+#ifdef PF_DEBUG
+    fprintf(stderr, "profile n %d s %.3f horiz %d first %d last %d\n", n, (double)pr->s, horizontal, first, last);
+#endif
     return 1;
 }
 
