@@ -33,9 +33,6 @@
  * shape, which the scanline step does not change.
  */
 #include "internal.h"
-#ifdef PF_DEBUG
-#include <stdio.h>
-#endif
 
 /* the segment read on each scanline: +-(ceil(inlier_px) + RESCAN_MARGIN)
  * px of where the line crosses it (cdsp__frame_band; its candidates are
@@ -65,25 +62,33 @@ typedef struct {
  * Cramer-Rao bound of its 3 x (2h + 1) pixels. The point fit takes the
  * same pixels (the detector's rows t - 1 .. t + 1, h either side of its
  * point) and the least-squares offset d of the model
- *   I(u) = A + Sa u (1 - Phi(z)) + (C + Sb u) Phi(z),  z = (u - d) / s
+ *   I(u) = A + C Phi((u - d) / s)
  * (u: a pixel's signed distance from the line through the detector's
  * point, along the search line's normal; Phi the normal integral), A and C
- * the sides' levels of this window, s the contour's edge spread and Sa, Sb
- * its sides' slopes (a shaded pipe's limb is not flat): the weights fall
- * on the slope's pixels. s, Sa and Sb are the contour's own, the medians
- * of full fits (A, C, d, s, Sa, Sb) at up to PF_PROFILE points spread
- * along its extent (one window says little of them; the contour's many,
- * a lot); each point then fits A, C and d only, Gauss-Newton from the
- * detector's point (PF_ITERS steps: one already takes it to within noise).
+ * this window's own, s the contour's edge spread: the weights fall on the
+ * slope's pixels. s is the median of full fits (A, C, d, s) at up to
+ * PF_PROFILE points spread along the contour's extent; each point then
+ * fits A, C and d only: one Gauss-Newton step from the detector's point
+ * (PF_ITERS; 3 steps gave the same noise, 0.099 against 0.1005 px on the
+ * shadowed limbs, at 1.8 times the cost). For a symmetric step d and s are
+ * orthogonal, so the median's error does not move the line. Side slopes
+ * (a shaded limb is not flat) were tried and left out: estimated from the
+ * contour's own points, their error moves every point alike, an offset
+ * error of the line as large as what the fit saves (docs/method.md §3a).
  * Measured on the rendered rack (tests/bench/probe_point_fit.c, true
  * contours): point noise 0.183 -> 0.099 px on the shadowed limbs, 0.048
- * -> 0.027 on the lit ones, 0.039 -> 0.021 px on a flat-lit pipe, the
- * bias 0.001 -> 0.003, 0.077 -> 0.020 and 0.000 -> 0.000 px.
+ * -> 0.030 on the lit ones, 0.039 -> 0.021 px on a flat-lit pipe; the
+ * bias +0.001 -> +0.000, +0.077 -> +0.105 (the lit limb's shading, taken
+ * in part for the step) and -0.001 -> -0.000 px.
+ *
+ * The distortion is ignored inside the window (the search line's
+ * undistorted normal): its turn there moves rows t +- 1 oppositely, which
+ * cancels in d.
  */
 #define PF_MAXH 8       /* edge.half_window's largest value */
-#define PF_PROFILE 48   /* points the contour's s, Sa, Sb are the medians of */
-#define PF_ITERS 3      /* Gauss-Newton steps of a point's (A, C, d) */
-#define PF_FULL_ITERS 8 /* of a full fit's six parameters */
+#define PF_PROFILE 48   /* points the contour's s is the median of */
+#define PF_ITERS 1      /* Gauss-Newton steps of a point's (A, C, d) */
+#define PF_FULL_ITERS 8 /* of a full fit's four parameters */
 
 #ifdef CDSP_SINGLE
 #define PF_ERFC CDSP__MATH(erfcf)
@@ -322,9 +327,6 @@ static int pf_profile(const cdsp_image *img, const cdsp_camera *cam, const cdsp_
         return 0;
     pf_sort(ss, n);
     pr->s = ss[n / 2];
-#ifdef PF_DEBUG
-    fprintf(stderr, "profile n %d s %.3f horiz %d first %d last %d\n", n, (double)pr->s, horizontal, first, last);
-#endif
     return 1;
 }
 

@@ -153,14 +153,14 @@ static void add(tally *t, const cdsp_camera *cam, const cdsp_result *r, const do
     double l[2][3], p_in[2], q[2];
     int k, j;
     assert_true(sup_contour_lines(cam, c, v, 8, l, p_in));
-    q[0] = cam->fx * c[0] / c[2] + cam->cx;
-    q[1] = cam->fy * c[1] / c[2] + cam->cy;
+    q[0] = (double)cam->fx * c[0] / c[2] + (double)cam->cx;
+    q[1] = (double)cam->fy * c[1] / c[2] + (double)cam->cy;
     for (k = 0; k < 2; k++) {
         double dq = l[k][0] * q[0] + l[k][1] * q[1] + l[k][2], f[2], best = 1e9;
         f[0] = q[0] - dq * l[k][0];
         f[1] = q[1] - dq * l[k][1];
         for (j = 0; j < 2; j++) {
-            double a = r->lines[j][0], b = r->lines[j][1], cc = r->lines[j][2], nn = sqrt(a * a + b * b), e;
+            double a = (double)r->lines[j][0], b = (double)r->lines[j][1], cc = (double)r->lines[j][2], nn = sqrt(a * a + b * b), e;
             if (a * l[k][0] + b * l[k][1] < 0)
                 nn = -nn;
             if (fabs(a * l[k][0] + b * l[k][1]) < 0.999 * fabs(nn))
