@@ -1,9 +1,25 @@
-/* estim probe: per-point position estimators on true contours.
- * (a) the detector's partial-area point (cdsp__edges_scan_segment),
- * (b1) local LS fit of A, C, d with s from the contour (median of 4-param fits),
- * (b2) d only, with A, C, s the contour's medians,
- * (b4) local 4-param fit (A, C, s, d).
- * Window: rows t-1..t+1, columns round(x_det)-H..+H (the detector's 27 px). */
+/* probe_point_fit.c - issue 13's per-point estimator study (docs/method.md
+ * §3a, the point fit); a diagnostic, not built by the Makefile:
+ *   cc -std=c99 -D_DEFAULT_SOURCE -O2 -Iinclude -Itools -Itests/lib \
+ *     tests/bench/probe_point_fit.c tools/tool_rack_scene.c tests/lib/support.c \
+ *     build/host/libcdsp.a -lm -o /tmp/probe_point_fit
+ *   /tmp/probe_point_fit FRAMES WHICH [H]   (WHICH: 1 rack, 2 flat-lit pipe, 3 both;
+ *                                           H the window's half width, 4)
+ * On the exact contour lines (sup_contour_lines), every 3rd scanline, the
+ * detector's point (cdsp__edges_scan_segment) against least-squares fits
+ * of I(u) = A + C Phi((u - d) / s) over the same 3 x (2H + 1) pixels:
+ *   a   the detector;
+ *   b1  A, C, d free, s the contour's (median of b4's);
+ *   b2  d alone, A, C, s the contour's medians;
+ *   b4  A, C, s, d free;
+ *   gn1 / gn2: b1 in 1 / 2 Gauss-Newton steps from the detector's point;
+ *   b5  b1 with a pipe-side slope D free; b6 b1 with D the contour's median;
+ *   b4gn1 / b4gn2: b4 in 1 / 2 steps.
+ * sd is about each contour's own mean, bias the mean: a profile parameter
+ * taken from the contour's own points (b6's D) moves all its points alike,
+ * which the sd does not see; the line's offset does (docs/method.md §3a).
+ * Errors beyond 1 px in any estimate drop the point (column crossings).
+ */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
