@@ -1409,7 +1409,7 @@ cdsp_status cdsp__params_check(const cdsp_params *p)
         return CDSP_E_ARG;
     if (!(p->noise_factor >= R(0)) || !R_FINITE(p->noise_factor) || !(p->min_confidence >= R(0)) ||
         !(p->min_confidence <= R(1)) || p->refine_step < 0 || (p->refine_step > 0 && p->refine_step < 3) ||
-        p->refine_step > CDSP_EDGE_MAX_STEP)
+        p->refine_step > CDSP_EDGE_MAX_STEP || p->point_fit < 0 || p->point_fit > 1)
         return CDSP_E_ARG;
     return cdsp__edge_params_check(&p->edge);
 }
@@ -1464,5 +1464,6 @@ void cdsp_params_default(cdsp_params *p)
     p->noise_factor = R(10);
     p->min_confidence = R(0);
     p->refine_step = 0;
+    p->point_fit = 0;
     cdsp_profile_params_default(&p->profile);
 }

@@ -28,7 +28,7 @@
 
 typedef struct {
     const char *out;
-    int trials, points, samples, frame_runs, no_frames, quiet, rack, rack_frames, rack_refine;
+    int trials, points, samples, frame_runs, no_frames, quiet, rack, rack_frames, rack_refine, rack_point_fit;
     tool_list levels;
     uint64_t seed;
 } bench_opts;
@@ -372,6 +372,9 @@ int tool_bench_main(int argc, char **argv)
              "--refine-step): every pipe's contours read again on every Kth scanline "
              "around them and refitted (K >= 3; 3 reads every pixel near them once); "
              "0: off, the search's every 4th scanline only.", NULL, 0},
+            {"rack-point-fit", 0, OPT_FLAG, &B.rack_point_fit, 0, 0, NULL,
+             "With --rack: the final pass's points refitted to their windows' pixels "
+             "(cdsp_params.point_fit; needs --rack-refine-step >= 3).", NULL, 0},
             {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
         };
         rc = tool_parse_alloc("bench", &doc, opts, argc, argv, &pos, &npos);
@@ -392,7 +395,7 @@ int tool_bench_main(int argc, char **argv)
         goto out;
     }
     if (B.rack) {
-        rc = tool_bench_rack(B.out, B.rack_frames, B.rack_refine, B.seed, B.quiet);
+        rc = tool_bench_rack(B.out, B.rack_frames, B.rack_refine, B.rack_point_fit, B.seed, B.quiet);
         goto out;
     }
     tool_paper_camera(&cam);

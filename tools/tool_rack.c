@@ -145,7 +145,7 @@ static double spacing_floor2(const cdsp_result *from, const cdsp_result *to)
     return sum / RACK_SAMPLES;
 }
 
-int tool_bench_rack(const char *out_dir, int frames, int refine_step, uint64_t seed, int quiet)
+int tool_bench_rack(const char *out_dir, int frames, int refine_step, int point_fit, uint64_t seed, int quiet)
 {
     static cdsp_frame_all_ws ws;
     cdsp_camera cam;
@@ -211,11 +211,12 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, uint64_t s
         printf("\nThe paper's real experiment, rendered (--rack): %dx%d, fx = fy = %.2f px "
                "(3.45 um, 16 mm lens),\ntwo 16 mm pipes 300 mm long, axes %.0f mm apart, on "
                "two 12.68 mm columns; light 40 %% ambient,\nblur 0.8 px, noise 2 gray levels; "
-               "%d frames per group;\nrefine step %d (%s); spacing RMSE (Eq. 17-21), mm.\n",
+               "%d frames per group;\nrefine step %d (%s)%s; spacing RMSE (Eq. 17-21), mm.\n",
                RACK_W, RACK_H, RACK_F, RACK_SPACING, frames, refine_step,
                refine_step == 3   ? "every pipe's contours refitted to every pixel near them"
                : refine_step > 0 ? "every pipe's contours refitted on every Kth scanline"
-                                 : "off: the contours from the search's scanlines");
+                                 : "off: the contours from the search's scanlines",
+               point_fit && refine_step > 0 ? ", points refitted to their pixels" : "");
     for (arr = 0; arr < 2; arr++)
         for (g = 0; g < RACK_GROUPS; g++)
             for (f = 0; f < frames; f++) {
@@ -247,6 +248,7 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, uint64_t s
                     cdsp_params_default(&p);
                     p.profile.enable = prof == 1;
                     p.refine_step = refine_step;
+                    p.point_fit = point_fit;
                     if (prof == 2) {
                         double d0 = sqrt(c[0][0] * c[0][0] + c[0][1] * c[0][1] + c[0][2] * c[0][2]);
                         double d1 = sqrt(c[1][0] * c[1][0] + c[1][1] * c[1][1] + c[1][2] * c[1][2]);

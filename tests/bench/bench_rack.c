@@ -13,7 +13,8 @@
  *   full   without the tracker (a full search);
  *   track  with it (the tracked solve, when it finds every track).
  * An optional third argument K sets cdsp_params.refine_step (the final
- * pass of lib/rescan.c; 0 = off, the default) for both frames.
+ * pass of lib/rescan.c; 0 = off, the default) for both frames, and a
+ * fourth P cdsp_params.point_fit (0 or 1, with K >= 3).
  * Prints each solve's pipes and flags. Figures, not pass/fail.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -113,6 +114,8 @@ int main(int argc, char **argv)
     cdsp_params_default(&p);
     if (argc > 3)
         p.refine_step = atoi(argv[3]);
+    if (argc > 4)
+        p.point_fit = atoi(argv[4]);
     cdsp_tracker_init(&trk);
     cdsp_rng_seed(&rng, 1, 1);
     st = cdsp_frame_solve_all(&img[0], &cam, 8, &p, &trk, &ws, &rng, out, CDSP_MAX_PIPES, &n);

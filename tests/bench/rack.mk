@@ -3,7 +3,7 @@
 # a bench step (its figures are counts, read under valgrind):
 #   build/bench/bench_rack build/bench load   (renders once, ~10 s)
 #   valgrind --tool=callgrind --dump-instr=no \
-#     --toggle-collect=measured_solve build/bench/bench_rack build/bench full|track [REFINE_STEP]
+#     --toggle-collect=measured_solve build/bench/bench_rack build/bench full|track [REFINE_STEP [POINT_FIT]]
 BENCH_RACK_BIN := $(BUILD)/bench/bench_rack
 # the scene is tools/tool_rack_scene.c, the tool's own (defined once; it
 # needs only lib/'s cdsp.h)
