@@ -12,3 +12,13 @@ $(BENCH_RACK_BIN): tests/bench/bench_rack.c tests/lib/support.c tests/lib/suppor
 	@mkdir -p $(@D)
 	$(CC) $(HOST_CFLAGS) -Itests/lib -Itools $< tests/lib/support.c tools/tool_rack_scene.c $(host_LIB) \
 	    -lm -o $@
+
+# The per-point estimator study (docs/method.md §3a, the point fit): a
+# diagnostic, built with everything so that it keeps compiling.
+PROBE_POINT_FIT_BIN := $(BUILD)/bench/probe_point_fit
+$(PROBE_POINT_FIT_BIN): tests/bench/probe_point_fit.c tests/lib/support.c tests/lib/support.h \
+                        tools/tool_rack_scene.c tools/tool_rack_scene.h $(host_LIB)
+	@mkdir -p $(@D)
+	$(CC) $(HOST_CFLAGS) -D_DEFAULT_SOURCE -Itests/lib -Itools $< tests/lib/support.c tools/tool_rack_scene.c \
+	    $(host_LIB) -lm -o $@
+ALL_TARGETS += $(PROBE_POINT_FIT_BIN)
