@@ -150,23 +150,24 @@ static int accumulate(const cdsp_image *img, cdsp_profile_ws *ws, const cdsp_rea
     return 1;
 }
 
-/* Small dense least squares by normal equations (m <= 3 unknowns):
- * solves N x = r in place by Gauss-Jordan with partial pivoting. */
-static int solve_small(cdsp_real N[3][3], cdsp_real r[3], int m)
+/* Small dense least squares by normal equations: solves N x = r in place
+ * (m <= 5 unknowns; N's rows ld apart) by Gauss-Jordan with partial
+ * pivoting; 0 when singular. */
+static int gj_solve(cdsp_real *N, int ld, cdsp_real *r, int m)
 {
     int i, j, k;
     for (i = 0; i < m; i++) {
         int piv = i;
         for (j = i + 1; j < m; j++)
-            if (R_FABS(N[j][i]) > R_FABS(N[piv][i]))
+            if (R_FABS(N[j * ld + i]) > R_FABS(N[piv * ld + i]))
                 piv = j;
-        if (!(R_FABS(N[piv][i]) > R(0)))
+        if (!(R_FABS(N[piv * ld + i]) > R(0)))
             return 0;
         if (piv != i) {
             for (k = 0; k < m; k++) {
-                cdsp_real t = N[i][k];
-                N[i][k] = N[piv][k];
-                N[piv][k] = t;
+                cdsp_real t = N[i * ld + k];
+                N[i * ld + k] = N[piv * ld + k];
+                N[piv * ld + k] = t;
             }
             {
                 cdsp_real t = r[i];
@@ -178,15 +179,21 @@ static int solve_small(cdsp_real N[3][3], cdsp_real r[3], int m)
             cdsp_real f;
             if (j == i)
                 continue;
-            f = N[j][i] / N[i][i];
+            f = N[j * ld + i] / N[i * ld + i];
             for (k = i; k < m; k++)
-                N[j][k] -= f * N[i][k];
+                N[j * ld + k] -= f * N[i * ld + k];
             r[j] -= f * r[i];
         }
     }
     for (i = 0; i < m; i++)
-        r[i] /= N[i][i];
+        r[i] /= N[i * ld + i];
     return 1;
+}
+
+/* m <= 3 unknowns */
+static int solve_small(cdsp_real N[3][3], cdsp_real r[3], int m)
+{
+    return gj_solve(&N[0][0], 3, r, m);
 }
 
 /* The sides' models about the silhouette d. The pipe side is a Lambertian
@@ -745,43 +752,10 @@ static void fwd_basis(cdsp_profile_ws *ws, fwd_state *fs)
     }
 }
 
-/* Small dense least squares for the forward model's n <= 5 coefficients:
- * Gauss-Jordan with partial pivoting on N x = r */
+/* the forward model's n <= 5 coefficients */
 static int fwd_solve(cdsp_real N[5][5], cdsp_real r[5], int n)
 {
-    int i, j, k;
-    for (i = 0; i < n; i++) {
-        int piv = i;
-        for (j = i + 1; j < n; j++)
-            if (R_FABS(N[j][i]) > R_FABS(N[piv][i]))
-                piv = j;
-        if (!(R_FABS(N[piv][i]) > R(0)))
-            return 0;
-        if (piv != i) {
-            for (k = 0; k < n; k++) {
-                cdsp_real t = N[i][k];
-                N[i][k] = N[piv][k];
-                N[piv][k] = t;
-            }
-            {
-                cdsp_real t = r[i];
-                r[i] = r[piv];
-                r[piv] = t;
-            }
-        }
-        for (j = 0; j < n; j++) {
-            cdsp_real f;
-            if (j == i)
-                continue;
-            f = N[j][i] / N[i][i];
-            for (k = i; k < n; k++)
-                N[j][k] -= f * N[i][k];
-            r[j] -= f * r[i];
-        }
-    }
-    for (i = 0; i < n; i++)
-        r[i] /= N[i][i];
-    return 1;
+    return gj_solve(&N[0][0], 5, r, n);
 }
 
 /* the basis row at bin position x (relative to d): 1, x, p0, p1, p2 */

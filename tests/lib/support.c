@@ -583,3 +583,58 @@ double sup_true_distance(const double point[3], const double dir[3])
         f[k] = point[k] - t * dir[k];
     return sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
 }
+
+void sup_row_pipes(int pipes, double roll_deg, double c[2][3], double v[3])
+{
+    double r = roll_deg * SUP_PI / 180, n;
+    int k;
+    v[0] = cos(r);
+    v[1] = sin(r);
+    v[2] = 0.2;
+    n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    for (k = 0; k < 3; k++)
+        v[k] /= n;
+    for (k = 0; k < 2; k++) {
+        double off = pipes == 2 ? (k ? 24 : -24) : 0;
+        c[k][0] = -off * sin(r) + 3;
+        c[k][1] = off * cos(r) - 2;
+        c[k][2] = 420;
+    }
+}
+
+void sup_row_scene(int pipes, const double c[2][3], const double v[3], cdsp_scene *s)
+{
+    int i;
+    sup_scene(s, c[0], v, 8);
+    s->half_length = 400;
+    s->ambient = 1; /* flat: no shading bias */
+    s->texture = 0;
+    if (pipes == 2) {
+        s->n_extra_pipes = 1;
+        for (i = 0; i < 3; i++) {
+            s->extra_pipe[0].axis_point[i] = (cdsp_real)c[1][i];
+            s->extra_pipe[0].axis_dir[i] = (cdsp_real)v[i];
+        }
+        s->extra_pipe[0].radius = 8;
+        s->extra_pipe[0].half_length = 400;
+    }
+}
+
+int sup_find_axis(const cdsp_result *out, size_t n, const double c[3], const double v[3], double tol_mm)
+{
+    double d[3], t = c[0] * v[0] + c[1] * v[1] + c[2] * v[2];
+    size_t k;
+    int i;
+    for (i = 0; i < 3; i++)
+        d[i] = c[i] - t * v[i];
+    for (k = 0; k < n; k++) {
+        double dot = 0, e = 0;
+        for (i = 0; i < 3; i++) {
+            dot += (double)out[k].direction[i] * v[i];
+            e += ((double)out[k].point[i] - d[i]) * ((double)out[k].point[i] - d[i]);
+        }
+        if (fabs(dot) > cos(2 * SUP_PI / 180) && sqrt(e) < tol_mm)
+            return (int)k;
+    }
+    return -1;
+}

@@ -77,6 +77,15 @@ void *sup_render(const cdsp_scene *s, const cdsp_camera *cam, int bits, uint64_t
 
 /* A scene with the pipe (point, dir, radius) and the default look. */
 void sup_scene(cdsp_scene *s, const double point[3], const double dir[3], double radius);
+/* One pipe, or a rack of two 48 mm apart, of radius 8 at about 420 mm, the
+ * axes (c[k], v) at roll_deg from the image's x axis, tilted 0.2 toward
+ * the camera (test_rescan.c, test_pointfit.c); sup_row_scene: their flat-lit
+ * untextured scene (sup_scene's defaults otherwise, half-length 400). */
+void sup_row_pipes(int pipes, double roll_deg, double c[2][3], double v[3]);
+void sup_row_scene(int pipes, const double c[2][3], const double v[3], cdsp_scene *s);
+/* The result among out[0..n) whose axis is (c, v): direction within 2
+ * degrees, P_C within tol_mm; -1 if none. */
+int sup_find_axis(const cdsp_result *out, size_t n, const double c[3], const double v[3], double tol_mm);
 
 /* Issue 12's paper scene (test_frame's bound test, test_multi's scatter
  * refusal): pipe i of the paper (radius 8 mm, half length 250 mm) at the

@@ -79,67 +79,17 @@ static int verbose(void)
     return v && *v && strcmp(v, "0") != 0;
 }
 
-static void layout(const pf_case *pc, double c[2][3], double v[3])
-{
-    double r = pc->roll_deg * SUP_PI / 180, n;
-    int k;
-    v[0] = cos(r);
-    v[1] = sin(r);
-    v[2] = 0.2;
-    n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (k = 0; k < 3; k++)
-        v[k] /= n;
-    for (k = 0; k < 2; k++) {
-        double off = pc->pipes == 2 ? (k ? 24 : -24) : 0;
-        c[k][0] = -off * sin(r) + 3;
-        c[k][1] = off * cos(r) - 2;
-        c[k][2] = 420;
-    }
-}
-
+/* the case's scene: sup_row_scene's, at the case's contrast and noise */
 static void scene(const pf_case *pc, const double c[2][3], const double v[3], cdsp_scene *s)
 {
-    int i;
-    sup_scene(s, c[0], v, 8);
-    s->half_length = 400;
-    s->ambient = 1;
-    s->texture = 0;
+    sup_row_scene(pc->pipes, c, v, s);
     s->blur_sigma_px = (cdsp_real)0.8;
     s->background_level = (cdsp_real)0.25;
     s->pipe_level = (cdsp_real)(0.25 + pc->contrast / 255);
     s->noise_sigma = (cdsp_real)(pc->noise / 255);
-    if (pc->pipes == 2) {
-        s->n_extra_pipes = 1;
-        for (i = 0; i < 3; i++) {
-            s->extra_pipe[0].axis_point[i] = (cdsp_real)c[1][i];
-            s->extra_pipe[0].axis_dir[i] = (cdsp_real)v[i];
-        }
-        s->extra_pipe[0].radius = 8;
-        s->extra_pipe[0].half_length = 400;
-    }
 }
-
 /* The result among out[0..n) whose axis is (c, v): direction within 2
  * degrees, P_C within 5 mm; -1 if none. */
-static int find(const cdsp_result *out, size_t n, const double c[3], const double v[3])
-{
-    double d[3], t = c[0] * v[0] + c[1] * v[1] + c[2] * v[2];
-    size_t k;
-    int i;
-    for (i = 0; i < 3; i++)
-        d[i] = c[i] - t * v[i];
-    for (k = 0; k < n; k++) {
-        double dot = 0, e = 0;
-        for (i = 0; i < 3; i++) {
-            dot += (double)out[k].direction[i] * v[i];
-            e += ((double)out[k].point[i] - d[i]) * ((double)out[k].point[i] - d[i]);
-        }
-        if (fabs(dot) > cos(2 * SUP_PI / 180) && sqrt(e) < 5)
-            return (int)k;
-    }
-    return -1;
-}
-
 typedef struct {
     double s1, s2, z2, r2;
     int n, nz;
@@ -198,7 +148,7 @@ static void test_pointfit_noise(void **state)
         int f, k, m;
         memset(t, 0, sizeof t);
         sup_camera(&cam, W, H, FOC, pc->k1, 0);
-        layout(pc, c, v);
+        sup_row_pipes(pc->pipes, pc->roll_deg, c, v);
         for (f = 0; f < NFRAMES; f++) {
             cdsp_scene s;
             cdsp_image img;
@@ -224,7 +174,7 @@ static void test_pointfit_noise(void **state)
                                      CDSP_OK);
                 }
                 for (k = 0; k < pc->pipes; k++) {
-                    int i = find(out, n, c[k], v);
+                    int i = sup_find_axis(out, n, c[k], v, 5);
                     if (i < 0)
                         fail_msg("%s, frame %d, point_fit %d: pipe %d not found", pc->name, f, m, k);
                     add(&t[m], &cam, &out[i], c[k], v);

@@ -70,66 +70,14 @@ static int verbose(void)
     return v && *v && strcmp(v, "0") != 0;
 }
 
-/* The case's pipes (axis k: c[k], v) at about 420 mm, radius 8, 24 mm
- * apart in a rack. */
-static void layout(const rescan_case *rc, double c[2][3], double v[3])
-{
-    double r = rc->roll_deg * SUP_PI / 180, n;
-    int k;
-    v[0] = cos(r);
-    v[1] = sin(r);
-    v[2] = 0.2;
-    n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    for (k = 0; k < 3; k++)
-        v[k] /= n;
-    for (k = 0; k < 2; k++) {
-        double off = rc->pipes == 2 ? (k ? 24 : -24) : 0;
-        c[k][0] = -off * sin(r) + 3;
-        c[k][1] = off * cos(r) - 2;
-        c[k][2] = 420;
-    }
-}
-
+/* the case's scene: sup_row_scene's with 3 gray levels of noise */
 static void scene(const rescan_case *rc, const double c[2][3], const double v[3], cdsp_scene *s)
 {
-    int i;
-    sup_scene(s, c[0], v, 8);
-    s->half_length = 400;
-    s->ambient = 1; /* flat: no shading bias */
-    s->texture = 0;
+    sup_row_scene(rc->pipes, c, v, s);
     s->noise_sigma = (cdsp_real)(3.0 / 255);
-    if (rc->pipes == 2) {
-        s->n_extra_pipes = 1;
-        for (i = 0; i < 3; i++) {
-            s->extra_pipe[0].axis_point[i] = (cdsp_real)c[1][i];
-            s->extra_pipe[0].axis_dir[i] = (cdsp_real)v[i];
-        }
-        s->extra_pipe[0].radius = 8;
-        s->extra_pipe[0].half_length = 400;
-    }
 }
-
 /* The result among out[0..n) whose axis is (c, v): direction within 2
  * degrees, P_C within 5 mm; -1 if none. */
-static int find(const cdsp_result *out, size_t n, const double c[3], const double v[3])
-{
-    double d[3], t = c[0] * v[0] + c[1] * v[1] + c[2] * v[2];
-    size_t k;
-    int i;
-    for (i = 0; i < 3; i++)
-        d[i] = c[i] - t * v[i];
-    for (k = 0; k < n; k++) {
-        double dot = 0, e = 0;
-        for (i = 0; i < 3; i++) {
-            dot += (double)out[k].direction[i] * v[i];
-            e += ((double)out[k].point[i] - d[i]) * ((double)out[k].point[i] - d[i]);
-        }
-        if (fabs(dot) > cos(2 * SUP_PI / 180) && sqrt(e) < 5)
-            return (int)k;
-    }
-    return -1;
-}
-
 /* Per pipe and mode: sums over the frames. */
 typedef struct {
     double dir2, dist2, zdir2, zdist2, sig_dir, inl[2];
@@ -173,7 +121,7 @@ static void test_rescan_noise(void **state)
         int f, k, m;
         memset(t, 0, sizeof t);
         sup_camera(&cam, W, H, FOC, rc->k1, 0);
-        layout(rc, c, v);
+        sup_row_pipes(rc->pipes, rc->roll_deg, c, v);
         for (f = 0; f < NFRAMES; f++) {
             cdsp_scene s;
             cdsp_image img;
@@ -199,7 +147,7 @@ static void test_rescan_noise(void **state)
                                      CDSP_OK);
                 }
                 for (k = 0; k < rc->pipes; k++) {
-                    int i = find(out, n, c[k], v);
+                    int i = sup_find_axis(out, n, c[k], v, 5);
                     if (i < 0)
                         fail_msg("%s, frame %d, mode %d: pipe %d not found", rc->name, f, m, k);
                     add(&t[k][m], &out[i], c[k], v);
@@ -282,7 +230,7 @@ static void test_rescan_tracked(void **state)
                 cdsp_image img;
                 cdsp_rng rng;
                 void *buf;
-                layout(&rc, c, v);
+                sup_row_pipes(rc.pipes, rc.roll_deg, c, v);
                 for (k = 0; k < 2; k++)
                     c[k][0] += f;
                 scene(&rc, (const double(*)[3])c, v, &s);
@@ -303,7 +251,7 @@ static void test_rescan_tracked(void **state)
             }
         }
         for (k = 0; k < pipes; k++) {
-            int a = find(out[0], n[0], c[k], v), b = find(out[1], n[1], c[k], v);
+            int a = sup_find_axis(out[0], n[0], c[k], v, 5), b = sup_find_axis(out[1], n[1], c[k], v, 5);
             tally t;
             double q, zdir, zdist;
             if (a < 0 || b < 0)
