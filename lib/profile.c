@@ -1146,6 +1146,33 @@ static cdsp_real fwd_chi2(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_r
     return ng > 8 ? chi / (cdsp_real)(ng - 8) : R(PROFILE_CHI2_UNCHECKED);
 }
 
+/* The pixels' noise from the sides' bins: those at least z from the
+ * silhouette d and within W (u[] the bins' positions), the per-pixel
+ * variance pooled over them (c sumsq - sum^2 exact in 64 bits: c <= 4096
+ * rows x 1 per bin); *varM that of the trapezoid sum over the window
+ * (weights ~ the bin spacing). */
+static cdsp_real side_noise(const cdsp_profile_ws *ws, const cdsp_real *u, cdsp_real d, cdsp_real z,
+                            cdsp_real W, cdsp_real *varM)
+{
+    cdsp_real var_pix = R(0), dof = R(0);
+    int b;
+    for (b = 0; b < NB; b++) {
+        cdsp_real x = u[b] - d;
+        if (ws->count[b] > 1 && R_FABS(x) >= z && R_FABS(x) <= W) {
+            uint64_t c = ws->count[b], sm = ws->sum[b], q = c * ws->sumsq[b] - sm * sm;
+            var_pix += (cdsp_real)q / (cdsp_real)c;
+            dof += (cdsp_real)c - R(1);
+        }
+    }
+    if (dof > R(0))
+        var_pix /= dof;
+    *varM = R(0);
+    for (b = 0; b < NB; b++)
+        if (ws->count[b] && R_FABS(u[b] - d) <= W)
+            *varM += var_pix / (cdsp_real)ws->count[b] / (cdsp_real)(BPP * BPP);
+    return var_pix;
+}
+
 /* The model on the bins: silhouette d (px from the line toward the pipe),
  * blur, contrast, noise of d. *s2_start receives the first blur (from the
  * profile's slope) before the area balance's rounds, which can fail. */
@@ -1154,7 +1181,7 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
 {
     cdsp_real *ub = ws->mean_u, *mb = ws->mean_v;
     /* start from a wide blur (fit zones at the window's ends), then adapt */
-    cdsp_real d = R(0), s2 = (half / R(6)) * (half / R(6)), var_pix = R(0), dof = R(0), varM = R(0);
+    cdsp_real d = R(0), s2 = (half / R(6)) * (half / R(6)), var_pix = R(0), varM = R(0);
     sides m;
     int b, it, ok = 0, clamped = 0, search, grid_seen = 0, grid_improved = 0, improved;
     cdsp_real grid_d = R(0), grid_sig = R(0), s2_first, s2f;
@@ -1334,20 +1361,7 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
                  cdsp_profile_applies's bound on the move) */
     /* noise: per-pixel variance from the sides' bins, then that of the
      * trapezoid sum (weights ~ bin spacing) */
-    for (b = 0; b < NB; b++) {
-        cdsp_real x = ub[b] - d;
-        if (ws->count[b] > 1 && R_FABS(x) >= z && R_FABS(x) <= W) {
-            /* c sumsq - sum^2 exactly in 64 bits (c <= 4096 rows x 1 per bin) */
-            uint64_t c = ws->count[b], sm = ws->sum[b], q = c * ws->sumsq[b] - sm * sm;
-            var_pix += (cdsp_real)q / (cdsp_real)c;
-            dof += (cdsp_real)c - R(1);
-        }
-    }
-    if (dof > R(0))
-        var_pix /= dof;
-    for (b = 0; b < NB; b++)
-        if (ws->count[b] && R_FABS(ub[b] - d) <= W)
-            varM += var_pix / (cdsp_real)ws->count[b] / (cdsp_real)(BPP * BPP);
+    var_pix = side_noise(ws, ub, d, z, W, &varM);
     out->offset = d;
     out->blur = R_SQRT(s2);
     out->contrast = J;
@@ -1492,7 +1506,7 @@ static cdsp_status fwd_alone(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radi
                              cdsp_profile *out)
 {
     fwd_state fs;
-    cdsp_real var_pix = R(0), dof = R(0), varM = R(0), z, blur;
+    cdsp_real var_pix = R(0), varM = R(0), z, blur;
     int b;
     if (!fwd_fit(ws, R(0), s2, half, radius_px, &fs))
         return CDSP_E_NOCONVERGE;
@@ -1516,19 +1530,7 @@ static cdsp_status fwd_alone(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radi
     fwd_terminator(ws, R(0), half, R(0), &fs);
     blur = R_SQRT(fs.sg * fs.sg + fs.w * fs.w / R(12));
     z = R(3.5) * blur + R(1.5) + fs.w / R(2);
-    for (b = 0; b < NB; b++) {
-        cdsp_real x = ws->mean_u[b] - fs.d;
-        if (ws->count[b] > 1 && R_FABS(x) >= z && R_FABS(x) <= fs.Wf) {
-            uint64_t c = ws->count[b], sm = ws->sum[b], q = c * ws->sumsq[b] - sm * sm;
-            var_pix += (cdsp_real)q / (cdsp_real)c;
-            dof += (cdsp_real)c - R(1);
-        }
-    }
-    if (dof > R(0))
-        var_pix /= dof;
-    for (b = 0; b < NB; b++)
-        if (ws->count[b] && R_FABS(ws->mean_u[b] - fs.d) <= fs.Wf)
-            varM += var_pix / (cdsp_real)ws->count[b] / (cdsp_real)(BPP * BPP);
+    var_pix = side_noise(ws, ws->mean_u, fs.d, z, fs.Wf, &varM);
     out->offset = fs.d;
     out->blur = blur;
     out->contrast = fs.c[2];
