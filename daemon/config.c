@@ -131,6 +131,9 @@ static const key_def keys[] = {
     {"solver.refine_step", K_INT, O(refine_step), 0, 64, NULL, "0",
      "0 = off; K >= 3: each pose's contours read again on every Kth scanline around them and "
      "refitted (cdsp_params.refine_step, cdsp_tool solve --refine-step; 1 and 2 are refused)"},
+    {"solver.point_fit", K_BOOL, O(point_fit), 0, 1, NULL, "false",
+     "with refine_step: each point of that pass fitted again to its window's pixels "
+     "(cdsp_params.point_fit, cdsp_tool solve --point-fit)"},
     {"solver.track_band_px", K_REAL, O(track_band_px), 1, 1000, NULL, "12",
      "tracking: half-width of the band searched around the previous contours, px"},
     {"solver.track_min_inliers", K_INT, O(track_min_inliers), 2, 100000, NULL, "30",
@@ -1012,6 +1015,7 @@ void cdspd_config_params(const cdspd_config *c, cdsp_params *p)
     p->track_band_px = (cdsp_real)c->track_band_px;
     p->track_min_inliers = c->track_min_inliers;
     p->refine_step = c->refine_step;
+    p->point_fit = c->point_fit;
 }
 
 int cdspd_config_log_level(const cdspd_config *c, int cat)

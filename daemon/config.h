@@ -65,6 +65,7 @@ typedef struct {
     double min_confidence; /* solver.min_confidence (issue 10) */
     int multi_pipe;        /* solver.multi_pipe (issue 13): every pipe in each record */
     int refine_step;       /* solver.refine_step (issue 13): cdsp_params.refine_step */
+    int point_fit;         /* solver.point_fit (issue 13): cdsp_params.point_fit */
     int roi[4];
     uint64_t seed;
     int threads;           /* solver.threads (issue 17): cores per frame */

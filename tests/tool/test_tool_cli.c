@@ -965,6 +965,11 @@ static void usage_errors_exit_2(void **state)
             /* issue 16: passed, then every frame came back bad-argument */
             {RUN("solve", "--calib", cal, "--radius", "8", "--min-contrast", "1", frame),
              "libcdsp refuses these solver options"},
+            /* a final-pass option without its pass: said, not ignored */
+            {RUN("solve", "--calib", cal, "--radius", "8", "--point-fit", frame),
+             "--point-fit needs --refine-step 3 or more"},
+            {RUN("solve", "--calib", cal, "--radius", "8", "--refine-step", "2", frame),
+             "libcdsp refuses these solver options"},
             {RUN("overlay", "--calib", cal, "--radius", "8", frame), "--out DIR is required"},
             {RUN("sim", "--out", tt_path("x"), "--bits", "12"), "--bits: 8 or 16"},
             {RUN("sim", "--out", tt_path("x"), "--dir", "0,0,0"), "must not be zero"},
