@@ -359,24 +359,27 @@ static cdsp_real pipe_fitted(const sides *m, cdsp_real x, cdsp_real s2)
  * less the first bin's, h(x) for pipe_basis_h), so that fit_pipe's
  * trials loop over the zone alone (the same values in the same order as
  * when each trial picked them out of the bins: bench_frame's hash
- * unchanged). zbuf is the workspace's fwd_r, the forward model's
+ * unchanged; the sums that do not depend on the terminator once, in
+ * the same order). zbuf is the workspace's fwd_r, the forward model's
  * residuals, not live while the area balance iterates. */
 typedef struct {
     const cdsp_real *zx, *zw, *zy, *zh;
     cdsp_real mp0, z, W, s2;
+    cdsp_real sw, swy, swyy; /* the sums of w, w y and w y y, which no
+                                terminator changes */
     int nz;
 } pipe_zone;
 
 static cdsp_real fit_pipe(const pipe_zone *zn, cdsp_real St, sides *m)
 {
-    cdsp_real Np[3][3], rp[3], r0[3], yy = R(0), fc[3], mp0 = zn->mp0;
+    cdsp_real Np[3][3], rp[3], r0[3], yy = zn->swyy, fc[3], mp0 = zn->mp0;
     const cdsp_real *zx = zn->zx, *zw = zn->zw, *zy = zn->zy, *zh = zn->zh, z = zn->z, W = zn->W;
     /* the normal equations' sums in scalars (kept in registers: Np's
      * address goes to solve_small), Np[i][j] += w f[i] f[j] and
      * rp[i] += w f[i] y with f[0] = 1 spelled out: the same products in
      * the same order (N01 = N10 and N02 = N20 are one sum each) */
-    cdsp_real s00 = R(0), s01 = R(0), s02 = R(0), s11 = R(0), s12 = R(0), s21 = R(0), s22 = R(0);
-    cdsp_real q0 = R(0), q1 = R(0), q2 = R(0);
+    cdsp_real s00 = zn->sw, s01 = R(0), s02 = R(0), s11 = R(0), s12 = R(0), s21 = R(0), s22 = R(0);
+    cdsp_real q0 = zn->swy, q1 = R(0), q2 = R(0);
     pipe_kink k;
     int b, i, npp = zn->nz;
     m->St = St;
@@ -389,17 +392,14 @@ static cdsp_real fit_pipe(const pipe_zone *zn, cdsp_real St, sides *m)
         f[2] -= fc[2];
         w1 = w * f[1];
         w2 = w * f[2];
-        s00 += w;
         s01 += w1;
         s02 += w2;
         s11 += w1 * f[1];
         s12 += w1 * f[2];
         s21 += w2 * f[1];
         s22 += w2 * f[2];
-        q0 += w * y;
         q1 += w1 * y;
         q2 += w2 * y;
-        yy += w * y * y;
     }
     Np[0][0] = s00;
     Np[0][1] = Np[1][0] = s01;
@@ -444,7 +444,7 @@ static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_
     zn.zw = zbuf[1];
     zn.zy = zbuf[2];
     zn.zh = zbuf[3];
-    zn.mp0 = R(0);
+    zn.mp0 = zn.sw = zn.swy = zn.swyy = R(0);
     zn.z = z;
     zn.W = W;
     zn.s2 = s2;
@@ -461,6 +461,9 @@ static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_
             zbuf[1][npp] = (cdsp_real)ws->count[b];
             zbuf[2][npp] = mb[b] - zn.mp0;
             zbuf[3][npp] = hb[b];
+            zn.sw += zbuf[1][npp];
+            zn.swy += zbuf[1][npp] * zbuf[2][npp];
+            zn.swyy += zbuf[1][npp] * zbuf[2][npp] * zbuf[2][npp];
             npp++;
         }
         if (!(x <= -z && x >= -W))
