@@ -131,6 +131,28 @@ static int accumulate(const cdsp_image *img, cdsp_profile_ws *ws, const cdsp_rea
         const unsigned char *base = (const unsigned char *)img->data;
         size_t bpp = img->bits <= 8 ? 1 : 2, step = horizontal ? bpp : img->stride, o;
         o = horizontal ? (size_t)t * img->stride + (size_t)lo * bpp : (size_t)lo * img->stride + (size_t)t * bpp;
+        if (bpp == 1 && half <= R(CDSP_PROFILE_RANGE_PX) - R(0.01)) {
+            /* the common case, 8 bit and a window inside the bins' range
+             * (the default half-width 20 px of 24): every pixel's |u| is
+             * at most half (to rounding, far below the 0.01 px margin),
+             * so its bin is in range and the test below is not needed;
+             * s counted in cdsp_real (exact: integers) */
+            cdsp_real sr = (cdsp_real)lo, qs = q[s_ax];
+            uint32_t *cnt = ws->count, *sum = ws->sum;
+            uint64_t *sumsq = ws->sumsq;
+            cdsp_real *sum_u = ws->sum_u;
+            for (s = lo; s <= hi; s++, o += step, sr += R(1)) {
+                uint32_t v = base[o];
+                int b;
+                u = (sr - qs) * ns + ct;
+                b = (int)((u + R(CDSP_PROFILE_RANGE_PX)) * R(BPP));
+                cnt[b]++;
+                sum[b] += v;
+                sumsq[b] += (uint64_t)(v * v);
+                sum_u[b] += u;
+            }
+            return 1;
+        }
         for (s = lo; s <= hi; s++, o += step) {
             int v = bpp == 1 ? base[o] : *(const uint16_t *)(const void *)(base + o), b;
             cdsp_real x;
