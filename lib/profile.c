@@ -141,8 +141,9 @@ static int accumulate(const cdsp_image *img, cdsp_profile_ws *ws, const cdsp_rea
             uint32_t *cnt = ws->count, *sum = ws->sum;
             uint64_t *sumsq = ws->sumsq;
             cdsp_real *sum_u = ws->sum_u;
-            for (s = lo; s <= hi; s++, o += step, sr += R(1)) {
-                uint32_t v = base[o];
+            const unsigned char *px = base + o;
+            for (s = hi - lo + 1; s > 0; s--, px += step, sr += R(1)) {
+                uint32_t v = *px;
                 int b;
                 u = (sr - qs) * ns + ct;
                 b = (int)((u + R(CDSP_PROFILE_RANGE_PX)) * R(BPP));
