@@ -269,9 +269,16 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
  * detector's regime (0.005 px on the paper's scene in flat light,
  * cdsp_profile_bound): sigma_offset measured 0.005-0.009 px at 231-255
  * scanlines on the paper's 5 MP frames, going as 1/sqrt(rows) (0.009-
- * 0.013 at 128, 0.002-0.003 at 2048), so 256 is the fewest; the fit's
- * cost goes with its scanlines, ~0.34 M instructions per contour). Here, not in
- * lib/pair.c, so that the points path links no profile code
+ * 0.013 at 128, 0.002-0.003 at 2048), so 256 is the fewest. Fewer
+ * buy little: most of the fit's cost goes with its bins, not its
+ * scanlines (the paper frame's full search, callgrind: the two contours'
+ * fit 1.90 M instructions, of which accumulate 0.56 M and model_solve
+ * 1.24 M); 128 / 64 scanlines saved 0.25 / 0.28 M of 6.17 M (measured
+ * before accumulate's 8-bit loop was made cheaper), and while
+ * the bound still covered (bench_accuracy's cells at max_rows 128 / 64:
+ * 1380 / 1377 of 1410; the paper scene 4 of 4) it grew on the paper's
+ * flat-lit scene (mean distance bound 0.048 -> 0.089 / 0.099 mm). Here,
+ * not in lib/pair.c, so that the points path links no profile code
  * (docs/mcu.md). */
 #define BOUND_ROWS 256
 void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts, size_t n,

@@ -131,6 +131,29 @@ static int accumulate(const cdsp_image *img, cdsp_profile_ws *ws, const cdsp_rea
         const unsigned char *base = (const unsigned char *)img->data;
         size_t bpp = img->bits <= 8 ? 1 : 2, step = horizontal ? bpp : img->stride, o;
         o = horizontal ? (size_t)t * img->stride + (size_t)lo * bpp : (size_t)lo * img->stride + (size_t)t * bpp;
+        if (bpp == 1 && half <= R(CDSP_PROFILE_RANGE_PX) - R(0.01)) {
+            /* the common case, 8 bit and a window inside the bins' range
+             * (the default half-width 20 px of 24): every pixel's |u| is
+             * at most half (to rounding, far below the 0.01 px margin),
+             * so its bin is in range and the test below is not needed;
+             * s counted in cdsp_real (exact: integers) */
+            cdsp_real sr = (cdsp_real)lo, qs = q[s_ax];
+            uint32_t *cnt = ws->count, *sum = ws->sum;
+            uint64_t *sumsq = ws->sumsq;
+            cdsp_real *sum_u = ws->sum_u;
+            const unsigned char *px = base + o;
+            for (s = hi - lo + 1; s > 0; s--, px += step, sr += R(1)) {
+                uint32_t v = *px;
+                int b;
+                u = (sr - qs) * ns + ct;
+                b = (int)((u + R(CDSP_PROFILE_RANGE_PX)) * R(BPP));
+                cnt[b]++;
+                sum[b] += v;
+                sumsq[b] += (uint64_t)(v * v);
+                sum_u[b] += u;
+            }
+            return 1;
+        }
         for (s = lo; s <= hi; s++, o += step) {
             int v = bpp == 1 ? base[o] : *(const uint16_t *)(const void *)(base + o), b;
             cdsp_real x;
@@ -354,58 +377,52 @@ static cdsp_real pipe_fitted(const sides *m, cdsp_real x, cdsp_real s2)
  * and the levels reach 65535). Returns the weighted residual sum of
  * squares, or -1 when the zone holds too few bins. */
 /* The pipe side's zone z <= u - d <= W of one fit_sides call (d and s2
- * fixed there): the bins' index range that can hold it (the bins are
- * disjoint intervals of u, so the zone is one run of them; one bin of
- * margin each side for the mean's rounding) and h(x) per bin in it
- * (pipe_basis_h) */
+ * fixed there): its bins with counts, in order, packed once per call
+ * with what every trial terminator reads of them (x, count, the mean
+ * less the first bin's, h(x) for pipe_basis_h), so that fit_pipe's
+ * trials loop over the zone alone (the same values in the same order as
+ * when each trial picked them out of the bins: bench_frame's hash
+ * unchanged; the sums that do not depend on the terminator once, in
+ * the same order). zbuf is the workspace's fwd_r, the forward model's
+ * residuals, not live while the area balance iterates. */
 typedef struct {
-    const cdsp_profile_ws *ws;
-    const cdsp_real *ub, *mb, *hb;
-    cdsp_real d, z, W, s2;
-    int b0, b1;
+    const cdsp_real *zx, *zw, *zy, *zh;
+    cdsp_real mp0, z, W, s2;
+    cdsp_real sw, swy, swyy; /* the sums of w, w y and w y y, which no
+                                terminator changes */
+    int nz;
 } pipe_zone;
 
 static cdsp_real fit_pipe(const pipe_zone *zn, cdsp_real St, sides *m)
 {
-    cdsp_real Np[3][3], rp[3], r0[3], yy = R(0), fc[3], mp0 = R(0);
-    const cdsp_real *ub = zn->ub, *mb = zn->mb, *hb = zn->hb, d = zn->d, z = zn->z, W = zn->W;
+    cdsp_real Np[3][3], rp[3], r0[3], yy = zn->swyy, fc[3], mp0 = zn->mp0;
+    const cdsp_real *zx = zn->zx, *zw = zn->zw, *zy = zn->zy, *zh = zn->zh, z = zn->z, W = zn->W;
     /* the normal equations' sums in scalars (kept in registers: Np's
      * address goes to solve_small), Np[i][j] += w f[i] f[j] and
      * rp[i] += w f[i] y with f[0] = 1 spelled out: the same products in
      * the same order (N01 = N10 and N02 = N20 are one sum each) */
-    cdsp_real s00 = R(0), s01 = R(0), s02 = R(0), s11 = R(0), s12 = R(0), s21 = R(0), s22 = R(0);
-    cdsp_real q0 = R(0), q1 = R(0), q2 = R(0);
-    const uint32_t *count = zn->ws->count;
+    cdsp_real s00 = zn->sw, s01 = R(0), s02 = R(0), s11 = R(0), s12 = R(0), s21 = R(0), s22 = R(0);
+    cdsp_real q0 = zn->swy, q1 = R(0), q2 = R(0);
     pipe_kink k;
-    int b, i, npp = 0;
+    int b, i, npp = zn->nz;
     m->St = St;
     pipe_kink_at(m, zn->s2, &k);
     pipe_basis(m, (z + W) / R(2), zn->s2, fc);
-    for (b = zn->b0; b <= zn->b1; b++) {
-        cdsp_real w, x = ub[b] - d, f[3], y, w1, w2;
-        if (!count[b] || x < z || x > W)
-            continue;
-        if (!npp)
-            mp0 = mb[b];
-        w = (cdsp_real)count[b];
-        pipe_basis_h(m, x, hb[b], &k, f);
+    for (b = 0; b < npp; b++) {
+        cdsp_real w = zw[b], f[3], y = zy[b], w1, w2;
+        pipe_basis_h(m, zx[b], zh[b], &k, f);
         f[1] -= fc[1];
         f[2] -= fc[2];
-        y = mb[b] - mp0;
         w1 = w * f[1];
         w2 = w * f[2];
-        s00 += w;
         s01 += w1;
         s02 += w2;
         s11 += w1 * f[1];
         s12 += w1 * f[2];
         s21 += w2 * f[1];
         s22 += w2 * f[2];
-        q0 += w * y;
         q1 += w1 * y;
         q2 += w2 * y;
-        yy += w * y * y;
-        npp++;
     }
     Np[0][0] = s00;
     Np[0][1] = Np[1][0] = s01;
@@ -439,33 +456,38 @@ static cdsp_real fit_pipe(const pipe_zone *zn, cdsp_real St, sides *m)
  * significant: F = (RSS_0 - RSS_t) / (RSS_t / dof) > 10, as
  * the limb term's test in model_solve. */
 static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *mb, cdsp_real *hb,
-                     cdsp_real d, cdsp_real z, cdsp_real W, cdsp_real s2, int search, sides *m, int *improved)
+                     cdsp_real (*zbuf)[NB], cdsp_real d, cdsp_real z, cdsp_real W, cdsp_real s2, int search,
+                     sides *m, int *improved)
 {
     cdsp_real Nb[3][3] = {{0}}, rb[3] = {0}, xb = -(z + W) / R(2), mb0 = R(0), rss0, best, bestSt, lo, hi, t;
     int b, i, j, nbg = 0, npp = 0;
     sides trial = *m;
     pipe_zone zn;
-    zn.ws = ws;
-    zn.ub = ub;
-    zn.mb = mb;
-    zn.hb = hb;
-    zn.d = d;
+    zn.zx = zbuf[0];
+    zn.zw = zbuf[1];
+    zn.zy = zbuf[2];
+    zn.zh = zbuf[3];
+    zn.mp0 = zn.sw = zn.swy = zn.swyy = R(0);
     zn.z = z;
     zn.W = W;
     zn.s2 = s2;
-    zn.b0 = NB;
-    zn.b1 = -1;
     for (b = 0; b < NB; b++) {
         cdsp_real w, x = ub[b] - d, f[2];
         if (!ws->count[b])
             continue;
         if (x >= z && x <= W) {
-            /* the pipe side's zone: its run of bins and their h(x) */
-            npp++;
+            /* the pipe side's zone, packed (pipe_zone) */
+            if (!npp)
+                zn.mp0 = mb[b];
             hb[b] = pipe_h(m, x, s2);
-            if (zn.b0 > b)
-                zn.b0 = b;
-            zn.b1 = b;
+            zbuf[0][npp] = x;
+            zbuf[1][npp] = (cdsp_real)ws->count[b];
+            zbuf[2][npp] = mb[b] - zn.mp0;
+            zbuf[3][npp] = hb[b];
+            zn.sw += zbuf[1][npp];
+            zn.swy += zbuf[1][npp] * zbuf[2][npp];
+            zn.swyy += zbuf[1][npp] * zbuf[2][npp] * zbuf[2][npp];
+            npp++;
         }
         if (!(x <= -z && x >= -W))
             continue;
@@ -481,6 +503,7 @@ static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_
         }
         nbg++;
     }
+    zn.nz = npp;
     if (nbg < 3 || npp < 4 || !solve_small(Nb, rb, 2))
         return 0;
     m->E = rb[1];
@@ -1282,7 +1305,7 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
          * about it, not on the grid again */
         if (search && m.St > R(0))
             search = 2;
-        if (!(z >= R(1)) || !fit_sides(ws, ub, mb, ws->sum_u, d, z, W, s2, search, &m, &improved))
+        if (!(z >= R(1)) || !fit_sides(ws, ub, mb, ws->sum_u, ws->fwd_r, d, z, W, s2, search, &m, &improved))
             return CDSP_E_NOCONVERGE;
         if (search == 1) {
             grid_improved = improved;
