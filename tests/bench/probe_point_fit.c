@@ -2,33 +2,29 @@
  * §3a, the point fit); a diagnostic, built by `make` (tests/bench/rack.mk)
  * as build/bench/probe_point_fit, or by hand:
  *   cc -std=c99 -D_DEFAULT_SOURCE -O2 -Iinclude -Itools -Itests/lib \
- *     tests/bench/probe_point_fit.c tools/tool_rack_scene.c tests/lib/support.c \
- *     build/host/libcdsp.a -lm -o /tmp/probe_point_fit
- *   /tmp/probe_point_fit FRAMES WHICH [H]   (WHICH: 1 rack, 2 flat-lit pipe, 3 both;
- *                                           H the window's half width, 4)
- * On the exact contour lines (sup_contour_lines), every 3rd scanline, the
- * detector's point (cdsp__edges_scan_segment) against least-squares fits
- * of I(u) = A + C Phi((u - d) / s) over the same 3 x (2H + 1) pixels:
- *   a   the detector;
- *   b1  A, C, d free, s the contour's (median of b4's);
- *   b2  d alone, A, C, s the contour's medians;
- *   b4  A, C, s, d free;
- *   gn1 / gn2: b1 in 1 / 2 Gauss-Newton steps from the detector's point;
- *   b5  b1 with a pipe-side slope D free; b6 b1 with D the contour's median;
- *   b4gn1 / b4gn2: b4 in 1 / 2 steps.
- * sd is about each contour's own mean, bias the mean: a profile parameter
- * taken from the contour's own points (b6's D) moves all its points alike,
- * which the sd does not see; the line's offset does (docs/method.md §3a).
- * Errors beyond 1 px in any estimate drop the point (column crossings).
+ *     tests/bench/probe_point_fit.c tools/tool_rack_scene.c tests/lib/support.c
+ * \ build/host/libcdsp.a -lm -o /tmp/probe_point_fit /tmp/probe_point_fit
+ * FRAMES WHICH [H]   (WHICH: 1 rack, 2 flat-lit pipe, 3 both; H the window's
+ * half width, 4) On the exact contour lines (sup_contour_lines), every 3rd
+ * scanline, the detector's point (cdsp__edges_scan_segment) against
+ * least-squares fits of I(u) = A + C Phi((u - d) / s) over the same 3 x (2H +
+ * 1) pixels: a   the detector; b1  A, C, d free, s the contour's (median of
+ * b4's); b2  d alone, A, C, s the contour's medians; b4  A, C, s, d free; gn1 /
+ * gn2: b1 in 1 / 2 Gauss-Newton steps from the detector's point; b5  b1 with a
+ * pipe-side slope D free; b6 b1 with D the contour's median; b4gn1 / b4gn2: b4
+ * in 1 / 2 steps. sd is about each contour's own mean, bias the mean: a profile
+ * parameter taken from the contour's own points (b6's D) moves all its points
+ * alike, which the sd does not see; the line's offset does (docs/method.md
+ * §3a). Errors beyond 1 px in any estimate drop the point (column crossings).
  */
+#include "../lib/internal.h"
+#include "cdsp.h"
+#include "support.h"
+#include "tool_rack_scene.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "cdsp.h"
-#include "../lib/internal.h"
-#include "tool_rack_scene.h"
-#include "support.h"
 
 static int HW = 4;
 static double Phi(double z)
@@ -44,7 +40,43 @@ typedef struct {
     double v[3][32];
     double u0[3][32];
     int n;
+    /* b7/b8: pixels beyond the window, OM on each side of every row */
+    double vo[3][2][8], uo[3][2][8];
 } win;
+static int OM = 4;
+/* b7: the side slopes (gray levels / px) from the pixels beyond the window, one
+ * line per side */
+static void side_slopes(const win *w, double ea, int sq, double g[2])
+{
+    int k, j, sd;
+    for (sd = 0; sd < 2; sd++) {
+        double n = 0, su = 0, sv = 0, suu = 0, suv = 0;
+        for (k = 0; k < 3; k++)
+            for (j = 0; j < OM; j++) {
+                double u = w->uo[k][sd][j] - ea, v = w->vo[k][sd][j];
+                if (sq)
+                    u = sqrt(fabs(u));
+                n++;
+                su += u;
+                sv += v;
+                suu += u * u;
+                suv += u * v;
+            }
+        g[sd] = (suv - su * sv / n) / (suu - su * su / n);
+    }
+}
+/* the window with the side slopes taken out: v - g u on each side of the
+ * detector's point (u0 - ea) */
+static void unslope(const win *w, double ea, int sq, const double g[2], win *o)
+{
+    int k, i;
+    *o = *w;
+    for (k = 0; k < 3; k++)
+        for (i = 0; i < w->n; i++) {
+            double u = w->u0[k][i] - ea;
+            o->v[k][i] -= (u < 0 ? g[0] : g[1]) * (sq ? sqrt(fabs(u)) : u);
+        }
+}
 /* fit: params A, C, s, d; mask which are free; u = u0 + d */
 static double Dsl;
 static int fitx(const win *w, double *A, double *C, double *s, double *d, int freeAC, int frees, int freeD,
@@ -162,7 +194,7 @@ static double median(double *v, int n)
 }
 static double tmp[MAXP];
 
-#define NV 10
+#define NV 12
 typedef struct {
     double n, s1[NV], s2[NV];
 } acc;
@@ -175,16 +207,18 @@ static void acc_add(acc *a, const double e[NV])
         a->s2[i] += e[i] * e[i];
     }
 }
+static int v8dbg;
 static acc pooled[2]; /* 0 shadowed/low contrast, 1 lit */
 
-/* one contour: true line L (double, normalised, toward the pipe), along range [s0, s1] */
+/* one contour: true line L (double, normalised, toward the pipe), along range
+ * [s0, s1] */
 static void contour(const cdsp_image *img, const double L[3], double s0, double s1, int step, const char *tag,
                     double cthr)
 {
     int horizontal = fabs(L[0]) >= fabs(L[1]), n = 0, i, k, c;
     double tx = -L[1], ty = L[0];
     cdsp_edge_params ep;
-    double sC, sA, sS, lo, hi, sS5, D5m;
+    double sC, sA, sS, lo, hi, sS5, D5m, gmed[4];
     acc a;
     memset(&a, 0, sizeof a);
     cdsp_edge_params_default(&ep);
@@ -232,12 +266,23 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
                     q->w.u0[k + 1][c + HW] =
                         L[0] * X + L[1] * Y + L[2]; /* distance to the true line; fit d: u = u0 - d_err */
                 }
+            for (k = -1; k <= 1; k++)
+                for (c = 0; c < OM; c++) {
+                    int sd;
+                    for (sd = 0; sd < 2; sd++) {
+                        int cc = sd ? s0i + HW + 1 + c : s0i - HW - 1 - c;
+                        int X = horizontal ? cc : t + k, Y = horizontal ? t + k : cc;
+                        q->w.vo[k + 1][sd][c] = ((const uint8_t *)img->data)[(size_t)Y * img->stride + X];
+                        q->w.uo[k + 1][sd][c] = L[0] * X + L[1] * Y + L[2];
+                    }
+                }
             n++;
         }
     }
     if (n < 20)
         return;
-    /* local 4-param fits; init A, C from the window's ends (u<0 bg side... use sign of u0) */
+    /* local 4-param fits; init A, C from the window's ends (u<0 bg side... use
+     * sign of u0) */
     for (i = 0; i < n; i++) {
         pt *q = &P[i];
         double vm = 0, vp = 0;
@@ -271,6 +316,18 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
         if (P[i].ok4)
             tmp[k++] = P[i].A;
     sA = median(tmp, k);
+    {
+        double g[2];
+        int sd, sq;
+        for (sq = 0; sq < 2; sq++)
+            for (sd = 0; sd < 2; sd++) {
+                for (i = 0, k = 0; i < n; i++) {
+                    side_slopes(&P[i].w, P[i].ea, sq, g);
+                    tmp[k++] = g[sd];
+                }
+                gmed[2 * sq + sd] = median(tmp, k);
+            }
+    }
     for (i = 0; i < n; i++) {
         pt *q = &P[i];
         double A5 = q->A, C5 = q->C, s5 = sS, d5 = q->d4;
@@ -309,8 +366,8 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
             continue;
         if (!fit(&q->w, &A2, &C2, &s2, &d2, 0, 0))
             continue;
-        /* the error of a fitted d: the edge at u0 = -d, i.e. the estimated line is offset by -d from the true
-         * line */
+        /* the error of a fitted d: the edge at u0 = -d, i.e. the estimated line is
+         * offset by -d from the true line */
         e[0] = q->ea;
         e[1] = -d1;
         e[2] = -d2;
@@ -356,6 +413,46 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
             fitx(&q->w, &Ai, &Ci, &si, &di, 1, 0, 0, 20);
             e[9] = -di;
             Dsl = 0;
+            {
+                /* b7: gn1 on the window less the per-point side slopes; b8: less the
+                 * contour's medians */
+                double g[2], gs[2];
+                win wo;
+                int v8;
+                side_slopes(&q->w, q->ea, 0, g);
+                for (v8 = 0; v8 < 2; v8++) {
+                    int sd;
+                    for (sd = 0; sd < 2; sd++)
+                        gs[sd] = gmed[2 * v8 + sd];
+                    /* side 0 of uo is the one at u < 0 when uo[.][0] < 0, else swap */
+                    if (q->w.uo[1][0][0] > 0) {
+                        double x = gs[0];
+                        gs[0] = gs[1];
+                        gs[1] = x;
+                    }
+                    unslope(&q->w, q->ea, v8, gs, &wo);
+                    Ai = nm ? vm / nm : sA;
+                    Ci = (np_ ? vp / np_ : sA + sC) - Ai;
+                    si = sS;
+                    di = -q->ea;
+                    fitx(&wo, &Ai, &Ci, &si, &di, 1, 0, 0, 1);
+                    e[10 + v8] = -di;
+                    if (v8) { /* b7: b8 again, the ramp centred at b8's edge */
+                        unslope(&q->w, -di, 1, gs, &wo);
+                        Ai = nm ? vm / nm : sA;
+                        Ci = (np_ ? vp / np_ : sA + sC) - Ai;
+                        si = sS;
+                        di = -q->ea;
+                        fitx(&wo, &Ai, &Ci, &si, &di, 1, 0, 0, 1);
+                        e[10] = -di;
+                    }
+                }
+                if (v8dbg < 3 && fabs(sC) >= cthr) {
+                    fprintf(stderr, "%s g %+.2f %+.2f med %+.2f %+.2f sq %+.2f %+.2f C %.1f\n", tag, g[0],
+                            g[1], gmed[0], gmed[1], gmed[2], gmed[3], sC);
+                    v8dbg++;
+                }
+            }
         }
         for (k = 0; k < NV; k++)
             if (!(fabs(e[k]) <= 1))
@@ -371,11 +468,12 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
             m[k] = a.s1[k] / a.n;
             sd[k] = sqrt(a.s2[k] / a.n - m[k] * m[k]);
         }
-        printf(
-            "%-14s n %4.0f/%4d C %6.1f A %6.1f s %.3f | sd a %.4f b1 %.4f b2 %.4f b4 %.4f | bias a %+.4f b1 "
-            "%+.4f b2 %+.4f b4 %+.4f | ratio a/b1 %.2f a/b2 %.2f | s5 %.3f D5 %+.2f b6 sd %.4f bias %+.4f\n",
-            tag, a.n, n, sC, sA, sS, sd[0], sd[1], sd[2], sd[3], m[0], m[1], m[2], m[3], sd[0] / sd[1],
-            sd[0] / sd[2], sS5, D5m, sd[9], m[9]);
+        printf("%-14s n %4.0f/%4d C %6.1f A %6.1f s %.3f | sd a %.4f b1 %.4f b2 "
+               "%.4f b4 %.4f | bias a %+.4f b1 "
+               "%+.4f b2 %+.4f b4 %+.4f | ratio a/b1 %.2f a/b2 %.2f | s5 %.3f D5 "
+               "%+.2f b6 sd %.4f bias %+.4f\n",
+               tag, a.n, n, sC, sA, sS, sd[0], sd[1], sd[2], sd[3], m[0], m[1], m[2], m[3], sd[0] / sd[1],
+               sd[0] / sd[2], sS5, D5m, sd[9], m[9]);
     }
 }
 
@@ -465,12 +563,15 @@ int main(int argc, char **argv)
                 m[i] = a->s1[i] / a->n;
                 sd[i] = sqrt(a->s2[i] / a->n - m[i] * m[i]);
             }
-            printf("POOLED %-14s n %6.0f sd a %.4f b1 %.4f b2 %.4f b4 %.4f | bias a %+.4f b1 %+.4f b2 %+.4f "
-                   "b4 %+.4f | a/b1 %.2f a/b2 %.2f || gn1 %.4f %+.4f gn2 %.4f %+.4f b5 %.4f %+.4f || b4gn1 "
-                   "%.4f %+.4f b4gn2 %.4f %+.4f b6 %.4f %+.4f\n",
+            printf("POOLED %-14s n %6.0f sd a %.4f b1 %.4f b2 %.4f b4 %.4f | bias a "
+                   "%+.4f b1 %+.4f b2 %+.4f "
+                   "b4 %+.4f | a/b1 %.2f a/b2 %.2f || gn1 %.4f %+.4f gn2 %.4f %+.4f "
+                   "b5 %.4f %+.4f || b4gn1 "
+                   "%.4f %+.4f b4gn2 %.4f %+.4f b6 %.4f %+.4f || b7 %.4f %+.4f b8 "
+                   "%.4f %+.4f\n",
                    nm[k], a->n, sd[0], sd[1], sd[2], sd[3], m[0], m[1], m[2], m[3], sd[0] / sd[1],
                    sd[0] / sd[2], sd[4], m[4], sd[5], m[5], sd[6], m[6], sd[7], m[7], sd[8], m[8], sd[9],
-                   m[9]);
+                   m[9], sd[10], m[10], sd[11], m[11]);
         }
     }
     if (which & 2) {
@@ -506,11 +607,15 @@ int main(int argc, char **argv)
                 m[i] = a->s1[i] / a->n;
                 sd[i] = sqrt(a->s2[i] / a->n - m[i] * m[i]);
             }
-            printf("POOLED flat-lit       n %6.0f sd a %.4f b1 %.4f b2 %.4f b4 %.4f | bias a %+.4f b1 %+.4f "
-                   "b2 %+.4f b4 %+.4f | a/b1 %.2f a/b2 %.2f || gn1 %.4f %+.4f gn2 %.4f %+.4f b5 %.4f %+.4f "
-                   "|| b4gn1 %.4f %+.4f b4gn2 %.4f %+.4f b6 %.4f %+.4f\n",
+            printf("POOLED flat-lit       n %6.0f sd a %.4f b1 %.4f b2 %.4f b4 %.4f "
+                   "| bias a %+.4f b1 %+.4f "
+                   "b2 %+.4f b4 %+.4f | a/b1 %.2f a/b2 %.2f || gn1 %.4f %+.4f gn2 "
+                   "%.4f %+.4f b5 %.4f %+.4f "
+                   "|| b4gn1 %.4f %+.4f b4gn2 %.4f %+.4f b6 %.4f %+.4f || b7 %.4f "
+                   "%+.4f b8 %.4f %+.4f\n",
                    a->n, sd[0], sd[1], sd[2], sd[3], m[0], m[1], m[2], m[3], sd[0] / sd[1], sd[0] / sd[2],
-                   sd[4], m[4], sd[5], m[5], sd[6], m[6], sd[7], m[7], sd[8], m[8], sd[9], m[9]);
+                   sd[4], m[4], sd[5], m[5], sd[6], m[6], sd[7], m[7], sd[8], m[8], sd[9], m[9], sd[10],
+                   m[10], sd[11], m[11]);
         }
     }
     return 0;
