@@ -101,23 +101,16 @@ typedef struct {
     int n;
 } pf_win;
 
-/* the contour's profile: its edge spread s (px), and each side's shading
- * ramp k[0] (u < 0), k[1] (u > 0): the side's level grows by k sqrt(|u|)
- * gray levels away from the point (a Lambertian limb, §3a), measured on
- * the pixels beyond the fit's window (pf_ramp) and taken out of the
- * window's pixels before any fit (0 when not measured at 3 sigma) */
+/* the contour's profile: its edge spread s (px) */
 typedef struct {
-    cdsp_real s, k[2];
+    cdsp_real s;
 } pf_prof;
-
-/* pixels read beyond the window on each side of a row for the ramps */
-#define PF_OUT 8
 
 /* The window of the edge e (distorted px, on scanline t of the family
  * horizontal), with u along the unit normal (nx, ny): 0 when it does not
  * fit in the frame. */
 static int pf_window(const cdsp_image *img, int horizontal, int h, const cdsp_edge *e, cdsp_real nx,
-                     cdsp_real ny, const pf_prof *pr, pf_win *w)
+                     cdsp_real ny, pf_win *w)
 {
     cdsp_real pos = horizontal ? e->x : e->y;
     int t = (int)(horizontal ? e->y : e->x), c0 = (int)R_FLOOR(pos + R(0.5)), k, i;
@@ -129,55 +122,10 @@ static int pf_window(const cdsp_image *img, int horizontal, int h, const cdsp_ed
     for (k = 0; k < 3; k++)
         for (i = 0; i < w->n; i++) {
             int a = c0 - h + i, b = t - 1 + k, x = horizontal ? a : b, y = horizontal ? b : a;
-            const unsigned char *q =
-                (const unsigned char *)img->data + (size_t)y * img->stride + (size_t)x * bpp;
-            cdsp_real u = nx * ((cdsp_real)x - e->x) + ny * ((cdsp_real)y - e->y);
-            w->v[k][i] = bpp == 2 ? (cdsp_real) * (const uint16_t *)(const void *)q : (cdsp_real)*q;
-            w->v[k][i] -= pr->k[u > R(0)] * R_SQRT(R_FABS(u));
-            w->u[k][i] = u;
+            const unsigned char *q = (const unsigned char *)img->data + (size_t)y * img->stride + (size_t)x * bpp;
+            w->v[k][i] = bpp == 2 ? (cdsp_real)*(const uint16_t *)(const void *)q : (cdsp_real)*q;
+            w->u[k][i] = nx * ((cdsp_real)x - e->x) + ny * ((cdsp_real)y - e->y);
         }
-    return 1;
-}
-
-/* The ramps' sums at the edge e (as pf_window): on each side, the pixels
- * h + 1 .. h + PF_OUT beyond the point on its 3 rows, regressed on
- * sqrt(|u|) about their own mean (the point's levels are its own):
- * r[side][0..3] += n - 1, Sxx, Sxy, Syy centred. 0 when out of frame. */
-static int pf_ramp_add(const cdsp_image *img, int horizontal, int h, const cdsp_edge *e, cdsp_real nx,
-                       cdsp_real ny, cdsp_real r[2][4])
-{
-    cdsp_real pos = horizontal ? e->x : e->y;
-    int t = (int)(horizontal ? e->y : e->x), c0 = (int)R_FLOOR(pos + R(0.5)), k, j, sd;
-    int ext = horizontal ? img->width : img->height, across = horizontal ? img->height : img->width;
-    size_t bpp = img->bits <= 8 ? 1u : 2u;
-    if (c0 - h - PF_OUT < 0 || c0 + h + PF_OUT >= ext || t < 1 || t + 1 >= across)
-        return 0;
-    for (sd = 0; sd < 2; sd++) {
-        cdsp_real n = R(0), sx = R(0), sy = R(0), sxx = R(0), sxy = R(0), syy = R(0), side = R(0);
-        for (k = 0; k < 3; k++)
-            for (j = 1; j <= PF_OUT; j++) {
-                int a = sd ? c0 + h + j : c0 - h - j, b = t - 1 + k, x = horizontal ? a : b,
-                    y = horizontal ? b : a;
-                const unsigned char *q =
-                    (const unsigned char *)img->data + (size_t)y * img->stride + (size_t)x * bpp;
-                cdsp_real v = bpp == 2 ? (cdsp_real) * (const uint16_t *)(const void *)q : (cdsp_real)*q;
-                cdsp_real u = nx * ((cdsp_real)x - e->x) + ny * ((cdsp_real)y - e->y), z = R_SQRT(R_FABS(u));
-                side += u;
-                n += R(1);
-                sx += z;
-                sy += v;
-                sxx += z * z;
-                sxy += z * v;
-                syy += v * v;
-            }
-        {
-            cdsp_real *o = r[side > R(0)];
-            o[0] += n - R(1);
-            o[1] += sxx - sx * sx / n;
-            o[2] += sxy - sx * sy / n;
-            o[3] += syy - sy * sy / n;
-        }
-    }
     return 1;
 }
 
@@ -266,7 +214,7 @@ static int pf_point(const cdsp_image *img, int horizontal, int h, const pf_prof 
 {
     pf_win w;
     cdsp_real par[4], ns = horizontal ? nx : ny;
-    if (!pf_window(img, horizontal, h, e, nx, ny, pr, &w))
+    if (!pf_window(img, horizontal, h, e, nx, ny, &w))
         return 0;
     pf_start(&w, pr, par);
     if (!pf_fit(&w, par, 0, PF_ITERS) || !(R_FABS(ns) > R(0.5)))
@@ -338,49 +286,23 @@ static void rescan_family(const cdsp_image *img, const cdsp_camera *cam, const c
  * spread evenly over first .. last, their medians; 0 when fewer than 8
  * fits converged (the point fit is then not done on this line). */
 static int pf_profile(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
-                      const cdsp_edge_params *edge, const cdsp_line *ln, int horizontal, int first, int last,
-                      cdsp_real cos2, pf_prof *pr)
+                      const cdsp_edge_params *edge, const cdsp_line *ln, int horizontal, int first,
+                      int last, cdsp_real cos2, pf_prof *pr)
 {
-    cdsp_real ss[PF_PROFILE], thr = p->pair.inlier_px, r[2][4];
+    cdsp_real ss[PF_PROFILE], thr = p->pair.inlier_px;
     cdsp_real band = R_CEIL(p->pair.inlier_px) + R(RESCAN_MARGIN);
-    pf_prof start;
+    const pf_prof start = {R(1)};
     int x0, y0, x1, y1, j, n = 0, h = p->edge.half_window, nodist = cdsp__camera_no_distortion(cam);
-    int ext = horizontal ? img->width : img->height, span = last - first, sd, pass, t;
+    int ext = horizontal ? img->width : img->height, span = last - first;
     cdsp__edges_clip_roi(img, &p->edge.roi, &x0, &y0, &x1, &y1);
-    /* pass 0: the ramps, over every refine_step-th scanline (their error
-     * moves every point alike, so they take all of the contour's points);
-     * pass 1: the spread, at PF_PROFILE scanlines */
-    for (sd = 0; sd < 2; sd++)
-        r[sd][0] = r[sd][1] = r[sd][2] = r[sd][3] = R(0);
-    start.s = R(1);
-    start.k[0] = start.k[1] = R(0);
-    for (pass = 0, j = 0, t = first; pass < 2;) {
+    for (j = 0; j < PF_PROFILE && n < PF_PROFILE; j++) {
         cdsp_edge buf[RESCAN_BUF], und[RESCAN_BUF];
         size_t k, nb, nu;
-        int from, to;
-        if (pass == 0 && t > last) {
-            for (sd = 0; sd < 2; sd++) {
-                /* K = Sxy / Sxx, kept when |K| >= 3 standard errors */
-                cdsp_real K = r[sd][1] > R(0) ? r[sd][2] / r[sd][1] : R(0);
-                cdsp_real dof = r[sd][0] - R(1), res = r[sd][3] - K * r[sd][2];
-                cdsp_real se2 = dof > R(0) && r[sd][1] > R(0) ? res / dof / r[sd][1] : R(0);
-                start.k[sd] = dof > R(0) && K * K >= R(9) * se2 ? K : R(0);
-            }
-            pass = 1;
-        }
-        if (pass == 1) {
-            if (j >= PF_PROFILE || n >= PF_PROFILE)
-                break;
-            t = first + (int)(((long)span * (2 * j + 1)) / (2 * PF_PROFILE));
-            j++;
-        }
-        if (pass == 0)
-            t += p->refine_step;
-        if (!cdsp__frame_band(cam, nodist, ln->l, horizontal, pass ? t : t - p->refine_step, band,
-                              horizontal ? x0 : y0, horizontal ? x1 : y1, h, ext, &from, &to))
+        int from, to, t = first + (int)(((long)span * (2 * j + 1)) / (2 * PF_PROFILE));
+        if (!cdsp__frame_band(cam, nodist, ln->l, horizontal, t, band, horizontal ? x0 : y0,
+                              horizontal ? x1 : y1, h, ext, &from, &to))
             continue;
-        nb = cdsp__edges_scan_segment(img, edge, horizontal, pass ? t : t - p->refine_step, from, to, buf,
-                                      RESCAN_BUF);
+        nb = cdsp__edges_scan_segment(img, edge, horizontal, t, from, to, buf, RESCAN_BUF);
         for (k = 0; k < nb; k++)
             und[k] = buf[k];
         nu = nb;
@@ -393,11 +315,7 @@ static int pf_profile(const cdsp_image *img, const cdsp_camera *cam, const cdsp_
             pf_win w;
             if (d > thr || d < -thr || !(gn > R(0)) || gn * gn < cos2 * g2)
                 continue;
-            if (pass == 0) {
-                (void)pf_ramp_add(img, horizontal, h, &buf[k], ln->l[0], ln->l[1], r);
-                continue;
-            }
-            if (!pf_window(img, horizontal, h, &buf[k], ln->l[0], ln->l[1], &start, &w))
+            if (!pf_window(img, horizontal, h, &buf[k], ln->l[0], ln->l[1], &w))
                 continue;
             pf_start(&w, &start, par);
             if (!pf_fit(&w, par, 1, PF_FULL_ITERS))
@@ -409,8 +327,6 @@ static int pf_profile(const cdsp_image *img, const cdsp_camera *cam, const cdsp_
         return 0;
     pf_sort(ss, n);
     pr->s = ss[n / 2];
-    pr->k[0] = start.k[0];
-    pr->k[1] = start.k[1];
     return 1;
 }
 
