@@ -2,29 +2,46 @@
  * §3a, the point fit); a diagnostic, built by `make` (tests/bench/rack.mk)
  * as build/bench/probe_point_fit, or by hand:
  *   cc -std=c99 -D_DEFAULT_SOURCE -O2 -Iinclude -Itools -Itests/lib \
- *     tests/bench/probe_point_fit.c tools/tool_rack_scene.c tests/lib/support.c
- * \ build/host/libcdsp.a -lm -o /tmp/probe_point_fit /tmp/probe_point_fit
- * FRAMES WHICH [H]   (WHICH: 1 rack, 2 flat-lit pipe, 3 both; H the window's
- * half width, 4) On the exact contour lines (sup_contour_lines), every 3rd
- * scanline, the detector's point (cdsp__edges_scan_segment) against
- * least-squares fits of I(u) = A + C Phi((u - d) / s) over the same 3 x (2H +
- * 1) pixels: a   the detector; b1  A, C, d free, s the contour's (median of
- * b4's); b2  d alone, A, C, s the contour's medians; b4  A, C, s, d free; gn1 /
- * gn2: b1 in 1 / 2 Gauss-Newton steps from the detector's point; b5  b1 with a
- * pipe-side slope D free; b6 b1 with D the contour's median; b4gn1 / b4gn2: b4
- * in 1 / 2 steps. sd is about each contour's own mean, bias the mean: a profile
- * parameter taken from the contour's own points (b6's D) moves all its points
- * alike, which the sd does not see; the line's offset does (docs/method.md
- * §3a). Errors beyond 1 px in any estimate drop the point (column crossings).
+ *     tests/bench/probe_point_fit.c tools/tool_rack_scene.c tests/lib/support.c \
+ *     build/host/libcdsp.a -lm -o /tmp/probe_point_fit
+ *   /tmp/probe_point_fit FRAMES WHICH [H [TRIM]]   (WHICH: 1 rack, 2 flat-lit pipe,
+ *                            3 both; H the window's half width, 4; TRIM b7's cut, 1.5)
+ * On the exact contour lines (sup_contour_lines), every 3rd scanline, the
+ * detector's point (cdsp__edges_scan_segment) against least-squares fits
+ * of I(u) = A + C Phi((u - d) / s) over the same 3 x (2H + 1) pixels:
+ *   a   the detector;
+ *   b1  A, C, d free, s the contour's (median of b4's);
+ *   b2  d alone, A, C, s the contour's medians;
+ *   b4  A, C, s, d free;
+ *   gn1 / gn2: b1 in 1 / 2 Gauss-Newton steps from the detector's point;
+ *   b5  b1 with a pipe-side slope D free; b6 b1 with D the contour's median;
+ *   b4gn1 / b4gn2: b4 in 1 / 2 steps;
+ *   b7  gn1 (2 steps) on the window cut at TRIM px on the pipe side of the
+ *       detector's point (the lit limb's ramp left out);
+ *   b8  gn1 on the window less each side's ramp k sqrt(|u|) (u from the
+ *       detector's point), k the contour's median of per-point regressions
+ *       on the OM pixels beyond the window on each row (u 5 .. 4 + OM).
+ * Measured (`probe_point_fit 1 3 [4 TRIM]`; sd / bias px, rack shadowed /
+ * rack lit / flat-lit):
+ *   b8, OM 4:      0.1009 / +0.0015, 0.0274 / +0.0319, 0.0212 / +0.0005;
+ *   b8, OM 8:      0.1006 / -0.0020, 0.0277 / +0.0503, 0.0209 / -0.0003;
+ *   b7, TRIM 1.5:  0.1593 / -0.0015, 0.0558 / +0.1008, 0.0289 / -0.0006;
+ *   b7, TRIM 2.5:  0.1123 / +0.0016, 0.0336 / +0.0851, 0.0231 / -0.0003.
+ * b8 in the library (k pooled over the contour, OM 8) was tried and taken
+ * out (docs/method.md §3a).
+ * sd is about each contour's own mean, bias the mean: a profile parameter
+ * taken from the contour's own points (b6's D) moves all its points alike,
+ * which the sd does not see; the line's offset does (docs/method.md §3a).
+ * Errors beyond 1 px in any estimate drop the point (column crossings).
  */
-#include "../lib/internal.h"
-#include "cdsp.h"
-#include "support.h"
-#include "tool_rack_scene.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "cdsp.h"
+#include "../lib/internal.h"
+#include "tool_rack_scene.h"
+#include "support.h"
 
 static int HW = 4;
 static double Phi(double z)
@@ -44,6 +61,7 @@ typedef struct {
     double vo[3][2][8], uo[3][2][8];
 } win;
 static int OM = 4;
+static double TRIM = 1.5;
 /* b7: the side slopes (gray levels / px) from the pixels beyond the window, one
  * line per side */
 static void side_slopes(const win *w, double ea, int sq, double g[2])
@@ -437,13 +455,26 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
                     di = -q->ea;
                     fitx(&wo, &Ai, &Ci, &si, &di, 1, 0, 0, 1);
                     e[10 + v8] = -di;
-                    if (v8) { /* b7: b8 again, the ramp centred at b8's edge */
-                        unslope(&q->w, -di, 1, gs, &wo);
+                    if (v8) { /* b7: gn1 on the window cut at TRIM px on the pipe side (u0 - ea > TRIM dropped) */
+                        int kk, ii, l0 = 0, cnt;
+                        wo = q->w;
+                        cnt = 0;
+                        for (ii = 0; ii < q->w.n; ii++)
+                            if (q->w.u0[1][ii] - q->ea <= TRIM)
+                                cnt++;
+                        if (q->w.u0[1][0] > q->w.u0[1][q->w.n - 1])
+                            l0 = q->w.n - cnt;
+                        for (kk = 0; kk < 3; kk++)
+                            for (ii = 0; ii < cnt; ii++) {
+                                wo.v[kk][ii] = q->w.v[kk][l0 + ii];
+                                wo.u0[kk][ii] = q->w.u0[kk][l0 + ii];
+                            }
+                        wo.n = cnt;
                         Ai = nm ? vm / nm : sA;
                         Ci = (np_ ? vp / np_ : sA + sC) - Ai;
                         si = sS;
                         di = -q->ea;
-                        fitx(&wo, &Ai, &Ci, &si, &di, 1, 0, 0, 1);
+                        fitx(&wo, &Ai, &Ci, &si, &di, 1, 0, 0, 2);
                         e[10] = -di;
                     }
                 }
@@ -520,6 +551,8 @@ int main(int argc, char **argv)
     int arr, g, f, k;
     if (argc > 3)
         HW = atoi(argv[3]);
+    if (argc > 4)
+        TRIM = atof(argv[4]);
     memset(&cam, 0, sizeof cam);
     cam.fx = cam.fy = (cdsp_real)RACK_F;
     cam.cx = (cdsp_real)((RACK_W - 1) / 2.0);
