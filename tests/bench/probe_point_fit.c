@@ -4,8 +4,8 @@
  *   cc -std=c99 -D_DEFAULT_SOURCE -O2 -Iinclude -Itools -Itests/lib \
  *     tests/bench/probe_point_fit.c tools/tool_rack_scene.c tests/lib/support.c \
  *     build/host/libcdsp.a -lm -o /tmp/probe_point_fit
- *   /tmp/probe_point_fit FRAMES WHICH [H]   (WHICH: 1 rack, 2 flat-lit pipe, 3 both;
- *                                           H the window's half width, 4)
+ *   /tmp/probe_point_fit FRAMES WHICH [H [TRIM]]   (WHICH: 1 rack, 2 flat-lit pipe,
+ *                            3 both; H the window's half width, 4; TRIM b7's cut, 1.5)
  * On the exact contour lines (sup_contour_lines), every 3rd scanline, the
  * detector's point (cdsp__edges_scan_segment) against least-squares fits
  * of I(u) = A + C Phi((u - d) / s) over the same 3 x (2H + 1) pixels:
@@ -15,7 +15,20 @@
  *   b4  A, C, s, d free;
  *   gn1 / gn2: b1 in 1 / 2 Gauss-Newton steps from the detector's point;
  *   b5  b1 with a pipe-side slope D free; b6 b1 with D the contour's median;
- *   b4gn1 / b4gn2: b4 in 1 / 2 steps.
+ *   b4gn1 / b4gn2: b4 in 1 / 2 steps;
+ *   b7  gn1 (2 steps) on the window cut at TRIM px on the pipe side of the
+ *       detector's point (the lit limb's ramp left out);
+ *   b8  gn1 on the window less each side's ramp k sqrt(|u|) (u from the
+ *       detector's point), k the contour's median of per-point regressions
+ *       on the OM pixels beyond the window on each row (u 5 .. 4 + OM).
+ * Measured (`probe_point_fit 1 3 [4 TRIM]`; sd / bias px, rack shadowed /
+ * rack lit / flat-lit):
+ *   b8, OM 4:      0.1009 / +0.0015, 0.0274 / +0.0319, 0.0212 / +0.0005;
+ *   b8, OM 8:      0.1006 / -0.0020, 0.0277 / +0.0503, 0.0209 / -0.0003;
+ *   b7, TRIM 1.5:  0.1593 / -0.0015, 0.0558 / +0.1008, 0.0289 / -0.0006;
+ *   b7, TRIM 2.5:  0.1123 / +0.0016, 0.0336 / +0.0851, 0.0231 / -0.0003.
+ * b8 in the library (k pooled over the contour, OM 8) was tried and taken
+ * out (docs/method.md §3a).
  * sd is about each contour's own mean, bias the mean: a profile parameter
  * taken from the contour's own points (b6's D) moves all its points alike,
  * which the sd does not see; the line's offset does (docs/method.md §3a).
@@ -44,7 +57,44 @@ typedef struct {
     double v[3][32];
     double u0[3][32];
     int n;
+    /* b7/b8: pixels beyond the window, OM on each side of every row */
+    double vo[3][2][8], uo[3][2][8];
 } win;
+static int OM = 4;
+static double TRIM = 1.5;
+/* b7: the side slopes (gray levels / px) from the pixels beyond the window, one
+ * line per side */
+static void side_slopes(const win *w, double ea, int sq, double g[2])
+{
+    int k, j, sd;
+    for (sd = 0; sd < 2; sd++) {
+        double n = 0, su = 0, sv = 0, suu = 0, suv = 0;
+        for (k = 0; k < 3; k++)
+            for (j = 0; j < OM; j++) {
+                double u = w->uo[k][sd][j] - ea, v = w->vo[k][sd][j];
+                if (sq)
+                    u = sqrt(fabs(u));
+                n++;
+                su += u;
+                sv += v;
+                suu += u * u;
+                suv += u * v;
+            }
+        g[sd] = (suv - su * sv / n) / (suu - su * su / n);
+    }
+}
+/* the window with the side slopes taken out: v - g u on each side of the
+ * detector's point (u0 - ea) */
+static void unslope(const win *w, double ea, int sq, const double g[2], win *o)
+{
+    int k, i;
+    *o = *w;
+    for (k = 0; k < 3; k++)
+        for (i = 0; i < w->n; i++) {
+            double u = w->u0[k][i] - ea;
+            o->v[k][i] -= (u < 0 ? g[0] : g[1]) * (sq ? sqrt(fabs(u)) : u);
+        }
+}
 /* fit: params A, C, s, d; mask which are free; u = u0 + d */
 static double Dsl;
 static int fitx(const win *w, double *A, double *C, double *s, double *d, int freeAC, int frees, int freeD,
@@ -162,7 +212,7 @@ static double median(double *v, int n)
 }
 static double tmp[MAXP];
 
-#define NV 10
+#define NV 12
 typedef struct {
     double n, s1[NV], s2[NV];
 } acc;
@@ -175,16 +225,18 @@ static void acc_add(acc *a, const double e[NV])
         a->s2[i] += e[i] * e[i];
     }
 }
+static int v8dbg;
 static acc pooled[2]; /* 0 shadowed/low contrast, 1 lit */
 
-/* one contour: true line L (double, normalised, toward the pipe), along range [s0, s1] */
+/* one contour: true line L (double, normalised, toward the pipe), along range
+ * [s0, s1] */
 static void contour(const cdsp_image *img, const double L[3], double s0, double s1, int step, const char *tag,
                     double cthr)
 {
     int horizontal = fabs(L[0]) >= fabs(L[1]), n = 0, i, k, c;
     double tx = -L[1], ty = L[0];
     cdsp_edge_params ep;
-    double sC, sA, sS, lo, hi, sS5, D5m;
+    double sC, sA, sS, lo, hi, sS5, D5m, gmed[4];
     acc a;
     memset(&a, 0, sizeof a);
     cdsp_edge_params_default(&ep);
@@ -232,12 +284,23 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
                     q->w.u0[k + 1][c + HW] =
                         L[0] * X + L[1] * Y + L[2]; /* distance to the true line; fit d: u = u0 - d_err */
                 }
+            for (k = -1; k <= 1; k++)
+                for (c = 0; c < OM; c++) {
+                    int sd;
+                    for (sd = 0; sd < 2; sd++) {
+                        int cc = sd ? s0i + HW + 1 + c : s0i - HW - 1 - c;
+                        int X = horizontal ? cc : t + k, Y = horizontal ? t + k : cc;
+                        q->w.vo[k + 1][sd][c] = ((const uint8_t *)img->data)[(size_t)Y * img->stride + X];
+                        q->w.uo[k + 1][sd][c] = L[0] * X + L[1] * Y + L[2];
+                    }
+                }
             n++;
         }
     }
     if (n < 20)
         return;
-    /* local 4-param fits; init A, C from the window's ends (u<0 bg side... use sign of u0) */
+    /* local 4-param fits; init A, C from the window's ends (u<0 bg side... use
+     * sign of u0) */
     for (i = 0; i < n; i++) {
         pt *q = &P[i];
         double vm = 0, vp = 0;
@@ -271,6 +334,18 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
         if (P[i].ok4)
             tmp[k++] = P[i].A;
     sA = median(tmp, k);
+    {
+        double g[2];
+        int sd, sq;
+        for (sq = 0; sq < 2; sq++)
+            for (sd = 0; sd < 2; sd++) {
+                for (i = 0, k = 0; i < n; i++) {
+                    side_slopes(&P[i].w, P[i].ea, sq, g);
+                    tmp[k++] = g[sd];
+                }
+                gmed[2 * sq + sd] = median(tmp, k);
+            }
+    }
     for (i = 0; i < n; i++) {
         pt *q = &P[i];
         double A5 = q->A, C5 = q->C, s5 = sS, d5 = q->d4;
@@ -309,8 +384,8 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
             continue;
         if (!fit(&q->w, &A2, &C2, &s2, &d2, 0, 0))
             continue;
-        /* the error of a fitted d: the edge at u0 = -d, i.e. the estimated line is offset by -d from the true
-         * line */
+        /* the error of a fitted d: the edge at u0 = -d, i.e. the estimated line is
+         * offset by -d from the true line */
         e[0] = q->ea;
         e[1] = -d1;
         e[2] = -d2;
@@ -356,6 +431,59 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
             fitx(&q->w, &Ai, &Ci, &si, &di, 1, 0, 0, 20);
             e[9] = -di;
             Dsl = 0;
+            {
+                /* b7: gn1 on the window less the per-point side slopes; b8: less the
+                 * contour's medians */
+                double g[2], gs[2];
+                win wo;
+                int v8;
+                side_slopes(&q->w, q->ea, 0, g);
+                for (v8 = 0; v8 < 2; v8++) {
+                    int sd;
+                    for (sd = 0; sd < 2; sd++)
+                        gs[sd] = gmed[2 * v8 + sd];
+                    /* side 0 of uo is the one at u < 0 when uo[.][0] < 0, else swap */
+                    if (q->w.uo[1][0][0] > 0) {
+                        double x = gs[0];
+                        gs[0] = gs[1];
+                        gs[1] = x;
+                    }
+                    unslope(&q->w, q->ea, v8, gs, &wo);
+                    Ai = nm ? vm / nm : sA;
+                    Ci = (np_ ? vp / np_ : sA + sC) - Ai;
+                    si = sS;
+                    di = -q->ea;
+                    fitx(&wo, &Ai, &Ci, &si, &di, 1, 0, 0, 1);
+                    e[10 + v8] = -di;
+                    if (v8) { /* b7: gn1 on the window cut at TRIM px on the pipe side (u0 - ea > TRIM dropped) */
+                        int kk, ii, l0 = 0, cnt;
+                        wo = q->w;
+                        cnt = 0;
+                        for (ii = 0; ii < q->w.n; ii++)
+                            if (q->w.u0[1][ii] - q->ea <= TRIM)
+                                cnt++;
+                        if (q->w.u0[1][0] > q->w.u0[1][q->w.n - 1])
+                            l0 = q->w.n - cnt;
+                        for (kk = 0; kk < 3; kk++)
+                            for (ii = 0; ii < cnt; ii++) {
+                                wo.v[kk][ii] = q->w.v[kk][l0 + ii];
+                                wo.u0[kk][ii] = q->w.u0[kk][l0 + ii];
+                            }
+                        wo.n = cnt;
+                        Ai = nm ? vm / nm : sA;
+                        Ci = (np_ ? vp / np_ : sA + sC) - Ai;
+                        si = sS;
+                        di = -q->ea;
+                        fitx(&wo, &Ai, &Ci, &si, &di, 1, 0, 0, 2);
+                        e[10] = -di;
+                    }
+                }
+                if (v8dbg < 3 && fabs(sC) >= cthr) {
+                    fprintf(stderr, "%s g %+.2f %+.2f med %+.2f %+.2f sq %+.2f %+.2f C %.1f\n", tag, g[0],
+                            g[1], gmed[0], gmed[1], gmed[2], gmed[3], sC);
+                    v8dbg++;
+                }
+            }
         }
         for (k = 0; k < NV; k++)
             if (!(fabs(e[k]) <= 1))
@@ -371,11 +499,12 @@ static void contour(const cdsp_image *img, const double L[3], double s0, double 
             m[k] = a.s1[k] / a.n;
             sd[k] = sqrt(a.s2[k] / a.n - m[k] * m[k]);
         }
-        printf(
-            "%-14s n %4.0f/%4d C %6.1f A %6.1f s %.3f | sd a %.4f b1 %.4f b2 %.4f b4 %.4f | bias a %+.4f b1 "
-            "%+.4f b2 %+.4f b4 %+.4f | ratio a/b1 %.2f a/b2 %.2f | s5 %.3f D5 %+.2f b6 sd %.4f bias %+.4f\n",
-            tag, a.n, n, sC, sA, sS, sd[0], sd[1], sd[2], sd[3], m[0], m[1], m[2], m[3], sd[0] / sd[1],
-            sd[0] / sd[2], sS5, D5m, sd[9], m[9]);
+        printf("%-14s n %4.0f/%4d C %6.1f A %6.1f s %.3f | sd a %.4f b1 %.4f b2 "
+               "%.4f b4 %.4f | bias a %+.4f b1 "
+               "%+.4f b2 %+.4f b4 %+.4f | ratio a/b1 %.2f a/b2 %.2f | s5 %.3f D5 "
+               "%+.2f b6 sd %.4f bias %+.4f\n",
+               tag, a.n, n, sC, sA, sS, sd[0], sd[1], sd[2], sd[3], m[0], m[1], m[2], m[3], sd[0] / sd[1],
+               sd[0] / sd[2], sS5, D5m, sd[9], m[9]);
     }
 }
 
@@ -422,6 +551,8 @@ int main(int argc, char **argv)
     int arr, g, f, k;
     if (argc > 3)
         HW = atoi(argv[3]);
+    if (argc > 4)
+        TRIM = atof(argv[4]);
     memset(&cam, 0, sizeof cam);
     cam.fx = cam.fy = (cdsp_real)RACK_F;
     cam.cx = (cdsp_real)((RACK_W - 1) / 2.0);
@@ -465,12 +596,15 @@ int main(int argc, char **argv)
                 m[i] = a->s1[i] / a->n;
                 sd[i] = sqrt(a->s2[i] / a->n - m[i] * m[i]);
             }
-            printf("POOLED %-14s n %6.0f sd a %.4f b1 %.4f b2 %.4f b4 %.4f | bias a %+.4f b1 %+.4f b2 %+.4f "
-                   "b4 %+.4f | a/b1 %.2f a/b2 %.2f || gn1 %.4f %+.4f gn2 %.4f %+.4f b5 %.4f %+.4f || b4gn1 "
-                   "%.4f %+.4f b4gn2 %.4f %+.4f b6 %.4f %+.4f\n",
+            printf("POOLED %-14s n %6.0f sd a %.4f b1 %.4f b2 %.4f b4 %.4f | bias a "
+                   "%+.4f b1 %+.4f b2 %+.4f "
+                   "b4 %+.4f | a/b1 %.2f a/b2 %.2f || gn1 %.4f %+.4f gn2 %.4f %+.4f "
+                   "b5 %.4f %+.4f || b4gn1 "
+                   "%.4f %+.4f b4gn2 %.4f %+.4f b6 %.4f %+.4f || b7 %.4f %+.4f b8 "
+                   "%.4f %+.4f\n",
                    nm[k], a->n, sd[0], sd[1], sd[2], sd[3], m[0], m[1], m[2], m[3], sd[0] / sd[1],
                    sd[0] / sd[2], sd[4], m[4], sd[5], m[5], sd[6], m[6], sd[7], m[7], sd[8], m[8], sd[9],
-                   m[9]);
+                   m[9], sd[10], m[10], sd[11], m[11]);
         }
     }
     if (which & 2) {
@@ -506,11 +640,15 @@ int main(int argc, char **argv)
                 m[i] = a->s1[i] / a->n;
                 sd[i] = sqrt(a->s2[i] / a->n - m[i] * m[i]);
             }
-            printf("POOLED flat-lit       n %6.0f sd a %.4f b1 %.4f b2 %.4f b4 %.4f | bias a %+.4f b1 %+.4f "
-                   "b2 %+.4f b4 %+.4f | a/b1 %.2f a/b2 %.2f || gn1 %.4f %+.4f gn2 %.4f %+.4f b5 %.4f %+.4f "
-                   "|| b4gn1 %.4f %+.4f b4gn2 %.4f %+.4f b6 %.4f %+.4f\n",
+            printf("POOLED flat-lit       n %6.0f sd a %.4f b1 %.4f b2 %.4f b4 %.4f "
+                   "| bias a %+.4f b1 %+.4f "
+                   "b2 %+.4f b4 %+.4f | a/b1 %.2f a/b2 %.2f || gn1 %.4f %+.4f gn2 "
+                   "%.4f %+.4f b5 %.4f %+.4f "
+                   "|| b4gn1 %.4f %+.4f b4gn2 %.4f %+.4f b6 %.4f %+.4f || b7 %.4f "
+                   "%+.4f b8 %.4f %+.4f\n",
                    a->n, sd[0], sd[1], sd[2], sd[3], m[0], m[1], m[2], m[3], sd[0] / sd[1], sd[0] / sd[2],
-                   sd[4], m[4], sd[5], m[5], sd[6], m[6], sd[7], m[7], sd[8], m[8], sd[9], m[9]);
+                   sd[4], m[4], sd[5], m[5], sd[6], m[6], sd[7], m[7], sd[8], m[8], sd[9], m[9], sd[10],
+                   m[10], sd[11], m[11]);
         }
     }
     return 0;
