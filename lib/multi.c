@@ -740,8 +740,22 @@ static cdsp_status frame_pipes(const cdsp_image *img, const cdsp_camera *cam, cd
     }
     st = solve_all(cam, radius, ws->frame.edge, n, set, chosen, nc, ref, &ws->frame, sigma, p, min_step,
                    out, cap, n_out);
-    if (st == CDSP_OK && p->refine_step > 0)
+    if (st == CDSP_OK && p->refine_step > 0) {
+        size_t i, m = 0;
         rescan_pipes(img, cam, radius, p, ws, n, sigma, min_step, chosen, nc, ref, out, *n_out);
+        /* the refitted lines may move a pose out of the range solve_all
+         * held it to: with a range given, nothing outside it, ever */
+        for (i = 0; i < *n_out; i++)
+            if (cdsp__pair_in_range(&p->pair, out[i].distance)) {
+                if (m != i)
+                    out[m] = out[i];
+                m++;
+            }
+        for (i = 0; i < m; i++)
+            out[i].n_candidates = (uint32_t)m;
+        *n_out = m;
+        st = m ? CDSP_OK : CDSP_E_NO_PIPE;
+    }
     return st;
 }
 
