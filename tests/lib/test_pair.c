@@ -646,6 +646,58 @@ static void test_range_after_refine(void **state)
     }
 }
 
+/* The same for cdsp_params.refine_step on every pipe (lib/multi.c): the
+ * refit runs after solve_all's range test and moves the pose by its own
+ * noise (d1 - d0); with the range's bound halfway between, every pipe
+ * reported must be inside it. */
+static void test_range_after_rescan(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_image img;
+    cdsp_params prm;
+    cdsp_rng rng;
+    cdsp_result all[CDSP_MAX_PIPES];
+    size_t na = 0, k;
+    cdsp_status st;
+    double c[2][3], v[3], d0, d1, bound;
+    void *buf;
+    (void)state;
+    sup_camera(&cam, W, H, F, 0, 0);
+    sup_row_pipes(1, 8, c, v);
+    sup_row_scene(1, (const double(*)[3])c, v, &s);
+    s.noise_sigma = (cdsp_real)(3.0 / 255);
+    buf = sup_render(&s, &cam, 8, 21, &img);
+    assert_non_null(buf);
+    cdsp_params_default(&prm);
+    prm.edge.step = 12; /* the refit at 3 reads 4 times the points: it moves the pose */
+    cdsp_rng_seed(&rng, 21, 3);
+    assert_int_equal(cdsp_frame_solve_all(&img, &cam, 8, &prm, NULL, &aws, &rng, all, CDSP_MAX_PIPES, &na),
+                     CDSP_OK);
+    d0 = (double)all[0].distance;
+    prm.refine_step = 3;
+    cdsp_rng_seed(&rng, 21, 3);
+    assert_int_equal(cdsp_frame_solve_all(&img, &cam, 8, &prm, NULL, &aws, &rng, all, CDSP_MAX_PIPES, &na),
+                     CDSP_OK);
+    d1 = (double)all[0].distance;
+    if (!(fabs(d1 - d0) > 1e-3))
+        fail_msg("the refit moved the pose by %.2g only: nothing to test", d1 - d0);
+    bound = (d0 + d1) / 2;
+    prm.pair.min_distance = (cdsp_real)(d1 > d0 ? d0 / 2 : bound);
+    prm.pair.max_distance = (cdsp_real)(d1 > d0 ? bound : d0 * 2);
+    cdsp_rng_seed(&rng, 21, 3);
+    st = cdsp_frame_solve_all(&img, &cam, 8, &prm, NULL, &aws, &rng, all, CDSP_MAX_PIPES, &na);
+    free(buf);
+    if (getenv("CDSP_TEST_VERBOSE"))
+        print_message("search %.4f, refit %.4f, range [%.4f, %.4f]: %s, %zu pipes\n", d0, d1,
+                      (double)prm.pair.min_distance, (double)prm.pair.max_distance, cdsp_status_token(st),
+                      st == CDSP_OK ? na : 0);
+    for (k = 0; st == CDSP_OK && k < na; k++)
+        if (!(all[k].distance >= prm.pair.min_distance && all[k].distance <= prm.pair.max_distance))
+            fail_msg("pipe %zu at %.4f outside the range [%.4f, %.4f]", k, (double)all[k].distance,
+                     (double)prm.pair.min_distance, (double)prm.pair.max_distance);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -656,6 +708,7 @@ int main(void)
         cmocka_unit_test(test_rendered_cues),
         cmocka_unit_test(test_rendered_bench),
         cmocka_unit_test(test_range_after_refine),
+        cmocka_unit_test(test_range_after_rescan),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
