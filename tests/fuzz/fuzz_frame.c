@@ -74,6 +74,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         p.pair.min_inliers = (int)fz_range(&in, 0, 40);
         p.pair.inlier_px = (cdsp_real)fz_real(&in, 0, 4);
     }
+    /* the final pass (lib/rescan.c) and its point fit: 0..8 and 0..2, so
+     * the refused values (1, 2; point_fit 2) are tried too */
+    p.refine_step = (int)fz_range(&in, 0, 8);
+    p.point_fit = (int)fz_range(&in, 0, 2);
     memset(&cam, 0, sizeof cam);
     cam.width = w;
     cam.height = h;
