@@ -88,8 +88,7 @@ static void scene(const pf_case *pc, const double c[2][3], const double v[3], cd
     s->pipe_level = (cdsp_real)(0.25 + pc->contrast / 255);
     s->noise_sigma = (cdsp_real)(pc->noise / 255);
 }
-/* The result among out[0..n) whose axis is (c, v): direction within 2
- * degrees, P_C within 5 mm; -1 if none. */
+
 typedef struct {
     double s1, s2, z2, r2;
     int n, nz;

@@ -76,8 +76,7 @@ static void scene(const rescan_case *rc, const double c[2][3], const double v[3]
     sup_row_scene(rc->pipes, c, v, s);
     s->noise_sigma = (cdsp_real)(3.0 / 255);
 }
-/* The result among out[0..n) whose axis is (c, v): direction within 2
- * degrees, P_C within 5 mm; -1 if none. */
+
 /* Per pipe and mode: sums over the frames. */
 typedef struct {
     double dir2, dist2, zdir2, zdist2, sig_dir, inl[2];
