@@ -40,21 +40,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define RACK_GROUPS 5
 #define RACK_SAMPLES 100
-
-/* The scene of arrangement arr (0: A, 1: B), group g, frame f: the two
- * axes (c[k], v) in camera coordinates. */
-static void rack_scene(int arr, int g, int f, cdsp_scene *s, double c[2][3], double v[3])
-{
-    double t = (double)g / (RACK_GROUPS - 1), mid[3];
-    double tilt = (arr == 0 ? 15 + 20 * t : 50 + 20 * t) * 3.14159265358979 / 180;
-    double roll = (-12 + 24 * t) * 3.14159265358979 / 180;
-    mid[0] = 8 * (f - 1);
-    mid[1] = -10 + 5 * g;
-    mid[2] = 600 + 160 * t + 5 * f;
-    tool_rack_place(tilt, roll, mid, (uint32_t)(1000 * arr + 10 * g + f + 1), s, c, v);
-}
 
 /* Which found pipe is true axis (c, v): direction within 2 degrees, P_C
  * within 2 % of its distance; -1 if none. */
@@ -177,12 +163,7 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, int point_
     memset(sum2, 0, sizeof sum2);
     memset(floor2, 0, sizeof floor2);
     memset(count, 0, sizeof count);
-    memset(&cam, 0, sizeof cam);
-    cam.fx = cam.fy = (cdsp_real)RACK_F;
-    cam.cx = (cdsp_real)((RACK_W - 1) / 2.0);
-    cam.cy = (cdsp_real)((RACK_H - 1) / 2.0);
-    cam.width = RACK_W;
-    cam.height = RACK_H;
+    tool_rack_camera(&cam);
     snprintf(path, sizeof path, "%s/bench_rack.csv", out_dir);
     csv = fopen(path, "w");
     if (!csv) {
@@ -224,7 +205,7 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, int point_
                 cdsp_rng rng;
                 cdsp_image img;
                 double c[2][3], v[3];
-                rack_scene(arr, g, f, &s, c, v);
+                tool_rack_frame(arr, g, f, &s, c, v);
                 cdsp_rng_seed(&rng, seed, (uint64_t)(1000 * arr + 100 * g + f));
                 if (cdsp_render(&s, &cam, px, 0, 8, scratch, scratch_len, &rng) != CDSP_OK) {
                     fclose(csv);

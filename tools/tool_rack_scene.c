@@ -5,6 +5,7 @@
 #include "tool_rack_scene.h"
 
 #include <math.h>
+#include <string.h>
 
 static void unit3(double a[3])
 {
@@ -88,4 +89,25 @@ void tool_rack_place(double tilt, double roll, const double mid[3], uint32_t tex
     s->texture_seed = texture_seed;
     s->blur_sigma_px = (cdsp_real)0.8;
     s->noise_sigma = (cdsp_real)(2.0 / 255);
+}
+
+void tool_rack_frame(int arr, int g, int f, cdsp_scene *s, double c[2][3], double v[3])
+{
+    double t = (double)g / (RACK_GROUPS - 1), mid[3];
+    double tilt = (arr == 0 ? 15 + 20 * t : 50 + 20 * t) * 3.14159265358979 / 180;
+    double roll = (-12 + 24 * t) * 3.14159265358979 / 180;
+    mid[0] = 8 * (f - 1);
+    mid[1] = -10 + 5 * g;
+    mid[2] = 600 + 160 * t + 5 * f;
+    tool_rack_place(tilt, roll, mid, (uint32_t)(1000 * arr + 10 * g + f + 1), s, c, v);
+}
+
+void tool_rack_camera(cdsp_camera *cam)
+{
+    memset(cam, 0, sizeof *cam);
+    cam->fx = cam->fy = (cdsp_real)RACK_F;
+    cam->cx = (cdsp_real)((RACK_W - 1) / 2.0);
+    cam->cy = (cdsp_real)((RACK_H - 1) / 2.0);
+    cam->width = RACK_W;
+    cam->height = RACK_H;
 }

@@ -29,4 +29,16 @@
 void tool_rack_place(double tilt, double roll, const double mid[3], uint32_t texture_seed, cdsp_scene *s,
                      double c[2][3], double v[3]);
 
+/* The bench's frames: arrangement arr (0: A, side by side, the plane
+ * tilted 15..35 degrees, 600..760 mm away; 1: B, one behind the other,
+ * 50..70 degrees), group g < RACK_GROUPS (the tilt, roll and distance step
+ * with g), frame f (a few mm apart): the scene and the two axes (c[k], v),
+ * as tool_rack_place gives them. */
+#define RACK_GROUPS 5
+void tool_rack_frame(int arr, int g, int f, cdsp_scene *s, double c[2][3], double v[3]);
+
+/* The rack's camera: RACK_W x RACK_H, fx = fy = RACK_F, the principal
+ * point at the centre, no distortion. */
+void tool_rack_camera(cdsp_camera *cam);
+
 #endif

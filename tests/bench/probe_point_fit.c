@@ -553,27 +553,17 @@ int main(int argc, char **argv)
         HW = atoi(argv[3]);
     if (argc > 4)
         TRIM = atof(argv[4]);
-    memset(&cam, 0, sizeof cam);
-    cam.fx = cam.fy = (cdsp_real)RACK_F;
-    cam.cx = (cdsp_real)((RACK_W - 1) / 2.0);
-    cam.cy = (cdsp_real)((RACK_H - 1) / 2.0);
-    cam.width = RACK_W;
-    cam.height = RACK_H;
+    tool_rack_camera(&cam);
     if (which & 1)
         for (arr = 0; arr < 2; arr++)
-            for (g = 0; g < 5; g++)
+            for (g = 0; g < RACK_GROUPS; g++)
                 for (f = 0; f < frames; f++) {
                     cdsp_scene s;
                     cdsp_rng rng;
                     cdsp_image img;
-                    double c[2][3], v[3], t = (double)g / 4, mid[3];
-                    double tilt = (arr == 0 ? 15 + 20 * t : 50 + 20 * t) * M_PI / 180;
-                    double roll = (-12 + 24 * t) * M_PI / 180;
+                    double c[2][3], v[3];
                     char tag[32];
-                    mid[0] = 8 * (f - 1);
-                    mid[1] = -10 + 5 * g;
-                    mid[2] = 600 + 160 * t + 5 * f;
-                    tool_rack_place(tilt, roll, mid, (uint32_t)(1000 * arr + 10 * g + f + 1), &s, c, v);
+                    tool_rack_frame(arr, g, f, &s, c, v);
                     cdsp_rng_seed(&rng, 1, (uint64_t)(1000 * arr + 100 * g + f));
                     cdsp_render(&s, &cam, buf, 0, 8, scratch, sl, &rng);
                     img.data = buf;
