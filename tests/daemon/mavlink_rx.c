@@ -365,6 +365,8 @@ typedef struct {
     uint64_t out0, out1;   /* camera times of the last pose before the outage, the first after */
     int first_was_hb, got_any;
     uint64_t last_lt_time;
+    uint64_t last_dv_time;
+    int cut_pair;          /* the vanish fell between a LANDING_TARGET and its DEBUG_VECT */
 } stream;
 
 /* --soak: a LANDING_TARGET on its own. Tolerances: the fields are floats
@@ -507,6 +509,7 @@ static void on_frame(stream *s, const options *o, const cdspd_mavlink_frame *f, 
         check(!memcmp(d.name, "PIPE_DIR\0\0", 10), "DEBUG_VECT named '%.10s'", d.name);
         check(n_lt > 0 && d.time_usec == s->last_lt_time,
               "DEBUG_VECT t=%llu does not follow its LANDING_TARGET", (unsigned long long)d.time_usec);
+        s->last_dv_time = d.time_usec;
         if (n_dv < MAX_REC)
             dvs[n_dv++] = d; /* checked against the JSON at the end */
     }
@@ -642,6 +645,10 @@ int main(int argc, char **argv)
             have = 0;
             s.skip_gap = 1;
             s.out0 = s.last_lt_time;
+            /* the pty's unread bytes (and the partial frame in buf) go
+             * with it: the pose's DEBUG_VECT can be among them, after its
+             * LANDING_TARGET was read (seen in CI: 125 for 126) */
+            s.cut_pair = s.last_lt_time && s.last_dv_time != s.last_lt_time;
             vanished = 1;
             t_vanish = t;
             printf("pty closed and removed at %.2f s\n", t - t0);
@@ -831,7 +838,8 @@ int main(int argc, char **argv)
     check(s.hb_not_active_after_pose == 0, "%ld heartbeats not ACTIVE after the first pose",
           s.hb_not_active_after_pose);
     check(n_lt >= o.min_targets, "%ld LANDING_TARGET, at least %ld expected", n_lt, o.min_targets);
-    check(s.dv == n_lt, "%ld DEBUG_VECT for %ld LANDING_TARGET", s.dv, n_lt);
+    check(s.dv + s.cut_pair == n_lt, "%ld DEBUG_VECT for %ld LANDING_TARGET%s", s.dv, n_lt,
+          s.cut_pair ? " (one cut by the vanish)" : "");
     /* no LANDING_TARGET lies in the outage (out0, out1 are the last and
      * first around it): the difference is what went missing outside it */
     printf("poses without a LANDING_TARGET: %ld\n", json_ok - matched);
