@@ -933,6 +933,13 @@ int cdspd_config_finish(cdspd_config *c, char *err, size_t errlen)
         errf(err, errlen, "key 'retry_min': %g is more than retry_max (%g)", c->retry_min, c->retry_max);
         return -1;
     }
+    /* the point fit refits the final pass's points: without that pass it
+     * would do nothing, silently (cdsp_tool solve --point-fit refuses the same) */
+    if (c->point_fit && c->refine_step < 3) {
+        errf(err, errlen, "key 'solver.point_fit': needs solver.refine_step 3 or more (the final "
+             "pass it refits), got refine_step %d", c->refine_step);
+        return -1;
+    }
     if (c->min_distance > 0 && c->max_distance > 0 && c->min_distance >= c->max_distance) {
         errf(err, errlen, "key 'solver.min_distance': %g is not below solver.max_distance (%g)",
              c->min_distance, c->max_distance);

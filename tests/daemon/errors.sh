@@ -29,6 +29,8 @@ expect_rc 2 badradius "$CDSPD" --calib "$CALIB" --radius ten --dest 127.0.0.1:9
 expect_msg badradius "--radius: key 'radius': expected a number"
 expect_rc 2 badset "$CDSPD" "${base[@]}" --set sim.rate=fast
 expect_msg badset "--set: key 'sim.rate': expected a number in [0, 100000], got 'fast'"
+expect_rc 2 pointfit "$CDSPD" "${base[@]}" --set solver.point_fit=true
+expect_msg pointfit "key 'solver.point_fit': needs solver.refine_step 3 or more"
 expect_rc 2 badsource "$CDSPD" "${base[@]}" --source webcam
 expect_msg badsource "key 'source': unknown source 'webcam'"
 expect_rc 2 baddest "$CDSPD" --calib "$CALIB" --radius 10 --dest 127.0.0.1:99999
