@@ -613,8 +613,12 @@ int cdspd_config_set(cdspd_config *c, const char *key, const char *value, const 
         return 0;
     /* the library's own checks, at load time: a value the table's range
      * lets through (min_contrast 0 or 1) must not turn every frame into
-     * bad-argument later */
+     * bad-argument later. The one rule between two keys, point_fit only
+     * with refine_step (cdsp.h), waits for the whole configuration
+     * (cdspd_config_finish): a file may set point_fit before refine_step. */
     cdspd_config_params(c, &p);
+    if (p.refine_step == 0)
+        p.point_fit = 0;
     st = cdsp_params_check(&p);
     if (st != CDSP_OK) {
         memcpy((char *)c + SOLVER_FIRST, saved, sizeof saved);
@@ -933,8 +937,8 @@ int cdspd_config_finish(cdspd_config *c, char *err, size_t errlen)
         errf(err, errlen, "key 'retry_min': %g is more than retry_max (%g)", c->retry_min, c->retry_max);
         return -1;
     }
-    /* the point fit refits the final pass's points: without that pass it
-     * would do nothing, silently (cdsp_tool solve --point-fit refuses the same) */
+    /* the point fit refits the final pass's points: libcdsp refuses it
+     * without that pass (cdsp_params_check); said here with the keys' names */
     if (c->point_fit && c->refine_step < 3) {
         errf(err, errlen, "key 'solver.point_fit': needs solver.refine_step 3 or more (the final "
              "pass it refits), got refine_step %d", c->refine_step);

@@ -752,7 +752,8 @@ typedef struct {
                                  point on the rendered rack, but a shaded
                                  limb's bias 0.03 px larger; ~13 M
                                  instructions per pipe (docs/method.md §3a).
-                                 Ignored when refine_step is 0 */
+                                 1 with refine_step 0 is refused
+                                 (CDSP_E_ARG): it would refit nothing */
 } cdsp_params;
 
 void cdsp_params_default(cdsp_params *p);

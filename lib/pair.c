@@ -1411,6 +1411,10 @@ cdsp_status cdsp__params_check(const cdsp_params *p)
         !(p->min_confidence <= R(1)) || p->refine_step < 0 || (p->refine_step > 0 && p->refine_step < 3) ||
         p->refine_step > CDSP_EDGE_MAX_STEP || p->point_fit < 0 || p->point_fit > 1)
         return CDSP_E_ARG;
+    /* the point fit refits the final pass's points: without that pass it
+     * would do nothing, and a caller who asked for it would not know */
+    if (p->point_fit && p->refine_step == 0)
+        return CDSP_E_ARG;
     return cdsp__edge_params_check(&p->edge);
 }
 

@@ -814,6 +814,8 @@ int tool_solve_main(int argc, char **argv)
     J.params.track_band_px = (cdsp_real)J.band;
     J.params.refine_step = J.refine_step;
     J.params.point_fit = J.point_fit;
+    /* libcdsp refuses the point fit without the final pass it refits
+     * (cdsp_params_check): said first with the options' names */
     if (J.point_fit && J.refine_step < 3) {
         tool_usage_error(J.cmd, "--point-fit needs --refine-step 3 or more (the final pass it refits)");
         goto out;

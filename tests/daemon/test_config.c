@@ -118,6 +118,9 @@ static void test_file(void **state)
              "log:\n  level: warn\n  source: debug\n"
              "sim:\n  center: [1, -2, 300]\n  rate: 100\n"
              "solver:\n  roi: [10, 20, 100, 50]\n  polarity: -1\n"
+             /* point_fit before the refine_step it needs (libcdsp
+              * refuses it alone): the rule waits for the whole file */
+             "  point_fit: true\n  refine_step: 3\n"
              "file: {loop: yes, rate: 0}\n"
              "aravis:\n  packet_socket: off\n",
              calib_path);
@@ -133,6 +136,8 @@ static void test_file(void **state)
     assert_int_equal(c.dest[1].addr.ss_family, AF_INET6);
     assert_string_equal(c.dest[2].text, "localhost");
     assert_int_equal(c.format, CDSPD_FORMAT_JSON);
+    assert_int_equal(c.point_fit, 1);
+    assert_int_equal(c.refine_step, 3);
     assert_int_equal(cdspd_config_log_level(&c, CDSPD_LOGC_SOURCE), CDSPD_LOG_DEBUG);
     assert_int_equal(cdspd_config_log_level(&c, CDSPD_LOGC_NET), CDSPD_LOG_WARN);
     assert_true(c.sim.center[1] == -2 && c.sim.rate == 100);
@@ -223,6 +228,7 @@ static void test_finish_errors(void **state)
         {"solver.min_contrast", "1", "key 'solver.min_contrast': libcdsp refuses '1'"},
         {"sim.blur", "8.5", "key 'sim.blur': expected a number in [0, 8]"},
         {"sim.blur", "10", "key 'sim.blur'"},
+        {"solver.point_fit", "true", "key 'solver.point_fit': needs solver.refine_step 3 or more"},
     };
     size_t i;
     (void)state;

@@ -216,7 +216,8 @@ static void test_pointfit_noise(void **state)
     assert_int_equal(bad, 0);
 }
 
-/* point_fit's range (include/cdsp.h): 0 or 1, 0 by default */
+/* point_fit's range (include/cdsp.h): 0 or 1, 0 by default, 1 only with
+ * refine_step on (without the final pass it would refit nothing) */
 static void test_pointfit_params(void **state)
 {
     cdsp_params p;
@@ -235,7 +236,11 @@ static void test_pointfit_params(void **state)
     img.stride = 64;
     img.bits = 8;
     cdsp_rng_seed(&rng, 1, 1);
+    p.point_fit = 1;
+    assert_int_equal(cdsp_params_check(&p), CDSP_E_ARG);
+    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &p, NULL, &ws, &rng, &r), CDSP_E_ARG);
     p.refine_step = 3;
+    assert_int_equal(cdsp_params_check(&p), CDSP_OK);
     p.point_fit = 2;
     assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &p, NULL, &ws, &rng, &r), CDSP_E_ARG);
     p.point_fit = -1;
