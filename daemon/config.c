@@ -154,6 +154,10 @@ static const key_def keys[] = {
     {"solver.multi_pipe", K_BOOL, O(multi_pipe), 0, 1, NULL, "false",
      "every pipe in view in each record (binary: the pipe list; JSON: pipes and pairs), each "
      "with a track id"},
+    {"solver.full_every", K_INT, O(full_every), 0, 1000000, NULL, "10",
+     "with multi_pipe: a full search every Nth frame while every track holds, so that a pipe "
+     "coming into view is found within N frames (cdsp_tracker.full_every); 0 = only when a "
+     "track is lost"},
     /* ---- net -------------------------------------------------------------- */
     {"net.ttl", K_INT, O(ttl), 0, 255, NULL, "1", "multicast TTL (hops)"},
     {"net.multicast_loop", K_BOOL, O(multicast_loop), 0, 1, NULL, "true",

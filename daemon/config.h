@@ -64,6 +64,7 @@ typedef struct {
     double min_contrast, track_band_px, min_distance, max_distance;
     double min_confidence; /* solver.min_confidence (issue 10) */
     int multi_pipe;        /* solver.multi_pipe (issue 13): every pipe in each record */
+    int full_every;        /* solver.full_every: cdsp_tracker.full_every */
     int refine_step;       /* solver.refine_step (issue 13): cdsp_params.refine_step */
     int point_fit;         /* solver.point_fit (issue 13): cdsp_params.point_fit */
     int roi[4];

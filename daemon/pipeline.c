@@ -434,6 +434,7 @@ int cdspd_pipeline_start(cdspd_pipeline **out, const cdspd_config *cfg, cdspd_st
     p->ws = malloc(sizeof *p->ws);
     cdsp_tracker_init(&p->trk);
     p->trk.gate_px = (cdsp_real)(2 * p->cfg.track_band_px); /* as cdsp_tool solve --all --track */
+    p->trk.full_every = p->cfg.full_every;
     if (!p->ws || cdspd_pool_init(&p->pool, bytes)) {
         snprintf(err, errlen, "out of memory for the frame buffers (3 x %zu bytes)", bytes);
         goto fail;

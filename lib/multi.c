@@ -43,6 +43,7 @@ void cdsp_tracker_init(cdsp_tracker *t)
     t->next_id = 1u;
     t->gate_px = R(24);
     t->max_missed = 2;
+    t->full_every = 10;
 }
 
 size_t cdsp_frame_all_ws_size(void)
@@ -675,7 +676,8 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cds
 
 static cdsp_status tracker_check(const cdsp_tracker *trk)
 {
-    if (trk && (!(trk->gate_px > R(0)) || !R_FINITE(trk->gate_px) || trk->max_missed < 0))
+    if (trk && (!(trk->gate_px > R(0)) || !R_FINITE(trk->gate_px) || trk->max_missed < 0 ||
+                trk->full_every < 0))
         return CDSP_E_ARG;
     return CDSP_OK;
 }
@@ -938,7 +940,10 @@ cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, 
         return st;
     if (img->width != cam->width || img->height != cam->height)
         return CDSP_E_ARG;
-    if (trk) {
+    /* every full_every-th frame a full search whatever the tracks: the
+     * bands read only the tracks' contours, and a pipe coming into view
+     * would wait for a track to be lost */
+    if (trk && !(trk->full_every > 0 && trk->since_full + 1u >= (uint32_t)trk->full_every)) {
         /* the generator's state on entry: a fallback full search starts
          * from it again, so it gives exactly what a search without the
          * band attempt gives */
@@ -957,8 +962,10 @@ cdsp_status cdsp_frame_solve_all(const cdsp_image *img, const cdsp_camera *cam, 
         if (st == CDSP_OK)
             st = frame_pipes(img, cam, radius, p, trk, ws, n, sigma, min_step, out, cap, n_out);
     }
-    if (trk)
+    if (trk) {
         track_update(trk, cam, out, *n_out); /* with no pipe (n_out 0) every track ages */
+        trk->since_full = tracked ? trk->since_full + 1u : 0u;
+    }
     for (i = 0; i < *n_out; i++) {
         out[i].flags |= flags;
         out[i].noise = sigma;

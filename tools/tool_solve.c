@@ -688,7 +688,8 @@ int tool_solve_main(int argc, char **argv)
              "track_id while it stays in view (a pipe continues a track when its "
              "contours lie within twice --band of it); while every track is found "
              "there, only the bands around the tracks are read, and a full search runs "
-             "when one is lost (a pipe coming into view is found then).",
+             "when one is lost and every 10th frame (a pipe coming into view is found "
+             "then).",
              NULL, 0},
             {"threads", 'j', OPT_INT, &J.threads, 0, 256, "N",
              "Solve N frames at a time on N threads (0: one per core). The output is "

@@ -159,8 +159,10 @@ static int match(const cdsp_camera *cam, const cdsp_result *out, size_t n, const
     return best;
 }
 
-static void solve_rack(const rack_case *rc, double dx, uint64_t seed, int ranged, cdsp_tracker *trk,
-                       cdsp_result *out, size_t *n, rack_geo *g, cdsp_status *st)
+/* As solve_rack, with only the first `shown` pipes of the layout rendered
+ * (the others hidden: g still holds every pipe's axis). */
+static void solve_rack_any(const rack_case *rc, int shown, double dx, uint64_t seed, int ranged,
+                           cdsp_tracker *trk, cdsp_result *out, size_t *n, rack_geo *g, cdsp_status *st)
 {
     cdsp_camera cam;
     cdsp_scene s;
@@ -171,6 +173,7 @@ static void solve_rack(const rack_case *rc, double dx, uint64_t seed, int ranged
     camera(&cam);
     rack_layout(rc, dx, g);
     rack_scene(rc, g, &s);
+    s.n_extra_pipes = shown - 1;
     buf = sup_render(&s, &cam, 8, seed, &img);
     assert_non_null(buf);
     cdsp_params_default(&prm);
@@ -191,6 +194,18 @@ static void solve_rack(const rack_case *rc, double dx, uint64_t seed, int ranged
     cdsp_rng_seed(&rng, seed, 3);
     *st = cdsp_frame_solve_all(&img, &cam, RADIUS, &prm, trk, &ws, &rng, out, CDSP_MAX_PIPES, n);
     free(buf);
+}
+
+static void solve_rack(const rack_case *rc, double dx, uint64_t seed, int ranged, cdsp_tracker *trk,
+                       cdsp_result *out, size_t *n, rack_geo *g, cdsp_status *st)
+{
+    solve_rack_any(rc, rc->n, dx, seed, ranged, trk, out, n, g, st);
+}
+
+static void solve_rack_shown(const rack_case *rc, int shown, double dx, uint64_t seed, cdsp_tracker *trk,
+                             cdsp_result *out, size_t *n, rack_geo *g, cdsp_status *st)
+{
+    solve_rack_any(rc, shown, dx, seed, 0, trk, out, n, g, st);
 }
 
 static void debug_print(const cdsp_result *out, size_t n)
@@ -379,6 +394,18 @@ static void test_racks(void **state)
     assert_true(greedy_short >= 1);
 }
 
+/* Whether pipe i of g has both contours inside the frame (6 px in) at its
+ * middle row and, on the side the racks leave by, at its top row. */
+static int in_full_view(const cdsp_camera *cam, const rack_geo *g, int i)
+{
+    double lt[2][3], pin[2], u0, u1;
+    assert_true(sup_contour_lines(cam, g->c[i], g->v, 8, lt, pin));
+    u0 = -(lt[0][1] * (H / 2.0) + lt[0][2]) / lt[0][0];
+    u1 = -(lt[1][1] * (H / 2.0) + lt[1][2]) / lt[1][0];
+    return u0 > 6 && u0 < W - 7 && u1 > 6 && u1 < W - 7 && -(lt[0][1] * 0 + lt[0][2]) / lt[0][0] < W - 7 &&
+           -(lt[1][1] * 0 + lt[1][2]) / lt[1][0] < W - 7;
+}
+
 /* A rack of three pipes panning across the frame, 10 mm (19 px) per
  * frame, within the tracker's 24 px gate: every pipe keeps its id, and
  * the ids are distinct. */
@@ -450,17 +477,9 @@ static void test_tracking_leaving(void **state)
         if (st != CDSP_OK)
             continue; /* every pipe out of view */
         for (i = 0; i < 3; i++) {
-            double lt[2][3], pin[2], u0, u1;
-            int full;
             k = (size_t)match(&cam, out, n, &g, i, 8);
-            /* both contours inside the frame at its middle row (v = cy) */
-            assert_true(sup_contour_lines(&cam, g.c[i], g.v, 8, lt, pin));
-            u0 = -(lt[0][1] * (H / 2.0) + lt[0][2]) / lt[0][0];
-            u1 = -(lt[1][1] * (H / 2.0) + lt[1][2]) / lt[1][0];
-            full = u0 > 6 && u0 < W - 7 && u1 > 6 && u1 < W - 7 &&
-                   -(lt[0][1] * 0 + lt[0][2]) / lt[0][0] < W - 7 && -(lt[1][1] * 0 + lt[1][2]) / lt[1][0] < W - 7;
             if ((int)k < 0) {
-                if (full)
+                if (in_full_view(&cam, &g, i))
                     fail_msg("frame %d: pipe %d in view but not reported", f, i);
                 continue;
             }
@@ -493,6 +512,87 @@ static void test_tracking_leaving(void **state)
         printf("leaving: %d pipe reports\n", reported);
     assert_true(reported >= 36);
     assert_true(ids[0] && ids[1] && ids[2] && ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2]);
+}
+
+/* A pipe coming into view while every track holds: a rack of three
+ * panning by 5 mm (9.5 px) per frame, inside the bands, whose third pipe
+ * is hidden (not rendered) for the first 3 frames, as when it comes out
+ * from behind an occluder. The bands read only the two tracks' contours,
+ * so it must be found by the full search every full_every frames (the
+ * default 10: by frame 10, 8 frames after it appeared) and keep its id
+ * after; the two tracked pipes keep theirs through that search. With
+ * full_every 0 (a full search only when a track is lost) the same run
+ * must miss it to the end (18 frames), or the run would not test the
+ * rule. Returns the frames the third pipe waited (18 - 3 + 1 when never
+ * reported). */
+static int entering_run(int full_every, uint32_t ids[3])
+{
+    static const rack_case rc = {"entering", 3, {8, 8, 8}, 0.5, 1, CROSS_NONE, 0};
+    cdsp_tracker trk;
+    cdsp_camera cam;
+    int f, i, wait = 18 - 3 + 1;
+    camera(&cam);
+    cdsp_tracker_init(&trk);
+    if (full_every >= 0)
+        trk.full_every = full_every;
+    for (i = 0; i < 3; i++)
+        ids[i] = 0;
+    for (f = 0; f < 18; f++) {
+        cdsp_result out[CDSP_MAX_PIPES];
+        size_t n;
+        rack_geo g;
+        cdsp_status st;
+        int shown = f < 3 ? 2 : 3;
+        solve_rack_shown(&rc, shown, -20 + 5.0 * f, 900 + (uint64_t)f, &trk, out, &n, &g, &st);
+        debug_print(out, n);
+        assert_int_equal(st, CDSP_OK);
+        for (i = 0; i < shown; i++) {
+            int k = match(&cam, out, n, &g, i, 8);
+            if (k < 0) {
+                if (i < 2)
+                    fail_msg("full_every %d, frame %d: tracked pipe %d lost", full_every, f, i);
+                continue;
+            }
+            if (!ids[i])
+                ids[i] = out[k].track_id;
+            else if (out[k].track_id != ids[i])
+                fail_msg("full_every %d, frame %d: pipe %d has id %u, was %u", full_every, f, i,
+                         out[k].track_id, ids[i]);
+            if (i == 2 && f - 3 + 1 < wait)
+                wait = f - 3 + 1;
+        }
+    }
+    if (getenv("MULTI_DEBUG"))
+        printf("entering, full_every %d: ids %u %u %u, the third pipe waited %d frames\n", full_every,
+               ids[0], ids[1], ids[2], wait);
+    return wait;
+}
+
+static void test_tracking_entering(void **state)
+{
+    static const rack_case rc = {"entering", 3, {8, 8, 8}, 0.5, 1, CROSS_NONE, 0};
+    uint32_t ids[3];
+    cdsp_tracker t;
+    cdsp_result out[CDSP_MAX_PIPES];
+    size_t n;
+    rack_geo g;
+    cdsp_status st;
+    int wait;
+    (void)state;
+    cdsp_tracker_init(&t);
+    assert_int_equal(t.full_every, 10);
+    wait = entering_run(-1, ids);
+    if (wait > t.full_every)
+        fail_msg("the pipe coming into view waited %d frames, more than full_every = %d", wait,
+                 t.full_every);
+    assert_true(ids[0] && ids[1] && ids[2] && ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2]);
+    wait = entering_run(0, ids);
+    if (!(wait > t.full_every))
+        fail_msg("with full_every 0 the pipe was found after %d frames: the run does not test the rule",
+                 wait);
+    t.full_every = -1;
+    solve_rack_shown(&rc, 3, 0, 1, &t, out, &n, &g, &st);
+    assert_int_equal(st, CDSP_E_ARG);
 }
 
 /* Perpendicular distance (px) of undistorted point (x, y) from the
@@ -897,6 +997,7 @@ int main(void)
         cmocka_unit_test(test_racks),
         cmocka_unit_test(test_tracking_pan),
         cmocka_unit_test(test_tracking_leaving),
+        cmocka_unit_test(test_tracking_entering),
         cmocka_unit_test(test_tracking_bands),
         cmocka_unit_test(test_points_rack),
         cmocka_unit_test(test_scatter_refusal),
