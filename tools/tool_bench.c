@@ -31,6 +31,7 @@ typedef struct {
     int trials, points, samples, frame_runs, no_frames, quiet, rack, rack_frames, rack_refine, rack_point_fit;
     tool_list levels;
     uint64_t seed;
+    double rack_noise;
 } bench_opts;
 
 typedef struct {
@@ -340,6 +341,7 @@ int tool_bench_main(int argc, char **argv)
     B.seed = 1;
     B.rack_frames = 2;
     B.rack_refine = 3;
+    B.rack_noise = 2;
     B.levels.n = (int)(sizeof default_levels / sizeof default_levels[0]);
     memcpy(B.levels.v, default_levels, sizeof default_levels);
     {
@@ -375,6 +377,11 @@ int tool_bench_main(int argc, char **argv)
             {"rack-point-fit", 0, OPT_FLAG, &B.rack_point_fit, 0, 0, NULL,
              "With --rack: the final pass's points refitted to their windows' pixels "
              "(cdsp_params.point_fit; needs --rack-refine-step >= 3).", NULL, 0},
+            {"rack-noise", 0, OPT_REAL, &B.rack_noise, 0, 50, "G",
+             "With --rack: the frames' sensor noise, gray levels (standard deviation). "
+             "0 shows the systematic part of the spacing error alone (the texture's "
+             "edges are then above the frame's threshold and some frames lose a pipe).",
+             NULL, 0},
             {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
         };
         rc = tool_parse_alloc("bench", &doc, opts, argc, argv, &pos, &npos);
@@ -395,7 +402,8 @@ int tool_bench_main(int argc, char **argv)
         goto out;
     }
     if (B.rack) {
-        rc = tool_bench_rack(B.out, B.rack_frames, B.rack_refine, B.rack_point_fit, B.seed, B.quiet);
+        rc = tool_bench_rack(B.out, B.rack_frames, B.rack_refine, B.rack_point_fit, B.rack_noise, B.seed,
+                             B.quiet);
         goto out;
     }
     tool_paper_camera(&cam);

@@ -253,7 +253,8 @@ int tool_export_main(int argc, char **argv);
 int tool_bench_main(int argc, char **argv);
 /* tool_rack.c: bench --rack, the paper's real experiment rendered (frames
  * per group; CSV into out_dir). */
-int tool_bench_rack(const char *out_dir, int frames, int refine_step, int point_fit, uint64_t seed, int quiet);
+int tool_bench_rack(const char *out_dir, int frames, int refine_step, int point_fit, double noise, uint64_t seed,
+                    int quiet);
 int tool_plot_main(int argc, char **argv);
 int tool_compare_main(int argc, char **argv);
 

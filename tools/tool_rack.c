@@ -131,7 +131,8 @@ static double spacing_floor2(const cdsp_result *from, const cdsp_result *to)
     return sum / RACK_SAMPLES;
 }
 
-int tool_bench_rack(const char *out_dir, int frames, int refine_step, int point_fit, uint64_t seed, int quiet)
+int tool_bench_rack(const char *out_dir, int frames, int refine_step, int point_fit, double noise, uint64_t seed,
+                    int quiet)
 {
     static cdsp_frame_all_ws ws;
     cdsp_camera cam;
@@ -191,9 +192,9 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, int point_
     if (!quiet)
         printf("\nThe paper's real experiment, rendered (--rack): %dx%d, fx = fy = %.2f px "
                "(3.45 um, 16 mm lens),\ntwo 16 mm pipes 300 mm long, axes %.0f mm apart, on "
-               "two 12.68 mm columns; light 40 %% ambient,\nblur 0.8 px, noise 2 gray levels; "
+               "two 12.68 mm columns; light 40 %% ambient,\nblur 0.8 px, noise %g gray levels; "
                "%d frames per group;\nrefine step %d (%s)%s; spacing RMSE (Eq. 17-21), mm.\n",
-               RACK_W, RACK_H, RACK_F, RACK_SPACING, frames, refine_step,
+               RACK_W, RACK_H, RACK_F, RACK_SPACING, noise, frames, refine_step,
                refine_step == 3   ? "every pipe's contours refitted to every pixel near them"
                : refine_step > 0 ? "every pipe's contours refitted on every Kth scanline"
                                  : "off: the contours from the search's scanlines",
@@ -206,6 +207,7 @@ int tool_bench_rack(const char *out_dir, int frames, int refine_step, int point_
                 cdsp_image img;
                 double c[2][3], v[3];
                 tool_rack_frame(arr, g, f, &s, c, v);
+                s.noise_sigma = (cdsp_real)(noise / 255); /* --rack-noise, 2 by default as the scene's */
                 cdsp_rng_seed(&rng, seed, (uint64_t)(1000 * arr + 100 * g + f));
                 if (cdsp_render(&s, &cam, px, 0, 8, scratch, scratch_len, &rng) != CDSP_OK) {
                     fclose(csv);
