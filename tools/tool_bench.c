@@ -379,8 +379,7 @@ int tool_bench_main(int argc, char **argv)
              "(cdsp_params.point_fit; needs --rack-refine-step >= 3).", NULL, 0},
             {"rack-noise", 0, OPT_REAL, &B.rack_noise, 0, 50, "G",
              "With --rack: the frames' sensor noise, gray levels (standard deviation). "
-             "0 shows the systematic part of the spacing error alone (the texture's "
-             "edges are then above the frame's threshold and some frames lose a pipe).",
+             "0 shows the systematic part of the spacing error alone.",
              NULL, 0},
             {NULL, 0, OPT_FLAG, NULL, 0, 0, NULL, NULL, NULL, 0},
         };

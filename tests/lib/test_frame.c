@@ -517,6 +517,60 @@ static void test_edge_buffer_full(void **state)
     free(px);
 }
 
+/* A busy frame (lib/frame.c detect_busy): a 5-megapixel frame of a pipe
+ * under directional light (the paper rack's light, camera and distance)
+ * from a quiet sensor: 0.5 gray levels of noise, so the noise lowers the
+ * threshold from the fixed 6 % (15.3 levels) to about 5.8. There the
+ * pipe's own shading, about 2 levels per px across its body, passes for
+ * edges on every scanline: more than half of the buffer (measured 11 082
+ * of 16 384). The frame is read again at the fixed threshold, which the
+ * contours (40-115 levels) pass and the shading does not: the result says
+ * so (min_step 15.3, about 1 200 edges, not truncated) and the pose is
+ * the pipe's. Fails without the rule (min_step 5.8). */
+static void test_busy_frame(void **state)
+{
+    cdsp_camera cam;
+    cdsp_scene s;
+    cdsp_result r;
+    cdsp_image img;
+    cdsp_params prm;
+    cdsp_rng rng;
+    double P[3] = {0, 10, 600}, v[3] = {1, 0.2, 0.15};
+    uint8_t *px;
+    size_t n;
+    (void)state;
+    sup_camera(&cam, 2448, 2048, 16 / 0.00345, 0, 0);
+    sup_scene(&s, P, v, 8);
+    s.pipe_level = (cdsp_real)0.75;
+    s.background_level = (cdsp_real)0.2;
+    s.light[0] = (cdsp_real)0.4;
+    s.light[1] = (cdsp_real)-0.7;
+    s.light[2] = (cdsp_real)-0.6;
+    s.ambient = (cdsp_real)0.4;
+    s.noise_sigma = (cdsp_real)(0.5 / 255);
+    px = sup_render(&s, &cam, 8, 91, &img);
+    assert_non_null(px);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 91, 3);
+    assert_int_equal(cdsp_frame_solve(&img, &cam, 8, &prm, NULL, &ws, &rng, &r), CDSP_OK);
+    /* the same frame at the lowered threshold alone: busy */
+    {
+        cdsp_edge_params e = prm.edge;
+        e.coarse = 0;
+        e.min_contrast = (cdsp_real)(10 * r.noise / 255);
+        (void)cdsp_edges_detect(&img, &e, ws.edge, CDSP_MAX_EDGES, &n);
+    }
+    if (getenv("FRAME_DEBUG"))
+        printf("busy frame: noise %.3f, %zu edges at the lowered threshold; min_step %.2f, %u edges\n",
+               (double)r.noise, n, (double)r.min_step, r.n_edges);
+    assert_true(n > CDSP_MAX_EDGES / 2);
+    assert_true(r.noise < 1);
+    assert_true(fabs((double)r.min_step - 0.06 * 255) < 1e-3);
+    assert_false(r.flags & CDSP_FLAG_TRUNCATED);
+    check_pose("a pipe over a busy background", &r, P, v, 8, 0.0);
+    free(px);
+}
+
 static void test_args(void **state)
 {
     cdsp_camera cam, other;
@@ -715,6 +769,7 @@ int main(void)
         cmocka_unit_test(test_detection_cues),
         cmocka_unit_test(test_tracking_newcomers),
         cmocka_unit_test(test_edge_buffer_full),
+        cmocka_unit_test(test_busy_frame),
         cmocka_unit_test(test_args),
         cmocka_unit_test(test_huge_band),
         cmocka_unit_test(test_paper_bound),
