@@ -33,6 +33,11 @@
  * BENCH_DETECT_DUMP=dir the frames as PGM; BENCH_DETECT_OLDGEN=1 the
  * generator before its limb fix (limbs_visible), BENCH_DETECT_LIST_FIXED=1
  * the frames that fix changes (their cached renders must be made again).
+ * BENCH_DETECT_RNG=k the solver's generator seeded i + 7919 k instead of i;
+ * BENCH_DETECT_NOCOARSE=1 every solve reads the whole frame (coarse = 0);
+ * with BENCH_DETECT_ONLY, BENCH_DETECT_EDGES=1 the edges on the true
+ * contours with and without the coarse pass, BENCH_DETECT_LINES=c and
+ * BENCH_DETECT_WHY=c the lines and verdicts of the coarse pass's edges.
  * BENCH_DETECT_COARSE=1 (`make check-coarse`, issue 17): each frame is also
  * solved with the coarse pass off (cdsp_edge_params.coarse = 0, the whole
  * frame read); a frame whose pipe the whole-frame search finds and the
@@ -47,6 +52,15 @@
 #include "../../lib/internal.h" /* BENCH_DETECT_WHY: the pair tests' verdicts */
 
 static cdsp_frame_ws ws;
+
+/* The solver's generator seed for frame i: i, or with BENCH_DETECT_RNG=k
+ * i + 7919 k (another RANSAC run on the same frames: a change that moves
+ * a frame or two is told from the draws' luck by its mean over k). */
+static uint64_t solver_seed(int i)
+{
+    const char *k = getenv("BENCH_DETECT_RNG");
+    return (uint64_t)i + 7919u * (uint64_t)(k ? atoi(k) : 0);
+}
 
 /* The library reports a confidence since issue 10 (CDSP_FLAG_CAPPED came
  * with it); an older build is benchmarked with confidence 1 on every pose. */
@@ -495,7 +509,15 @@ static void explain_lines(const frame_spec *f, const cdsp_image *img, const cdsp
     p.edge.coarse = 0;
     if (cdsp__frame_edges(img, &f->cam, &p, &dws, &n, &sigma, &step, &flags) != CDSP_OK)
         return;
-    cdsp_rng_seed(&rng, (uint64_t)i, 3);
+    if (getenv("BENCH_DETECT_LINES")[0] == 'c') { /* =c: the coarse pass's edges instead */
+        cdsp_frame_edges fe;
+        if (cdsp_frame_prepare(img, prm, &fe) != CDSP_OK)
+            return;
+        (void)cdsp_edges_detect(img, &fe.edge, dws.edge, CDSP_MAX_EDGES, &n);
+        (void)cdsp_camera_undistort_edges(&f->cam, dws.edge, &n);
+        step = fe.min_step;
+    }
+    cdsp_rng_seed(&rng, solver_seed(i), 3);
     (void)cdsp__pair_score_frame(&f->cam, (cdsp_real)f->radius, dws.edge, n, dws.label, &p, step, NULL, &rng,
                                  img, &set);
     fprintf(stderr, "lines (step %.1f):\n", (double)step);
@@ -510,6 +532,44 @@ static void explain_lines(const frame_spec *f, const cdsp_image *img, const cdsp
     for (m = 0; m < set.npairs && m < 12; m++)
         fprintf(stderr, "  pair %d-%d score %.0f width %.0f shade %.2f\n", set.pair[m].i, set.pair[m].j,
                 (double)set.pair[m].score, (double)set.pair[m].width, (double)set.pair[m].shade);
+}
+
+/* BENCH_DETECT_ONLY with BENCH_DETECT_EDGES=1: the edges within 5 px of
+ * each true contour (distorted pixels: the row scans' have an integer y),
+ * with the coarse pass and reading the whole frame; =2 also lists them
+ * ("E whole contour x y gx gy"), to see what the bands do not read. */
+static void explain_edges(const frame_spec *f, const cdsp_image *img, const cdsp_params *prm)
+{
+    double t[2][3], pin[2];
+    int c;
+    if (!sup_contour_lines(&f->cam, f->P, f->v, f->radius, t, pin))
+        return;
+    for (c = 0; c < 2; c++) {
+        cdsp_frame_edges fe;
+        size_t n = 0, e;
+        int k, cnt[2][2] = {{0, 0}, {0, 0}};
+        if (cdsp_frame_prepare(img, prm, &fe) != CDSP_OK)
+            return;
+        if (c)
+            fe.edge.coarse = 0;
+        (void)cdsp_edges_detect(img, &fe.edge, dws.edge, CDSP_MAX_EDGES, &n);
+        for (e = 0; e < n; e++) {
+            const cdsp_edge *q = &dws.edge[e];
+            for (k = 0; k < 2; k++)
+                if (fabs(t[k][0] * (double)q->x + t[k][1] * (double)q->y + t[k][2]) < 5.0)
+                    cnt[k][(double)q->y == floor((double)q->y) ? 0 : 1]++;
+        }
+        fprintf(stderr, "edges %s: n %zu; contour 0 rows %d cols %d; contour 1 rows %d cols %d\n",
+                c ? "whole" : "coarse", n, cnt[0][0], cnt[0][1], cnt[1][0], cnt[1][1]);
+        if (getenv("BENCH_DETECT_EDGES")[0] == '2')
+            for (e = 0; e < n; e++) {
+                const cdsp_edge *q = &dws.edge[e];
+                for (k = 0; k < 2; k++)
+                    if (fabs(t[k][0] * (double)q->x + t[k][1] * (double)q->y + t[k][2]) < 5.0)
+                        fprintf(stderr, "E %d %d %.1f %.1f %.2f %.2f\n", c, k, (double)q->x, (double)q->y,
+                                (double)q->gx, (double)q->gy);
+            }
+    }
 }
 
 /* BENCH_DETECT_ONLY with BENCH_DETECT_SCENE=1: the frame's camera and
@@ -740,7 +800,15 @@ static void diagnose(int i, const frame_spec *f, const cdsp_image *img, const cd
         fprintf(stderr, "edges failed\n");
         return;
     }
-    cdsp_rng_seed(&rng, (uint64_t)i, 3);
+    if (getenv("BENCH_DETECT_WHY")[0] == 'c') { /* =c: the coarse pass's edges instead */
+        cdsp_frame_edges fe;
+        if (cdsp_frame_prepare(img, prm, &fe) != CDSP_OK)
+            return;
+        (void)cdsp_edges_detect(img, &fe.edge, dws.edge, CDSP_MAX_EDGES, &n);
+        (void)cdsp_camera_undistort_edges(&f->cam, dws.edge, &n);
+        step = fe.min_step;
+    }
+    cdsp_rng_seed(&rng, solver_seed(i), 3);
     (void)cdsp__pair_score_frame(&f->cam, (cdsp_real)f->radius, dws.edge, n, dws.label, &p, step, NULL, &rng,
                                  img, &set);
     for (e = 0; e < n; e++)
@@ -1095,7 +1163,9 @@ int main(int argc, char **argv)
         }
         img.bits = f.img_bits;
         cdsp_params_default(&prm);
-        cdsp_rng_seed(&rng, (uint64_t)i, 3);
+        if (getenv("BENCH_DETECT_NOCOARSE"))
+            prm.edge.coarse = 0;
+        cdsp_rng_seed(&rng, solver_seed(i), 3);
         t0 = sup_now();
         st = cdsp_frame_solve(&img, &f.cam, (cdsp_real)f.radius, &prm, NULL, &ws, &rng, &r);
         sz = f.cam.width == sizes[0] ? 0 : f.cam.width == sizes[1] ? 1 : 2;
@@ -1108,7 +1178,7 @@ int main(int argc, char **argv)
             cdsp_status sw;
             int ok_c = st == CDSP_OK && pos && right(&f, &r), ok_w;
             wp.edge.coarse = 0;
-            cdsp_rng_seed(&wr, (uint64_t)i, 3);
+            cdsp_rng_seed(&wr, solver_seed(i), 3);
             sw = cdsp_frame_solve(&img, &f.cam, (cdsp_real)f.radius, &wp, NULL, &ws, &wr, &rw);
             ok_w = sw == CDSP_OK && pos && right(&f, &rw);
             c_n++;
@@ -1135,6 +1205,8 @@ int main(int argc, char **argv)
             explain(&f, st, &r, &ws);
         if (getenv("BENCH_DETECT_ONLY") && getenv("BENCH_DETECT_SCENE"))
             explain_scene(&f);
+        if (getenv("BENCH_DETECT_ONLY") && getenv("BENCH_DETECT_EDGES"))
+            explain_edges(&f, &img, &prm);
         if (getenv("BENCH_DETECT_ONLY") && getenv("BENCH_DETECT_LINES"))
             explain_lines(&f, &img, &prm, i);
         if (getenv("BENCH_DETECT_SCATTER"))
@@ -1145,7 +1217,7 @@ int main(int argc, char **argv)
             diagnose_negative(i, 0, &f, st, &r, &ws);
         prm.pair.min_distance = (cdsp_real)f.range[0];
         prm.pair.max_distance = (cdsp_real)f.range[1];
-        cdsp_rng_seed(&rng, (uint64_t)i, 3);
+        cdsp_rng_seed(&rng, solver_seed(i), 3);
         st = cdsp_frame_solve(&img, &f.cam, (cdsp_real)f.radius, &prm, NULL, &ws, &rng, &r);
         if (st == CDSP_OK && !(r.distance >= prm.pair.min_distance && r.distance <= prm.pair.max_distance)) {
             fprintf(stderr, "bench_detect: frame %d: distance %.1f outside the range [%.1f, %.1f]\n", i,
