@@ -144,7 +144,15 @@ static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
                 const uint8_t *restrict q = row + x;
                 for (i = 0; i < m; i++)
                     ad[i] = (uint8_t)(q[2 * i + 1] > q[2 * i] ? q[2 * i + 1] - q[2 * i] : q[2 * i] - q[2 * i + 1]);
-                for (i = 0; i < m; i++)
+                /* four counts a round: the loop's own test and step
+                 * were 3 of its 5 instructions a pair (the same counts) */
+                for (i = 0; i + 4 <= m; i += 4) {
+                    hist[ad[i]]++;
+                    hist[ad[i + 1]]++;
+                    hist[ad[i + 2]]++;
+                    hist[ad[i + 3]]++;
+                }
+                for (; i < m; i++)
                     hist[ad[i]]++;
             }
             total += (uint32_t)(img->width / 2);
