@@ -337,8 +337,17 @@ static inline int refine_core(const cdsp_image *img, int horizontal, int s, int 
  * one. 16-bit frames take the per-pixel test.
  */
 #define CHUNK 32
-/* Positions a row segment's test takes at once (a multiple of 8). */
+/* Positions a row segment's test takes at once (a multiple of 8): 128
+ * with SIMD, where each call and its setup cost about as much as 3
+ * vectors of the test (the full search's coarse rows, callgrind: 5.180 ->
+ * 5.133 M instructions at 128 from 64; 256 gained nothing more); 64
+ * without, where the flags and the run on the stack would grow by 128
+ * bytes on an MCU for a smaller share. */
+#if CDSP__SIMD
+#define SEG_RUN 128
+#else
 #define SEG_RUN 64
+#endif
 
 /* Candidate flags, read eight at a time: a word of zeros (nearly every
  * word: edges are sparse along a line) is passed over with one test. */
