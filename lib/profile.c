@@ -142,16 +142,26 @@ static int accumulate(const cdsp_image *img, cdsp_profile_ws *ws, const cdsp_rea
             uint64_t *sumsq = ws->sumsq;
             cdsp_real *sum_u = ws->sum_u;
             const unsigned char *px = base + o;
-            for (s = hi - lo + 1; s > 0; s--, px += step, sr += R(1)) {
-                uint32_t v = *px;
-                int b;
-                u = (sr - qs) * ns + ct;
-                b = (int)((u + R(CDSP_PROFILE_RANGE_PX)) * R(BPP));
-                cnt[b]++;
-                sum[b] += v;
-                sumsq[b] += (uint64_t)(v * v);
-                sum_u[b] += u;
+#define ACC_PX(px, sr)                                              \
+    do {                                                            \
+        uint32_t v = *(px);                                         \
+        int b;                                                      \
+        u = ((sr) - qs) * ns + ct;                                  \
+        b = (int)((u + R(CDSP_PROFILE_RANGE_PX)) * R(BPP));         \
+        cnt[b]++;                                                   \
+        sum[b] += v;                                                \
+        sumsq[b] += (uint64_t)(v * v);                              \
+        sum_u[b] += u;                                              \
+    } while (0)
+            /* two pixels a round (the loop's test and steps were 4 of
+             * ~25 instructions a pixel), in order: the same sums */
+            for (s = hi - lo + 1; s > 1; s -= 2, px += 2 * step, sr += R(2)) {
+                ACC_PX(px, sr);
+                ACC_PX(px + step, sr + R(1));
             }
+            if (s > 0)
+                ACC_PX(px, sr);
+#undef ACC_PX
             return 1;
         }
         for (s = lo; s <= hi; s++, o += step) {
