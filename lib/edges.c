@@ -348,6 +348,11 @@ static inline int refine_core(const cdsp_image *img, int horizontal, int s, int 
 #else
 #define SEG_RUN 64
 #endif
+/* A run may take up to SEG_TAIL more positions: a segment's last few (a
+ * coarse row's 4 at the paper frame's width) would be a run shorter than
+ * the SIMD test's vector, which takes the portable form (~220
+ * instructions for 4 positions; callgrind) */
+#define SEG_TAIL 15
 
 /* Candidate flags as bits (cdsp__edges_peaks), 32 a word: a word of
  * zeros (nearly every word: edges are sparse along a line) is passed over
@@ -483,15 +488,15 @@ static inline size_t scan_segment(const cdsp_image *img, const cdsp_edge_params 
                                   int line, int from, int to, cdsp_edge *out, size_t cap,
                                   cdsp_edge *htop, size_t *nh)
 {
-    int h = p->half_window, s0;
+    int h = p->half_window, s0, m;
     int full = (1 << img->bits) - 1;
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
     size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
     const unsigned char *base = (const unsigned char *)img->data;
     ptrdiff_t es;
-    uint32_t flag[FLAG_WORDS(SEG_RUN)];
-    uint8_t run[SEG_RUN + 4];
+    uint32_t flag[FLAG_WORDS(SEG_RUN + SEG_TAIL)];
+    uint8_t run[SEG_RUN + SEG_TAIL + 4];
     size_t nh0 = htop ? *nh : 0;
     if (to - from < 3 || cap == 0)
         return 0;
@@ -504,8 +509,9 @@ static inline size_t scan_segment(const cdsp_image *img, const cdsp_edge_params 
         es = (ptrdiff_t)(img->stride / bpp);
     }
     /* candidates s in [from+1, to-1): a local maximum of |g| needs g at s-1..s+1 */
-    for (s0 = from + 1; s0 < to - 1; s0 += SEG_RUN) {
-        int m = (to - 1 - s0) < SEG_RUN ? (to - 1 - s0) : SEG_RUN, i, k;
+    for (s0 = from + 1; s0 < to - 1; s0 += m) {
+        int i, k;
+        m = (to - 1 - s0) <= SEG_RUN + SEG_TAIL ? (to - 1 - s0) : SEG_RUN;
         uint32_t wb;
         if (bpp == 1) {
             /* a column's run s0 - 2 .. s0 + m + 1 gathered first (tracking
