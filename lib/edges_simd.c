@@ -187,6 +187,42 @@ void cdsp__edges_gather_rows_simd(const uint8_t *src, ptrdiff_t stride, ptrdiff_
         gather1(src, d, n, dst);
 }
 
+/* cdsp__noise_small (internal.h): 16 pairs a round, their even and odd
+ * bytes split (mask / shift of the 16-bit lanes, then packed), |d| as for
+ * the candidate test, each count a byte per lane (cmpeq's -1 subtracted),
+ * summed into cnt before a lane could wrap (255 rounds) */
+void cdsp__noise_small_simd(const uint8_t *q, size_t n, uint32_t cnt[4])
+{
+    const __m128i lo = _mm_set1_epi16(0xFF), zero = _mm_setzero_si128();
+    const __m128i v1 = _mm_set1_epi8(1), v2 = _mm_set1_epi8(2), v3 = _mm_set1_epi8(3);
+    size_t i = 0;
+    while (i + 16 <= n) {
+        __m128i c0 = zero, c1 = zero, c2 = zero, c3 = zero;
+        size_t end = n - i > 255 * 16 ? i + 255 * 16 : n;
+        for (; i + 16 <= end; i += 16) {
+            __m128i a = _mm_loadu_si128((const __m128i *)(const void *)(q + 2 * i));
+            __m128i b = _mm_loadu_si128((const __m128i *)(const void *)(q + 2 * i + 16));
+            __m128i ev = _mm_packus_epi16(_mm_and_si128(a, lo), _mm_and_si128(b, lo));
+            __m128i od = _mm_packus_epi16(_mm_srli_epi16(a, 8), _mm_srli_epi16(b, 8));
+            __m128i d = _mm_or_si128(_mm_subs_epu8(od, ev), _mm_subs_epu8(ev, od));
+            c0 = _mm_sub_epi8(c0, _mm_cmpeq_epi8(d, zero));
+            c1 = _mm_sub_epi8(c1, _mm_cmpeq_epi8(d, v1));
+            c2 = _mm_sub_epi8(c2, _mm_cmpeq_epi8(d, v2));
+            c3 = _mm_sub_epi8(c3, _mm_cmpeq_epi8(d, v3));
+        }
+        /* the lanes' bytes summed (psadbw: two 64-bit halves) */
+        c0 = _mm_sad_epu8(c0, zero);
+        c1 = _mm_sad_epu8(c1, zero);
+        c2 = _mm_sad_epu8(c2, zero);
+        c3 = _mm_sad_epu8(c3, zero);
+        cnt[0] += (uint32_t)_mm_cvtsi128_si32(c0) + (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(c0, 8));
+        cnt[1] += (uint32_t)_mm_cvtsi128_si32(c1) + (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(c1, 8));
+        cnt[2] += (uint32_t)_mm_cvtsi128_si32(c2) + (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(c2, 8));
+        cnt[3] += (uint32_t)_mm_cvtsi128_si32(c3) + (uint32_t)_mm_cvtsi128_si32(_mm_srli_si128(c3, 8));
+    }
+    cdsp__noise_small_c(q + 2 * i, n - i, cnt);
+}
+
 #else /* AArch64 NEON */
 #include <arm_neon.h>
 
@@ -281,6 +317,29 @@ void cdsp__edges_gather_rows_simd(const uint8_t *src, ptrdiff_t stride, ptrdiff_
     for (r = 0; r < rows; r++, src += stride, dst += dstride)
         gather1(src, d, n, dst);
 }
+/* cdsp__noise_small (see the SSE2 form): vld2q_u8 splits the pairs */
+void cdsp__noise_small_simd(const uint8_t *q, size_t n, uint32_t cnt[4])
+{
+    size_t i = 0;
+    while (i + 16 <= n) {
+        uint8x16_t c0 = vdupq_n_u8(0), c1 = c0, c2 = c0, c3 = c0;
+        size_t end = n - i > 255 * 16 ? i + 255 * 16 : n;
+        for (; i + 16 <= end; i += 16) {
+            uint8x16x2_t p = vld2q_u8(q + 2 * i);
+            uint8x16_t d = vabdq_u8(p.val[1], p.val[0]);
+            c0 = vsubq_u8(c0, vceqq_u8(d, vdupq_n_u8(0)));
+            c1 = vsubq_u8(c1, vceqq_u8(d, vdupq_n_u8(1)));
+            c2 = vsubq_u8(c2, vceqq_u8(d, vdupq_n_u8(2)));
+            c3 = vsubq_u8(c3, vceqq_u8(d, vdupq_n_u8(3)));
+        }
+        cnt[0] += vaddlvq_u8(c0);
+        cnt[1] += vaddlvq_u8(c1);
+        cnt[2] += vaddlvq_u8(c2);
+        cnt[3] += vaddlvq_u8(c3);
+    }
+    cdsp__noise_small_c(q + 2 * i, n - i, cnt);
+}
+
 #endif
 
 #else

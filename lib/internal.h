@@ -318,8 +318,15 @@ void cdsp__edges_gather_c(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst);
 /* The same for rows r < rows: src + r stride into dst + r dstride. */
 void cdsp__edges_gather_rows_c(const uint8_t *src, ptrdiff_t stride, ptrdiff_t d, int n, int rows,
                                uint8_t *dst, ptrdiff_t dstride);
+/* The frame's noise estimate's small differences (lib/frame.c
+ * frame_noise): of the n pairs' |q[2i + 1] - q[2i]| (8-bit samples),
+ * cnt[v] += how many equal v, v = 0 .. 3; portable form always built,
+ * the SIMD one (lib/edges_simd.c) what frame_noise uses where there is
+ * one. */
+void cdsp__noise_small_c(const uint8_t *q, size_t n, uint32_t cnt[4]);
 #if !defined(CDSP_NO_SIMD) && (defined(__SSE2__) || (defined(__aarch64__) && defined(__ARM_NEON)))
 #define CDSP__SIMD 1
+void cdsp__noise_small_simd(const uint8_t *q, size_t n, uint32_t cnt[4]);
 uint32_t cdsp__edges_peaks_simd(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
                                 uint32_t *bits);
 void cdsp__edges_gather_simd(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst);

@@ -784,6 +784,48 @@ static void test_gather_forms(void **state)
     assert_int_equal(trials, 10 * 71 + 9 * 71 * 5);
 }
 
+/* The noise estimate's counts of |d| = 0 .. 3 (cdsp__noise_small, lib/
+ * frame.c): the SIMD form (where the target has one) equals the portable
+ * one on every length 0..70 and on runs past 255 vectors of 16 pairs (its
+ * byte counters' flush), offsets 0..2, values mostly small (noise of a
+ * few levels), spread over the byte, or one |d| throughout (0, 3: a
+ * counter's every lane at its most before the flush), added to counts
+ * already there. */
+static void test_noise_small_forms(void **state)
+{
+    static uint8_t q[2 * 4200 + 3];
+    static const size_t lens[] = {4080, 4081, 4096, 4200};
+    cdsp_rng rng;
+    size_t n, off, i, li;
+    int spread, trials = 0;
+    (void)state;
+    cdsp_rng_seed(&rng, 7, 7);
+    for (spread = 0; spread < 4; spread++)
+        for (li = 0; li < 71 + sizeof lens / sizeof lens[0]; li++)
+            for (off = 0; off < 3; off++) {
+                uint32_t cw[4] = {5, 6, 7, 8}, cg[4] = {5, 6, 7, 8};
+                n = li < 71 ? li : lens[li - 71];
+                for (i = 0; i < sizeof q; i++) {
+                    uint32_t u = cdsp_rng_u32(&rng);
+                    q[i] = (uint8_t)(spread == 0 ? 100 + u % 7 : spread == 1 ? u : spread == 2 ? 9 : 10 + 3 * (i & 1));
+                }
+                for (i = 0; i < n; i++) {
+                    int d = iabs((int)q[off + 2 * i + 1] - (int)q[off + 2 * i]);
+                    cw[d < 4 ? d : 0] += d < 4;
+                }
+                cdsp__noise_small_c(q + off, n, cg);
+                assert_memory_equal(cg, cw, sizeof cw);
+#if CDSP__SIMD
+                cg[0] = 5, cg[1] = 6, cg[2] = 7, cg[3] = 8;
+                cdsp__noise_small_simd(q + off, n, cg);
+                if (memcmp(cg, cw, sizeof cw) != 0)
+                    fail_msg("SIMD noise counts differ: n %zu off %zu spread %d", n, off, spread);
+#endif
+                trials++;
+            }
+    assert_int_equal(trials, 4 * 75 * 3);
+}
+
 /* Tracking's column blocks (cdsp__edges_scan_col_bands) give exactly the
  * edges of cdsp__edges_scan_segment on each column in turn, in that order,
  * with its cap rule: on every frame of the table, blocks of 1 .. 32
@@ -857,6 +899,7 @@ int main(void)
         cmocka_unit_test(test_scan_equals_reference),
         cmocka_unit_test(test_peaks_forms),
         cmocka_unit_test(test_gather_forms),
+        cmocka_unit_test(test_noise_small_forms),
         cmocka_unit_test(test_col_bands_equal_segments),
         cmocka_unit_test(test_coarse_guarantee),
         cmocka_unit_test(test_coarse_level_pipes),
