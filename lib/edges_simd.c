@@ -1,8 +1,10 @@
 /*
  * edges_simd.c - the SIMD forms of the edge scans' candidate test
  * (cdsp__edges_peaks, internal.h; the portable form, the reference, is
- * cdsp__edges_peaks_c in lib/edges.c) and of the column scans' gather at
- * the default step (cdsp__edges_gather; cdsp__edges_gather_c). 16 positions per instruction with
+ * cdsp__edges_peaks_c in lib/edges.c), of the column scans' gather at
+ * the default step (cdsp__edges_gather, cdsp__edges_gather_rows; the
+ * portable forms in lib/edges.c) and of the frame noise's small-difference
+ * counts (cdsp__noise_small; cdsp__noise_small_c in lib/frame.c). 16 positions per instruction with
  * SSE2 (every x86-64) or NEON (every AArch64), 32 with AVX2 when the
  * library is compiled for it (-mavx2: a compile-time choice, no run-time
  * dispatch). All of it is exact 8-bit integer arithmetic: |a - b| as the
