@@ -100,29 +100,41 @@ static inline void window_sums(const win_px *w, int wide, int h, int g[2], int S
 #undef WPX
 }
 
-/* window_sums for 8-bit samples at the default h = 4: each of the 27
- * pixels read once (the Sobel components from the same loads as the
- * sums), at offsets computed once; integer sums, so the same numbers in
- * any order. ~30 instructions a refinement fewer than the general form
- * (callgrind, the paper frame: 74 K over a full search's 2113). */
-static inline void window_sums8_h4(const win_px *w, int g[2], int S[3], int AB[2])
+/* window_sums for 8-bit samples at the default h = 4, in three parts
+ * so that a candidate refine_core rejects early reads no more: the end
+ * pixels' sums (6 pixels) first, which alone reject about half the
+ * candidates of the full search's column scans (|A - B| too small: 970 of
+ * 2336 on the paper frame), then the Sobel components (the 8 pixels of
+ * the 3x3 around the centre), then the window sums (27 pixels, the
+ * compiler keeping those already read). Offsets computed once; integer
+ * sums, so the same numbers in any order. */
+static inline void ends8_h4(const win_px *w, int AB[2])
+{
+    const uint8_t *b = w->b;
+    ptrdiff_t o4 = 4 * w->ds, dt = w->dt;
+    AB[0] = b[-o4 - dt] + b[-o4] + b[-o4 + dt];
+    AB[1] = b[o4 - dt] + b[o4] + b[o4 + dt];
+}
+
+static inline void sobel8(const win_px *w, int g[2])
+{
+    const uint8_t *b = w->b;
+    ptrdiff_t o1 = w->ds, dt = w->dt;
+    int m0 = b[-o1 - dt], m1 = b[-o1], m2 = b[-o1 + dt];
+    int p0 = b[o1 - dt], p1 = b[o1], p2 = b[o1 + dt];
+    g[0] = (p0 - m0) + 2 * (p1 - m1) + (p2 - m2);
+    g[1] = (m2 - m0) + 2 * (b[dt] - b[-dt]) + (p2 - p0);
+}
+
+static inline void sums8_h4(const win_px *w, int S[3])
 {
     const uint8_t *b = w->b;
     ptrdiff_t o1 = w->ds, o2 = 2 * w->ds, o3 = 3 * w->ds, o4 = 4 * w->ds;
-    int m1[3], z[3], p1[3], k;
-    AB[0] = AB[1] = 0;
+    int k;
     for (k = 0; k < 3; k++) {
         const uint8_t *q = b + (ptrdiff_t)(k - 1) * w->dt;
-        int a4 = q[-o4], b4 = q[o4];
-        m1[k] = q[-o1];
-        z[k] = q[0];
-        p1[k] = q[o1];
-        S[k] = a4 + q[-o3] + q[-o2] + m1[k] + z[k] + p1[k] + q[o2] + q[o3] + b4;
-        AB[0] += a4;
-        AB[1] += b4;
+        S[k] = q[-o4] + q[-o3] + q[-o2] + q[-o1] + q[0] + q[o1] + q[o2] + q[o3] + q[o4];
     }
-    g[0] = (p1[0] - m1[0]) + 2 * (p1[1] - m1[1]) + (p1[2] - m1[2]);
-    g[1] = (m1[2] - m1[0]) + 2 * (z[2] - z[0]) + (p1[2] - p1[0]);
 }
 
 /* Intensity at pos along the scan from the window's centre (row k across
@@ -200,16 +212,23 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
 static inline int refine_core(const cdsp_image *img, int horizontal, int s, int t, int h, int min_step,
                               cdsp_edge *e, cdsp_edge *hint)
 {
-    int S[3], g[2], AB[2], A, B, gs, gt;
+    int S[3], g[2], AB[2], A, B, gs, gt, h4;
     cdsp_real diff, a, b, norm, gsn, gtn;
     win_px w;
     win_at(img, horizontal, s, t, &w);
-    if (w.wide)
+    h4 = !w.wide && h == 4; /* the default: 8 bit, half window 4 */
+    if (h4) {
+        /* without hints a too small step rejects the candidate whichever
+         * family owns it: before the rest is read */
+        ends8_h4(&w, AB);
+        if (!hint && iabs(AB[0] - AB[1]) < 3 * min_step)
+            return 0;
+        sobel8(&w, g);
+    } else if (w.wide) {
         window_sums(&w, 1, h, g, S, AB);
-    else if (h == 4) /* the default half window */
-        window_sums8_h4(&w, g, S, AB);
-    else
+    } else {
         window_sums(&w, 0, h, g, S, AB);
+    }
     gs = g[0];
     gt = g[1];
     A = AB[0];
@@ -230,6 +249,8 @@ static inline int refine_core(const cdsp_image *img, int horizontal, int s, int 
     /* A, B: means of the three end pixels (kept as sums of 3 until here) */
     if (iabs(A - B) < 3 * min_step)
         return 0;
+    if (h4)
+        sums8_h4(&w, S);
     diff = (cdsp_real)(A - B) / R(3);
     a = ((cdsp_real)(S[0] + S[1] + S[2]) / R(3) - (R(h) + R(0.5)) * (cdsp_real)(A + B) / R(3)) / diff;
     b = (cdsp_real)(S[2] - S[0]) / (R(2) * diff);
@@ -316,37 +337,72 @@ static inline int refine_core(const cdsp_image *img, int horizontal, int s, int 
  * one. 16-bit frames take the per-pixel test.
  */
 #define CHUNK 32
-/* Positions a row segment's test takes at once (a multiple of 8). */
+/* Positions a row segment's test takes at once (a multiple of 8): 128
+ * with SIMD, where each call and its setup cost about as much as 3
+ * vectors of the test (the full search's coarse rows, callgrind: 5.180 ->
+ * 5.133 M instructions at 128 from 64; 256 gained nothing more); 64
+ * without, where the flags and the run on the stack would grow by 128
+ * bytes on an MCU for a smaller share. */
+#if CDSP__SIMD
+#define SEG_RUN 128
+#else
 #define SEG_RUN 64
+#endif
+/* A run may take up to SEG_TAIL more positions: a segment's last few (a
+ * coarse row's 4 at the paper frame's width) would be a run shorter than
+ * the SIMD test's vector, which takes the portable form (~220
+ * instructions for 4 positions; callgrind) */
+#define SEG_TAIL 15
 
-/* Candidate flags, read eight at a time: a word of zeros (nearly every
- * word: edges are sparse along a line) is passed over with one test. */
-typedef union {
-    uint8_t b[SEG_RUN];
-    uint64_t w[SEG_RUN / 8];
-} flag_buf;
+/* Candidate flags as bits (cdsp__edges_peaks), 32 a word: a word of
+ * zeros (nearly every word: edges are sparse along a line) is passed over
+ * with one test, and a word's set bits found one by one (lowest_bit). Until
+ * issue 17's third pass the flags were bytes read 8 at a time and then one
+ * by one: on the paper frame's full search the column blocks' flags, in
+ * which nearly every call finds a candidate (the blocks are read where the
+ * hints put a contour), cost 0.22 M instructions to read. */
+#define FLAG_WORDS(n) (((n) + 31) / 32)
+
+/* The index of a non-zero word's lowest set bit: the instruction where
+ * the target has one (the SIMD targets: x86-64, AArch64), else by a de
+ * Bruijn sequence (no library call on any target). */
+static inline int lowest_bit(uint32_t w)
+{
+#if CDSP__SIMD && defined(__GNUC__)
+    return __builtin_ctz(w);
+#else
+    static const uint8_t pos[32] = {0,  1,  28, 2,  29, 14, 24, 3, 30, 22, 20, 15, 25, 17, 4,  8,
+                                    31, 27, 13, 23, 21, 19, 16, 7, 26, 12, 18, 6,  11, 5,  10, 9};
+    return pos[(uint32_t)((w & (0u - w)) * 0x077CB531u) >> 27];
+#endif
+}
 
 /* Portable form of the primitive (internal.h). Byte-wide arithmetic (|a -
- * b| of 8-bit samples fits a byte) and no early exit: a loop compilers
- * turn into byte-vector code (restrict: flag never overlaps the frame, so
- * no run-time overlap checks of seven pointers are needed). */
-int cdsp__edges_peaks_c(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
-                        uint8_t *flag)
+ * b| of 8-bit samples fits a byte), each word's flags then set bit by bit
+ * (restrict: bits never overlaps the frame). */
+uint32_t cdsp__edges_peaks_c(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
+                             uint32_t *bits)
 {
     const uint8_t *restrict m2 = f[0], *restrict m1 = f[1], *restrict z = f[2];
     const uint8_t *restrict p1 = f[3], *restrict p2 = f[4];
-    uint8_t *restrict out = flag;
-    size_t i;
-    uint8_t any = 0, t = (uint8_t)thr;
-    for (i = 0; i < n; i++) {
-        uint8_t gl = (uint8_t)(z[i] > m2[i] ? z[i] - m2[i] : m2[i] - z[i]);
-        uint8_t gc = (uint8_t)(p1[i] > m1[i] ? p1[i] - m1[i] : m1[i] - p1[i]);
-        uint8_t gr = (uint8_t)(p2[i] > z[i] ? p2[i] - z[i] : z[i] - p2[i]);
-        uint8_t c = (uint8_t)((gc >= t) & (gc > gl) & (gc >= gr) & (sel ? sel[i] : 1u));
-        out[i] = c;
-        any |= c;
+    uint32_t *restrict out = bits;
+    size_t i, w0;
+    uint8_t t = (uint8_t)thr;
+    uint32_t any = 0;
+    for (w0 = 0; w0 < n; w0 += 32) {
+        size_t e = n - w0 < 32 ? n : w0 + 32;
+        uint32_t word = 0;
+        for (i = w0; i < e; i++) {
+            uint8_t gl = (uint8_t)(z[i] > m2[i] ? z[i] - m2[i] : m2[i] - z[i]);
+            uint8_t gc = (uint8_t)(p1[i] > m1[i] ? p1[i] - m1[i] : m1[i] - p1[i]);
+            uint8_t gr = (uint8_t)(p2[i] > z[i] ? p2[i] - z[i] : z[i] - p2[i]);
+            uint32_t c = (uint32_t)((gc >= t) & (gc > gl) & (gc >= gr) & (sel ? sel[i] : 1u));
+            word |= c << (i - w0);
+        }
+        out[w0 / 32] = word;
+        any |= word;
     }
-    return any != 0;
+    return any;
 }
 
 /* |g| at position s of a run (pixel 0 at base, element stride es, in
@@ -382,6 +438,14 @@ void cdsp__edges_gather_c(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst)
     }
     for (; k < n; k++, src += d)
         dst[k] = *src;
+}
+
+void cdsp__edges_gather_rows_c(const uint8_t *src, ptrdiff_t stride, ptrdiff_t d, int n, int rows,
+                               uint8_t *dst, ptrdiff_t dstride)
+{
+    int r;
+    for (r = 0; r < rows; r++, src += stride, dst += dstride)
+        cdsp__edges_gather_c(src, d, n, dst);
 }
 
 /*
@@ -424,20 +488,18 @@ static inline size_t scan_segment(const cdsp_image *img, const cdsp_edge_params 
                                   int line, int from, int to, cdsp_edge *out, size_t cap,
                                   cdsp_edge *htop, size_t *nh)
 {
-    int h = p->half_window, s0;
+    int h = p->half_window, s0, m;
     int full = (1 << img->bits) - 1;
     int min_step = (int)(p->min_contrast * (cdsp_real)full + R(0.5));
     int thr = min_step / 2 > 0 ? min_step / 2 : 1;
     size_t n = 0, bpp = img->bits <= 8 ? 1u : 2u;
     const unsigned char *base = (const unsigned char *)img->data;
     ptrdiff_t es;
-    flag_buf flag;
-    uint8_t run[SEG_RUN + 4];
+    uint32_t flag[FLAG_WORDS(SEG_RUN + SEG_TAIL)];
+    uint8_t run[SEG_RUN + SEG_TAIL + 4];
     size_t nh0 = htop ? *nh : 0;
     if (to - from < 3 || cap == 0)
         return 0;
-    for (s0 = 0; s0 < SEG_RUN / 8; s0++) /* no word is ever read unset */
-        flag.w[s0] = 0;
     /* the run's pixel s=0 and the element stride along it */
     if (horizontal) {
         base += (size_t)line * img->stride;
@@ -447,8 +509,10 @@ static inline size_t scan_segment(const cdsp_image *img, const cdsp_edge_params 
         es = (ptrdiff_t)(img->stride / bpp);
     }
     /* candidates s in [from+1, to-1): a local maximum of |g| needs g at s-1..s+1 */
-    for (s0 = from + 1; s0 < to - 1; s0 += SEG_RUN) {
-        int m = (to - 1 - s0) < SEG_RUN ? (to - 1 - s0) : SEG_RUN, i, k;
+    for (s0 = from + 1; s0 < to - 1; s0 += m) {
+        int i, k;
+        m = (to - 1 - s0) <= SEG_RUN + SEG_TAIL ? (to - 1 - s0) : SEG_RUN;
+        uint32_t wb;
         if (bpp == 1) {
             /* a column's run s0 - 2 .. s0 + m + 1 gathered first (tracking
              * reads column segments): the same samples, contiguous */
@@ -459,38 +523,34 @@ static inline size_t scan_segment(const cdsp_image *img, const cdsp_edge_params 
             }
             {
                 const uint8_t *const f[5] = {r - 2, r - 1, r, r + 1, r + 2};
-                if (!cdsp__edges_peaks(f, NULL, (size_t)m, thr, flag.b))
+                if (!cdsp__edges_peaks(f, NULL, (size_t)m, thr, flag))
                     continue;
             }
         } else {
+            for (k = 0; k < FLAG_WORDS(m); k++)
+                flag[k] = 0;
             for (i = 0; i < m; i++)
-                flag.b[i] = (uint8_t)is_peak(img, base, es, s0 + i, thr);
+                flag[i / 32] |= (uint32_t)is_peak(img, base, es, s0 + i, thr) << (i % 32);
         }
-        /* bytes past m: zero, or flags of an earlier run, skipped by i < m;
-         * the plain scans' loop apart from the coarse rows' (one more
-         * branch per candidate there cost the tracked path 2 % more
+        /* the words of the run's m flags (no bit at m or past it); the
+         * plain scans' loop apart from the coarse rows' (one more branch
+         * per candidate there cost the tracked path 2 % more
          * instructions) */
-        for (k = 0; k < m && !htop; k += 8) {
-            if (!flag.w[k / 8])
-                continue;
-            for (i = k; i < k + 8 && i < m; i++)
-                if (flag.b[i] && cdsp__edges_refine(img, horizontal, s0 + i, line, h, min_step, &out[n]) &&
+        for (k = 0; k < FLAG_WORDS(m) && !htop; k++)
+            for (wb = flag[k]; wb; wb &= wb - 1)
+                if (cdsp__edges_refine(img, horizontal, s0 + 32 * k + lowest_bit(wb), line, h, min_step,
+                                       &out[n]) &&
                     ++n == cap)
                     return n;
-        }
-        for (k = 0; k < m && htop; k += 8) {
-            if (!flag.w[k / 8])
-                continue;
-            for (i = k; i < k + 8 && i < m; i++) {
-                int r = flag.b[i] ? refine_core(img, horizontal, s0 + i, line, h, min_step, &out[n],
-                                                &htop[-1 - (ptrdiff_t)*nh])
-                                  : 0;
+        for (k = 0; k < FLAG_WORDS(m) && htop; k++)
+            for (wb = flag[k]; wb; wb &= wb - 1) {
+                int r = refine_core(img, horizontal, s0 + 32 * k + lowest_bit(wb), line, h, min_step, &out[n],
+                                    &htop[-1 - (ptrdiff_t)*nh]);
                 n += r == 1;
                 *nh += r == 2;
                 if (r && n + (*nh - nh0) == cap)
                     return n;
             }
-        }
     }
     return n;
 }
@@ -521,33 +581,24 @@ static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, 
     const uint8_t *col = (const uint8_t *)img->data + xs;
     if (bpp == 1) {
         uint8_t rows[(COL_BATCH + 4) * CHUNK];
-        union {
-            uint8_t b[COL_BATCH * CHUNK];
-            uint64_t w[COL_BATCH * CHUNK / 8];
-        } flag;
+        uint32_t flag[FLAG_WORDS(COL_BATCH * CHUNK)], wb;
         const uint8_t *const f[5] = {rows, rows + CHUNK, rows + 2 * CHUNK, rows + 3 * CHUNK,
                                      rows + 4 * CHUNK};
         if (from >= to - 1)
             return 0;
         for (i = 0; i < (COL_BATCH + 4) * CHUNK; i++)
             rows[i] = 0;
-        for (i = 0; i < 4; i++)
-            cdsp__edges_gather(col + (ptrdiff_t)(from - 2 + i) * es, step, ncols, rows + i * CHUNK);
+        cdsp__edges_gather_rows(col + (ptrdiff_t)(from - 2) * es, es, step, ncols, 4, rows, CHUNK);
         for (c = from; c < to - 1; c += COL_BATCH) {
             int nr = to - 1 - c < COL_BATCH ? to - 1 - c : COL_BATCH, np = nr * CHUNK;
-            for (i = 0; i < nr; i++)
-                cdsp__edges_gather(col + (ptrdiff_t)(c + 2 + i) * es, step, ncols, rows + (4 + i) * CHUNK);
-            if (cdsp__edges_peaks(f, NULL, (size_t)np, thr, flag.b))
-                for (i = 0; i < np; i += 8) { /* a word of 8 zero flags: one test */
-                    if (!flag.w[i / 8])
-                        continue;
-                    for (k = i; k < i + 8; k++)
-                        if (flag.b[k] &&
-                            cdsp__edges_refine(img, 0, c + k / CHUNK, xs + (k % CHUNK) * step, h, min_step,
-                                               &out[n]) &&
+            cdsp__edges_gather_rows(col + (ptrdiff_t)(c + 2) * es, es, step, ncols, nr, rows + 4 * CHUNK, CHUNK);
+            /* (word i: candidate row c + i, as CHUNK = 32) */
+            if (cdsp__edges_peaks(f, NULL, (size_t)np, thr, flag))
+                for (i = 0; i < nr; i++)
+                    for (wb = flag[i]; wb; wb &= wb - 1)
+                        if (cdsp__edges_refine(img, 0, c + i, xs + lowest_bit(wb) * step, h, min_step, &out[n]) &&
                             ++n == cap)
                             return n;
-                }
             /* rows c + nr - 2 .. c + nr + 1 to the front: the next batch's first four */
             for (i = 0; i < 4 * CHUNK; i++)
                 rows[i] = rows[np + i];
@@ -592,6 +643,8 @@ static size_t scan_cols_block(const cdsp_image *img, const cdsp_edge_params *p, 
 #define BAND_SPAN 256
 #define BAND_LIST 256
 typedef char cdsp__band_cols_is_chunk[CDSP__BAND_COLS == CHUNK ? 1 : -1];
+/* a candidate row's flags are one word of them (scan_cols_block too) */
+typedef char cdsp__chunk_is_a_word[CHUNK == 32 ? 1 : -1];
 size_t cdsp__edges_scan_col_bands(const cdsp_image *img, const cdsp_edge_params *p, int step, int xs,
                                   int ncols, const int *from, const int *to, cdsp_edge *out, size_t cap)
 {
@@ -608,10 +661,7 @@ size_t cdsp__edges_scan_col_bands(const cdsp_image *img, const cdsp_edge_params 
         int len[CHUNK];
         ptrdiff_t es = (ptrdiff_t)img->stride;
         uint8_t rows[(COL_BATCH + 4) * CHUNK];
-        union {
-            uint8_t b[COL_BATCH * CHUNK];
-            uint64_t w[COL_BATCH * CHUNK / 8];
-        } flag;
+        uint32_t flag[FLAG_WORDS(COL_BATCH * CHUNK)], wb;
         const uint8_t *const f[5] = {rows, rows + CHUNK, rows + 2 * CHUNK, rows + 3 * CHUNK,
                                      rows + 4 * CHUNK};
         uint16_t list[BAND_LIST], sorted[BAND_LIST]; /* c * CHUNK + k */
@@ -675,13 +725,12 @@ size_t cdsp__edges_scan_col_bands(const cdsp_image *img, const cdsp_edge_params 
                             rows[(4 + i) * CHUNK + k] = v;
                         }
                 }
-                if (cdsp__edges_peaks(f, NULL, (size_t)np, thr, flag.b))
-                    for (i = 0; i < np && nl >= 0; i += 8) {
-                        if (!flag.w[i / 8])
-                            continue;
-                        for (k = i; k < i + 8; k++) {
-                            int q = k % CHUNK, cc = c + k / CHUNK;
-                            if (!flag.b[k] || cc >= len[q])
+                /* (word i: position c + i of every run, as CHUNK = 32) */
+                if (cdsp__edges_peaks(f, NULL, (size_t)np, thr, flag))
+                    for (i = 0; i < nr && nl >= 0; i++)
+                        for (wb = flag[i]; wb; wb &= wb - 1) {
+                            int q = lowest_bit(wb), cc = c + i;
+                            if (cc >= len[q])
                                 continue;
                             if (nl == BAND_LIST) {
                                 nl = -1; /* too many: the per-column scans */
@@ -689,7 +738,6 @@ size_t cdsp__edges_scan_col_bands(const cdsp_image *img, const cdsp_edge_params 
                             }
                             list[nl++] = (uint16_t)(cc * CHUNK + q);
                         }
-                    }
                 for (i = 0; i < 4 * CHUNK; i++)
                     rows[i] = rows[np + i];
             }

@@ -102,6 +102,51 @@ int cdsp__frame_band(const cdsp_camera *cam, int nodist, const cdsp_real l[3], i
  * = k stands for [k - 1/2, k + 1/2)). Range: the smallest 2^b - 1 (b >= 8)
  * holding the largest value seen, for containers wider than 8 bits.
  */
+void cdsp__noise_small_c(const uint8_t *q, size_t n, uint32_t cnt[4])
+{
+    size_t i;
+    for (i = 0; i < n; i++) {
+        int d = iabs((int)q[2 * i + 1] - (int)q[2 * i]);
+        if (d < 4)
+            cnt[d]++;
+    }
+}
+
+/* The median |d| of an 8-bit frame from the counts of |d| = 0 .. 3 alone
+ * (cdsp__noise_small), when it is one of them: the histogram's bins up
+ * to the median's are those counts, so the interpolation below gives the
+ * same number; 0 when the median lies above (then the histogram). With
+ * SIMD, 16 pairs a few instructions each: the full search's noise 163 ->
+ * 97 K instructions on the paper frame (sigma 0.6: the median |d| is 0 or
+ * 1; callgrind). Without, the histogram alone (one count a pair). */
+static int noise_small_median(const cdsp_image *img, int rows, cdsp_real *med, uint32_t *total)
+{
+#if CDSP__SIMD
+    uint32_t cnt[4] = {0, 0, 0, 0}, cum = 0;
+    int r, b;
+    *total = 0;
+    for (r = 0; r < rows; r++) {
+        int y = (int)(((long)r * 2 + 1) * img->height / (2L * rows));
+        cdsp__noise_small_simd((const uint8_t *)img->data + (size_t)y * img->stride, (size_t)(img->width / 2), cnt);
+        *total += (uint32_t)(img->width / 2);
+    }
+    for (b = 0; b < 4 && *total > 0; b++) {
+        if (cum + cnt[b] >= (*total + 1) / 2) {
+            cdsp_real lo = b == 0 ? R(0) : (cdsp_real)b - R(0.5), wid = b == 0 ? R(0.5) : R(1);
+            *med = lo + wid * ((cdsp_real)((*total + 1) / 2 - cum) / (cdsp_real)cnt[b]);
+            return 1;
+        }
+        cum += cnt[b];
+    }
+#else
+    (void)img;
+    (void)rows;
+    (void)med;
+    (void)total;
+#endif
+    return 0;
+}
+
 static int frame_range(const cdsp_image *img)
 {
     int full = (1 << img->bits) - 1, maxv = 0, r, x, rows, range = 255;
@@ -128,6 +173,12 @@ static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
     cdsp_real med = R(0);
     rows = img->height < NOISE_ROWS ? img->height : NOISE_ROWS;
     *range = frame_range(img);
+    if (img->bits <= 8 && noise_small_median(img, rows, &med, &total)) {
+        /* (8 bit: range 255, shift 0, as below) */
+        *sigma = med / (R(0.6745) * R(1.4142135623730951));
+        return;
+    }
+    total = 0;
     /* bins of 2^shift levels: 1/4096 of the range, and never wider */
     while ((*range >> shift) > 4095)
         shift++;
@@ -147,7 +198,15 @@ static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
                 const uint8_t *restrict q = row + x;
                 for (i = 0; i < m; i++)
                     ad[i] = (uint8_t)(q[2 * i + 1] > q[2 * i] ? q[2 * i + 1] - q[2 * i] : q[2 * i] - q[2 * i + 1]);
-                for (i = 0; i < m; i++)
+                /* four counts a round: the loop's own test and step
+                 * were 3 of its 5 instructions a pair (the same counts) */
+                for (i = 0; i + 4 <= m; i += 4) {
+                    hist[ad[i]]++;
+                    hist[ad[i + 1]]++;
+                    hist[ad[i + 2]]++;
+                    hist[ad[i + 3]]++;
+                }
+                for (; i < m; i++)
                     hist[ad[i]]++;
             }
             total += (uint32_t)(img->width / 2);

@@ -298,31 +298,48 @@ int cdsp__edges_refine(const cdsp_image *img, int horizontal, int s, int t, int 
                        cdsp_edge *e);
 /* The scans' candidate test on n parallel positions (8-bit samples,
  * 1 <= thr <= 255), lib/edges.c: f[0..4] are the runs of pixels at -2 .. +2
- * along the scan; flag[i] = 1 when |f[3][i] - f[1][i]| >= thr, > |f[2][i] -
- * f[0][i]| and >= |f[4][i] - f[2][i]| (a local maximum of the central
- * difference) and sel[i] = 1 (sel: 0/1 bytes, or NULL for all), else 0;
- * returns whether any flag is set. flag must not overlap the inputs. The
- * portable form is always built (the reference); cdsp__edges_peaks is the
- * form the scans use: the SIMD one of lib/edges_simd.c (SSE2 on x86-64,
- * AVX2 when compiled with -mavx2, NEON on AArch64) unless CDSP_NO_SIMD. */
-int cdsp__edges_peaks_c(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
-                        uint8_t *flag);
+ * along the scan; position i's flag, bit i % 32 of bits[i / 32], is 1 when
+ * |f[3][i] - f[1][i]| >= thr, > |f[2][i] - f[0][i]| and >= |f[4][i] -
+ * f[2][i]| (a local maximum of the central difference) and sel[i] = 1
+ * (sel: 0/1 bytes, or NULL for all), else 0; the (n + 31) / 32 words are
+ * written, bits from n on 0, nothing past them; returns the OR of the
+ * words (non-zero when any flag is set). bits must not overlap the
+ * inputs. The portable form is always built (the reference);
+ * cdsp__edges_peaks is the form the scans use: the SIMD one of
+ * lib/edges_simd.c (SSE2 on x86-64, AVX2 when compiled with -mavx2, NEON
+ * on AArch64) unless CDSP_NO_SIMD. */
+uint32_t cdsp__edges_peaks_c(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
+                             uint32_t *bits);
 /* The column scans' gather (lib/edges.c): dst[k] = src[k * d], k < n (8-bit
  * samples, d >= 1), reading no byte outside [src, src + (n - 1) d];
  * portable form always built, cdsp__edges_gather the scans' form (the SIMD
  * one for d = 4, the default step, where the target has it). */
 void cdsp__edges_gather_c(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst);
+/* The same for rows r < rows: src + r stride into dst + r dstride. */
+void cdsp__edges_gather_rows_c(const uint8_t *src, ptrdiff_t stride, ptrdiff_t d, int n, int rows,
+                               uint8_t *dst, ptrdiff_t dstride);
+/* The frame's noise estimate's small differences (lib/frame.c
+ * frame_noise): of the n pairs' |q[2i + 1] - q[2i]| (8-bit samples),
+ * cnt[v] += how many equal v, v = 0 .. 3; portable form always built,
+ * the SIMD one (lib/edges_simd.c) what frame_noise uses where there is
+ * one. */
+void cdsp__noise_small_c(const uint8_t *q, size_t n, uint32_t cnt[4]);
 #if !defined(CDSP_NO_SIMD) && (defined(__SSE2__) || (defined(__aarch64__) && defined(__ARM_NEON)))
 #define CDSP__SIMD 1
-int cdsp__edges_peaks_simd(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
-                           uint8_t *flag);
+void cdsp__noise_small_simd(const uint8_t *q, size_t n, uint32_t cnt[4]);
+uint32_t cdsp__edges_peaks_simd(const uint8_t *const f[5], const uint8_t *sel, size_t n, int thr,
+                                uint32_t *bits);
 void cdsp__edges_gather_simd(const uint8_t *src, ptrdiff_t d, int n, uint8_t *dst);
+void cdsp__edges_gather_rows_simd(const uint8_t *src, ptrdiff_t stride, ptrdiff_t d, int n, int rows,
+                                  uint8_t *dst, ptrdiff_t dstride);
 #define cdsp__edges_peaks cdsp__edges_peaks_simd
 #define cdsp__edges_gather cdsp__edges_gather_simd
+#define cdsp__edges_gather_rows cdsp__edges_gather_rows_simd
 #else
 #define CDSP__SIMD 0
 #define cdsp__edges_peaks cdsp__edges_peaks_c
 #define cdsp__edges_gather cdsp__edges_gather_c
+#define cdsp__edges_gather_rows cdsp__edges_gather_rows_c
 #endif
 
 /* Frame-path speed (issue 17, session 6). */

@@ -638,25 +638,31 @@ static void test_frame_solve_strips(void **state)
 }
 
 /* The candidate test alone: the portable and the built (SIMD where the
- * target has it) forms agree with the definition on every length 0..300
- * (vector bodies and tails), offset and threshold, on runs whose central
+ * target has it) forms agree with the definition, flag bits, bits from n
+ * on zero, no word written past (n + 31) / 32 and the OR of the words
+ * returned, on every length 0..300 (vector bodies, words of two vectors
+ * and tails), offset and threshold, on runs whose central
  * differences sit at, just below and just above the threshold and tie with
- * their neighbours (small values: ties are common). */
+ * their neighbours (small values: ties are common), and on flat runs with
+ * a rare spike (range 3: most vectors have no central difference at the
+ * threshold, which the SIMD forms pass over on that alone, next to
+ * vectors that have one). */
 static void test_peaks_forms(void **state)
 {
-    static uint8_t f[5][340], fc[340], fb[340], selbuf[340];
+    static uint8_t f[5][340], selbuf[340];
     cdsp_rng rng;
     size_t n, off;
     int thr, range, trial = 0, set = 0;
     (void)state;
     cdsp_rng_seed(&rng, 5, 5);
     for (thr = 1; thr <= 255; thr += 18)
-        for (range = 0; range < 3; range++)
+        for (range = 0; range < 4; range++)
             for (n = 0; n <= 300; n += (n < 70 ? 1 : 23))
                 for (off = 0; off < 3; off++, trial++) {
                     const uint8_t *p[5], *sel;
                     size_t i;
-                    int k, want_any = 0;
+                    int k;
+                    uint32_t wbits[12] = {0}, want_or = 0;
                     /* values within thr +- 2 of each other (range 0), spread
                      * over the byte (1), or the extremes 0/255 (2) */
                     int base = (int)(cdsp_rng_u32(&rng) % 256);
@@ -664,7 +670,10 @@ static void test_peaks_forms(void **state)
                         for (i = 0; i < sizeof f[k]; i++) {
                             uint32_t u = cdsp_rng_u32(&rng);
                             int v = range == 0 ? base + (int)(u % (unsigned)(thr + 3)) - (thr + 3) / 2
-                                    : range == 1 ? (int)(u % 256) : (u & 1 ? 255 : 0);
+                                    : range == 1 ? (int)(u % 256)
+                                    : range == 2 ? (u & 1 ? 255 : 0)
+                                    : u % 61 == 0 ? base + (u & 64 ? 1 : -1) * (thr - 1 + (int)(u >> 29))
+                                                  : base;
                             f[k][i] = (uint8_t)(v < 0 ? 0 : v > 255 ? 255 : v);
                         }
                     for (k = 0; k < 5; k++)
@@ -675,27 +684,24 @@ static void test_peaks_forms(void **state)
                         for (i = 0; i < n; i++)
                             selbuf[i] = (uint8_t)(i % (size_t)(trial % 5 + 1) == 0);
                     sel = trial % 2 ? selbuf : NULL;
-                    memset(fc, 7, sizeof fc);
-                    memset(fb, 7, sizeof fb);
                     for (i = 0; i < n; i++) {
                         int gl = iabs((int)p[2][i] - (int)p[0][i]), gc = iabs((int)p[3][i] - (int)p[1][i]);
                         int gr = iabs((int)p[4][i] - (int)p[2][i]);
                         int is = gc >= thr && gc > gl && gc >= gr && (!sel || sel[i]);
-                        want_any |= is;
                         set += is;
-                        fb[i] = (uint8_t)is;
+                        wbits[i / 32] |= (uint32_t)is << (i % 32);
+                        want_or |= (uint32_t)is << (i % 32);
                     }
-                    memcpy(fc, fb, n);
-                    memset(fb, 7, sizeof fb);
                     {
-                        uint8_t got_c[340], got_b[340];
-                        memset(got_c, 7, sizeof got_c);
-                        memset(got_b, 7, sizeof got_b);
-                        assert_int_equal(cdsp__edges_peaks_c(p, sel, n, thr, got_c) != 0, want_any);
-                        assert_memory_equal(got_c, fc, n);
-                        assert_int_equal(got_c[n], 7); /* nothing written past n */
-                        if ((cdsp__edges_peaks(p, sel, n, thr, got_b) != 0) != want_any ||
-                            memcmp(got_b, fc, n) != 0 || got_b[n] != 7)
+                        size_t nw = (n + 31) / 32;
+                        uint32_t got_c[12], got_b[12];
+                        for (i = 0; i < 12; i++)
+                            got_c[i] = got_b[i] = 0xA5A5A5A5u;
+                        assert_int_equal(cdsp__edges_peaks_c(p, sel, n, thr, got_c), want_or);
+                        assert_memory_equal(got_c, wbits, nw * sizeof *wbits);
+                        assert_int_equal(got_c[nw], 0xA5A5A5A5u); /* nothing written past the words */
+                        if (cdsp__edges_peaks(p, sel, n, thr, got_b) != want_or ||
+                            memcmp(got_b, wbits, nw * sizeof *wbits) != 0 || got_b[nw] != 0xA5A5A5A5u)
                             fail_msg("built form differs: n %zu off %zu thr %d range %d", n, off, thr, range);
                     }
                 }
@@ -713,7 +719,8 @@ static void test_peaks_forms(void **state)
  * bytes no vector load fits), every step 1..9 and the coarse pass's 32, a
  * row's stride; each source is a malloc of exactly (n - 1) d + 1 bytes, so
  * under AddressSanitizer (check-lib-asan) a read before the first sample or
- * past the last one fails; nothing is written past dst[n - 1]. */
+ * past the last one fails; nothing is written past dst[n - 1]. The rows
+ * form likewise, 1 .. 5 rows. */
 static void test_gather_forms(void **state)
 {
     static const int steps[] = {1, 2, 3, 4, 5, 7, 8, 9, 32, 2448};
@@ -745,6 +752,78 @@ static void test_gather_forms(void **state)
             trials++;
         }
     assert_int_equal(trials, 10 * 71);
+    /* the rows form (the column blocks' 4 rows a call): each row as the
+     * portable gather gives it, the rows stride apart in a malloc ending
+     * at the last row's last sample, dstride apart in dst */
+    for (si = 0; si < sizeof steps / sizeof steps[0] - 1; si++)
+        for (n = 0; n <= 70; n++) {
+            int rows;
+            for (rows = 1; rows <= 5; rows++) {
+                ptrdiff_t d = steps[si], row = n > 0 ? (ptrdiff_t)(n - 1) * d + 1 : 1, stride = row + 3;
+                size_t len = (size_t)((rows - 1) * stride + row), i;
+                uint8_t *src = malloc(len), ref[5 * 80], got_c[5 * 80], got_b[5 * 80];
+                int r;
+                assert_non_null(src);
+                for (i = 0; i < len; i++)
+                    src[i] = (uint8_t)cdsp_rng_u32(&rng);
+                memset(ref, 7, sizeof ref);
+                for (r = 0; r < rows; r++)
+                    cdsp__edges_gather_c(src + r * stride, d, n, ref + r * 80);
+                memset(got_c, 7, sizeof got_c);
+                memset(got_b, 7, sizeof got_b);
+                cdsp__edges_gather_rows_c(src, stride, d, n, rows, got_c, 80);
+                cdsp__edges_gather_rows(src, stride, d, n, rows, got_b, 80);
+                if (memcmp(got_c, ref, sizeof ref) != 0)
+                    fail_msg("portable gather rows: d %d n %d rows %d", (int)d, n, rows);
+                if (memcmp(got_b, ref, sizeof ref) != 0)
+                    fail_msg("built gather rows: d %d n %d rows %d", (int)d, n, rows);
+                free(src);
+                trials++;
+            }
+        }
+    assert_int_equal(trials, 10 * 71 + 9 * 71 * 5);
+}
+
+/* The noise estimate's counts of |d| = 0 .. 3 (cdsp__noise_small, lib/
+ * frame.c): the SIMD form (where the target has one) equals the portable
+ * one on every length 0..70 and on runs past 255 vectors of 16 pairs (its
+ * byte counters' flush), offsets 0..2, values mostly small (noise of a
+ * few levels), spread over the byte, or one |d| throughout (0, 3: a
+ * counter's every lane at its most before the flush), added to counts
+ * already there. */
+static void test_noise_small_forms(void **state)
+{
+    static uint8_t q[2 * 4200 + 3];
+    static const size_t lens[] = {4080, 4081, 4096, 4200};
+    cdsp_rng rng;
+    size_t n, off, i, li;
+    int spread, trials = 0;
+    (void)state;
+    cdsp_rng_seed(&rng, 7, 7);
+    for (spread = 0; spread < 4; spread++)
+        for (li = 0; li < 71 + sizeof lens / sizeof lens[0]; li++)
+            for (off = 0; off < 3; off++) {
+                uint32_t cw[4] = {5, 6, 7, 8}, cg[4] = {5, 6, 7, 8};
+                n = li < 71 ? li : lens[li - 71];
+                for (i = 0; i < sizeof q; i++) {
+                    uint32_t u = cdsp_rng_u32(&rng);
+                    q[i] = (uint8_t)(spread == 0 ? 100 + u % 7 : spread == 1 ? u : spread == 2 ? 9 : 10 + 3 * (i & 1));
+                }
+                for (i = 0; i < n; i++) {
+                    int d = iabs((int)q[off + 2 * i + 1] - (int)q[off + 2 * i]);
+                    cw[d < 4 ? d : 0] += d < 4;
+                }
+                cdsp__noise_small_c(q + off, n, cg);
+                assert_memory_equal(cg, cw, sizeof cw);
+#if CDSP__SIMD
+                cg[0] = 5, cg[1] = 6, cg[2] = 7, cg[3] = 8;
+                cdsp__noise_small_simd(q + off, n, cg);
+                if (memcmp(cg, cw, sizeof cw) != 0)
+                    fail_msg("SIMD noise counts differ: n %zu off %zu spread %d", n, off, spread);
+#endif
+                trials++;
+            }
+    assert_int_equal(trials, 4 * 75 * 3);
 }
 
 /* Tracking's column blocks (cdsp__edges_scan_col_bands) give exactly the
@@ -820,6 +899,7 @@ int main(void)
         cmocka_unit_test(test_scan_equals_reference),
         cmocka_unit_test(test_peaks_forms),
         cmocka_unit_test(test_gather_forms),
+        cmocka_unit_test(test_noise_small_forms),
         cmocka_unit_test(test_col_bands_equal_segments),
         cmocka_unit_test(test_coarse_guarantee),
         cmocka_unit_test(test_coarse_level_pipes),
