@@ -975,7 +975,8 @@ typedef struct {
     cdsp_real gate_px;       /* a pipe continues a track when both its
                                 contours lie within gate_px of the track's
                                 predicted ones (at the pipe's middle,
-                                undistorted px; constant velocity).
+                                undistorted px; constant velocity) and its
+                                apparent width is within 25 % of theirs.
                                 Default 24: the image may move that much
                                 between two frames */
     int max_missed;          /* frames a track survives unseen. Default 2 */

@@ -568,6 +568,54 @@ static int entering_run(int full_every, uint32_t ids[3])
     return wait;
 }
 
+/* test_tracking_leaving's rack coming into view from the frame's edge
+ * (12 mm, 23 px per frame): a pipe half in view is tracked, and on the
+ * next frame its bands held one of its contours and an edge beside it,
+ * a pair within the gate but 17 px wide for 28, solved at 754 mm for 458;
+ * it took the track, and the pipe got a new id the frame after (measured
+ * before lib/multi.c's TRACK_WIDTH_CHANGE). Checked: every pipe reported
+ * is a true one, and each keeps one id from the first frame it is
+ * reported in full view. */
+static void test_tracking_entering_edge(void **state)
+{
+    static const rack_case rc = {"entering edge", 3, {8, 8, 8}, 0.6, 1, CROSS_NONE, 0};
+    cdsp_tracker trk;
+    cdsp_camera cam;
+    uint32_t ids[3] = {0, 0, 0};
+    int f, i;
+    (void)state;
+    camera(&cam);
+    cdsp_tracker_init(&trk);
+    for (f = 0; f < 18; f++) {
+        cdsp_result out[CDSP_MAX_PIPES];
+        size_t n, k;
+        rack_geo g;
+        cdsp_status st;
+        int seen[CDSP_MAX_PIPES] = {0};
+        solve_rack(&rc, 20.0 + 12.0 * (17 - f), 700 + (uint64_t)f, 0, &trk, out, &n, &g, &st);
+        debug_print(out, n);
+        if (st != CDSP_OK)
+            continue; /* nothing in view yet */
+        for (i = 0; i < 3; i++) {
+            int m = match(&cam, out, n, &g, i, 8);
+            if (m < 0)
+                continue;
+            seen[m] = 1;
+            if (!in_full_view(&cam, &g, i))
+                continue;
+            if (!ids[i])
+                ids[i] = out[m].track_id;
+            else if (out[m].track_id != ids[i])
+                fail_msg("frame %d: pipe %d has id %u, was %u", f, i, out[m].track_id, ids[i]);
+        }
+        for (k = 0; k < n; k++)
+            if (!seen[k])
+                fail_msg("frame %d: reported pipe %zu (distance %.1f) is no true pipe", f, k,
+                         (double)out[k].distance);
+    }
+    assert_true(ids[0] && ids[1] && ids[2] && ids[0] != ids[1] && ids[1] != ids[2] && ids[0] != ids[2]);
+}
+
 static void test_tracking_entering(void **state)
 {
     static const rack_case rc = {"entering", 3, {8, 8, 8}, 0.5, 1, CROSS_NONE, 0};
@@ -998,6 +1046,7 @@ int main(void)
         cmocka_unit_test(test_tracking_pan),
         cmocka_unit_test(test_tracking_leaving),
         cmocka_unit_test(test_tracking_entering),
+        cmocka_unit_test(test_tracking_entering_edge),
         cmocka_unit_test(test_tracking_bands),
         cmocka_unit_test(test_points_rack),
         cmocka_unit_test(test_scatter_refusal),
