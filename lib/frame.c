@@ -233,14 +233,22 @@ static void frame_noise(const cdsp_image *img, cdsp_real *sigma, int *range)
     *sigma = med * (cdsp_real)(1 << shift) / (R(0.6745) * R(1.4142135623730951));
 }
 
+/* The threshold step (gray levels) as the fraction of full scale
+ * cdsp_edges_detect applies, e->min_contrast. */
+static void frame_threshold(const cdsp_image *img, cdsp_real step, cdsp_edge_params *e, cdsp_real *min_step)
+{
+    *min_step = step;
+    e->min_contrast = step / (cdsp_real)((1 << img->bits) - 1);
+    if (!(e->min_contrast < R(1)))
+        e->min_contrast = R(0.999);
+}
+
 /* The edge parameters actually used on this frame (see the top): the same
- * as p->edge with min_contrast rewritten as min_step / full scale, the
- * fraction cdsp_edges_detect applies. */
+ * as p->edge with min_contrast rewritten as min_step / full scale. */
 static void frame_edge_params(const cdsp_image *img, const cdsp_params *p, cdsp_real sigma,
                               int range, cdsp_edge_params *e, cdsp_real *min_step)
 {
-    cdsp_real full = (cdsp_real)((1 << img->bits) - 1), fixed = p->edge.min_contrast * (cdsp_real)range;
-    cdsp_real step = fixed;
+    cdsp_real step = p->edge.min_contrast * (cdsp_real)range; /* the fixed threshold */
     *e = p->edge;
     if (p->noise_factor > R(0)) {
         cdsp_real nz = p->noise_factor * sigma;
@@ -251,10 +259,7 @@ static void frame_edge_params(const cdsp_image *img, const cdsp_params *p, cdsp_
     }
     if (step < R(1))
         step = R(1);
-    *min_step = step;
-    e->min_contrast = step / full;
-    if (!(e->min_contrast < R(1)))
-        e->min_contrast = R(0.999);
+    frame_threshold(img, step, e, min_step);
 }
 
 /*
@@ -268,8 +273,8 @@ static void frame_edge_params(const cdsp_image *img, const cdsp_params *p, cdsp_
  * them and thins the contours'. It is read again at the fixed threshold
  * (the buffer's rule still applies if that overflows too). Measured on the
  * paper's rack with 0.5 gray levels of noise (`cdsp_tool bench --rack
- * --rack-noise 0.5`): threshold 5.8, 8 500-15 700 edges (12 300 without the
- * texture: mostly the pipes' own shading), every solve at max_lines, both
+ * --rack-noise 0.5`): threshold 5.8, 8 500-15 700 edges (frame A1: 10 600,
+ * and 12 300 with the texture off: mostly the pipes' own shading), every solve at max_lines, both
  * pipes found in 4 of 10 frames; at the fixed threshold (15.3) about 3 000
  * edges, 10 of 10. With half the buffer as the mark the detection
  * benchmark's figures (seeds 1-3, 640 x 480 to 2448 x 2048) and the paper
@@ -288,10 +293,7 @@ static cdsp_status detect_busy(const cdsp_image *img, const cdsp_params *p, cdsp
     fixed = p->edge.min_contrast * (cdsp_real)frame_range(img);
     if (!(fixed > *min_step))
         return st;
-    *min_step = fixed;
-    edge->min_contrast = fixed / (cdsp_real)((1 << img->bits) - 1);
-    if (!(edge->min_contrast < R(1)))
-        edge->min_contrast = R(0.999);
+    frame_threshold(img, fixed, edge, min_step);
     return cdsp_edges_detect(img, edge, out, CDSP_MAX_EDGES, n);
 }
 

@@ -209,7 +209,7 @@ static cdsp_real pair_width(const cdsp_real *a, const cdsp_real *b, const cdsp_r
  * by 7 %). A pair within the gate but of another width is another band:
  * a pipe half in view, paired in its track's bands with an edge beside
  * it, solved at 754 mm for 458 (17 px wide for 28) and took the track of
- * the pipe it was (test_tracking_entering's first run). */
+ * the pipe it was (test_tracking_entering_edge). */
 #define TRACK_WIDTH_CHANGE 0.25
 
 /* Distance (px) of pipe contours l (at their foot from point q) from the

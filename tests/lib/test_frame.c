@@ -557,7 +557,7 @@ static void test_busy_frame(void **state)
     {
         cdsp_edge_params e = prm.edge;
         e.coarse = 0;
-        e.min_contrast = (cdsp_real)(10 * r.noise / 255);
+        e.min_contrast = prm.noise_factor * r.noise / 255;
         (void)cdsp_edges_detect(&img, &e, ws.edge, CDSP_MAX_EDGES, &n);
     }
     if (getenv("FRAME_DEBUG"))
