@@ -631,7 +631,12 @@ void cdsp_profile_params_default(cdsp_profile_params *p);
 typedef struct {
     cdsp_real offset;       /* modelled silhouette minus the given line, px
                                along the normal, positive toward the pipe */
-    cdsp_real sigma_offset; /* its standard deviation from the pixels' noise, px */
+    cdsp_real sigma_offset; /* its standard deviation from the pixels' noise,
+                               px, through the sides' fits, their
+                               extrapolation to the silhouette and the
+                               measured blur (first order; on shaded limbs
+                               the offset scatters 1.1-1.9 times more,
+                               docs/method.md 2a) */
     cdsp_real blur;         /* measured sigma of the edge spread (optics,
                                motion, the pixel's footprint), px */
     cdsp_real contrast;     /* pipe minus background at the silhouette, gray levels */

@@ -370,7 +370,10 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
  * bound, so its noise should stay at about half the bound's floor in the
  * detector's regime (0.005 px on the paper's scene in flat light,
  * cdsp_profile_bound): sigma_offset measured 0.005-0.009 px at 231-255
- * scanlines on the paper's 5 MP frames, going as 1/sqrt(rows) (0.009-
+ * scanlines on the paper's 5 MP frames (its window's part, which the
+ * bound's fit still reports; the propagation through the sides, which
+ * cdsp_profile_fit reports since, was 6 times that on test_profile.c's
+ * flat edge and was not measured here), going as 1/sqrt(rows) (0.009-
  * 0.013 at 128, 0.002-0.003 at 2048), so 256 is the fewest. Fewer
  * buy little: most of the fit's cost goes with its bins, not its
  * scanlines (the paper frame's full search, callgrind: the two contours'

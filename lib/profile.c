@@ -362,7 +362,9 @@ static cdsp_real pipe_h(const sides *m, cdsp_real x, cdsp_real s2)
     return sq_at(m, x) + s2 / R(2) * sq_curv(m, x);
 }
 
-static void pipe_basis(const sides *m, cdsp_real x, cdsp_real s2, cdsp_real f[3])
+/* (inline: out of line, as area_sigma's third caller made it, the full
+ * search cost 9 K instructions more, callgrind) */
+static inline void pipe_basis(const sides *m, cdsp_real x, cdsp_real s2, cdsp_real f[3])
 {
     pipe_kink k;
     pipe_kink_at(m, s2, &k);
@@ -1233,6 +1235,188 @@ static cdsp_real side_noise(const cdsp_profile_ws *ws, const cdsp_real *u, cdsp_
     return var_pix;
 }
 
+/* One round of the area balance as its last round left it, for
+ * area_sigma: the sides fitted about d0 over z <= |u - d0| <= W with the
+ * blur s2, the window [a, bb] of (1), the silhouette d it gave, and the
+ * first moment's window [mlo, mhi] and step Jeff that gave the next blur */
+typedef struct {
+    cdsp_real d0, d, z, W, s2, a, bb, mlo, mhi, Jeff;
+} area_round;
+
+/* A bin's trapezoid weight in a sum over the samples in [lo, hi]: half the
+ * gap to each neighbour there (prev, next: the neighbouring non-empty
+ * bins, -1 / NB for none; the bins' u rise with their index) */
+static cdsp_real trap_weight(const cdsp_real *ub, int prev, int b, int next, cdsp_real lo, cdsp_real hi)
+{
+    cdsp_real t = R(0);
+    if (ub[b] < lo || ub[b] > hi)
+        return t;
+    if (prev >= 0 && ub[prev] >= lo)
+        t += (ub[b] - ub[prev]) / R(2);
+    if (next < NB && ub[next] <= hi)
+        t += (ub[next] - ub[b]) / R(2);
+    return t;
+}
+
+/* The noise of the area balance's silhouette, px (docs/method.md 2a). At
+ * its solution F(d; y) = 0, with y the bins' means,
+ *     F = int_uf^d (D + E x) du + int_0^(ul - d) P(s) ds
+ *         + (s2/2)(P'(bb - d) - E) - trap(y; uf .. ul),
+ * uf and ul the first and last bins in the window [a, bb] (the trapezoid
+ * sum's end pieces are the models' own and cancel), so to first order
+ *     dd = -(sum_i F_i dy_i + F_s2 ds2) / F_d,
+ * F_d = D - P(bb - d) (the Newton step's derivative),
+ *     F_i = -t_i + w_i f_i' Nb^-1 cb + w_i f_i' Np^-1 cp,
+ * t_i the bin's trapezoid weight, f_i its basis in the side's fit (weights
+ * w_i = counts, normal matrices Nb, Np as fit_sides forms them) and cb, cp
+ * F's derivatives in the fits' coefficients: the sides' noise enters d
+ * through their extrapolation to the silhouette, which the trapezoid
+ * sum's weights alone (the estimate before) leave out (6 times too small
+ * on test_profile.c's flat edge). The blur is measured on the same bins,
+ * s2 = -2 mom / Jeff with mom = trap((u - d)(y - S)) over [mlo, mhi], and
+ * enters through the blur term and the pipe basis's (s2/2) sq'' (F_s2
+ * below); on a lit limb it is a third of d's noise (test_noise's rows).
+ * Held: the terminator, the sides' part of the moment (S, fitted beyond
+ * the moment's window), Jeff's noise (1 % of it at contrast 100 and noise
+ * 2), the zones' edges. Independent bins (each pixel is in one) of
+ * variance var_pix / count. */
+static cdsp_real area_sigma(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_real *hb, const sides *m,
+                            const area_round *rd, cdsp_real var_pix)
+{
+    const cdsp_real d0 = rd->d0, d = rd->d, z = rd->z, W = rd->W, s2 = rd->s2;
+    cdsp_real Nb[3][3] = {{0}}, Np[3][3] = {{0}}, Nb2[3][3], Np2[3][3], vb[3], vp[3], fc[3], xb = -(z + W) / R(2), cm;
+    cdsp_real mb_[3] = {0, 0, 0}, mp_[3] = {0, 0, 0};
+    cdsp_real uf = R(0), ul = R(0), var = R(0), Fd, Fs2, X, e, q;
+    pipe_kink k;
+    int b, i, j, prev, nbg = 0, npp = 0, have = 0;
+    pipe_kink_at(m, s2, &k);
+    pipe_basis(m, (z + W) / R(2), s2, fc);
+    cm = sq_curv(m, (z + W) / R(2));
+    for (b = 0; b < NB; b++) {
+        cdsp_real x = ub[b] - d0, f[3], w = (cdsp_real)ws->count[b];
+        if (!ws->count[b])
+            continue;
+        if (ub[b] >= rd->a && ub[b] <= rd->bb) {
+            if (!have)
+                uf = ub[b];
+            ul = ub[b];
+            have = 1;
+        }
+        if (x >= z && x <= W) {
+            pipe_basis_h(m, x, hb[b], &k, f);
+            f[1] -= fc[1];
+            f[2] -= fc[2];
+            for (i = 0; i < 3; i++)
+                for (j = 0; j < 3; j++)
+                    Np[i][j] += w * f[i] * f[j];
+            npp++;
+        } else if (x <= -z && x >= -W) {
+            f[0] = R(1);
+            f[1] = x - xb;
+            for (i = 0; i < 2; i++)
+                for (j = 0; j < 2; j++)
+                    Nb[i][j] += w * f[i] * f[j];
+            nbg++;
+        }
+    }
+    if (!have || nbg < 3 || npp < 4 || !(R_FABS(rd->Jeff) > R(0)))
+        return R(0);
+    /* cb: dF/dD, dF/dE (the background D + E x), in the fit's basis
+     * (1, x - xb): D = c0 - c1 xb, E = c1 */
+    vb[0] = d - uf;
+    vb[1] = ((d - d0) * (d - d0) - (uf - d0) * (uf - d0)) / R(2) - s2 / R(2);
+    vb[1] -= vb[0] * xb;
+    /* cp: dF/dA, dB, dC (pipe_int to ul - d, pipe_slope at bb - d), in
+     * the fit's basis (1, f1 - fc1, f2 - fc2): A = c0 - c1 fc1 - c2 fc2 */
+    X = ul - d > R(0) ? ul - d : R(0);
+    e = X - m->St;
+    vp[0] = X;
+    vp[1] = e > R(0) ? e * e / R(2) : R(0);
+    vp[2] = e > R(0) ? sq_int(m, X) - sq_int(m, m->St) - sq_at(m, m->St) * e : R(0);
+    X = rd->bb - d;
+    q = sq_at(m, X);
+    if (X > m->St) {
+        vp[1] += s2 / R(2);
+        vp[2] += q > R(0) ? s2 / R(2) * (m->Rc - X) / q : R(0);
+    }
+    vp[1] -= vp[0] * fc[1];
+    vp[2] -= vp[0] * fc[2];
+    /* the moment's model part: mom holds -sum_i tm_i (u_i - d) S(u_i)
+     * over its window, S the background's (basis as in its fit) or the
+     * pipe's (unblurred: pipe_at, in the fit's basis less its centre) */
+    for (b = 0, prev = -1; b < NB; b++) {
+        cdsp_real t, f[3], s_;
+        int nx;
+        if (!ws->count[b])
+            continue;
+        for (nx = b + 1; nx < NB && !ws->count[nx]; nx++)
+            ;
+        t = trap_weight(ub, prev, b, nx, rd->mlo, rd->mhi) * (ub[b] - d);
+        prev = b;
+        if (t == R(0))
+            continue;
+        if (ub[b] < d) {
+            mb_[0] += t;
+            mb_[1] += t * (ub[b] - d0 - xb);
+            continue;
+        }
+        s_ = ub[b] - d;
+        f[1] = s_ > m->St ? s_ - m->St : R(0);
+        f[2] = s_ > m->St ? sq_at(m, s_) - sq_at(m, m->St) : R(0);
+        mp_[0] += t;
+        mp_[1] += t * (f[1] - fc[1]);
+        mp_[2] += t * (f[2] - fc[2]);
+    }
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++) {
+            Nb2[i][j] = Nb[i][j];
+            Np2[i][j] = Np[i][j];
+        }
+    if (!solve_small(Nb, vb, 2) || !solve_small(Np, vp, 3) || !solve_small(Nb2, mb_, 2) ||
+        !solve_small(Np2, mp_, 3))
+        return R(0);
+    Fd = m->D + m->E * (d - d0) - pipe_at(m, rd->bb - d);
+    if (!(R_FABS(Fd) > R(0)))
+        return R(0);
+    /* F_s2: the blur term's (P'(bb - d) - E) / 2, and through the pipe
+     * fit, whose basis holds (s2/2) sq'' beyond the terminator: d theta /
+     * d s2 = -Np^-1 sum_j w_j f_j (C/2)(sq''(x_j) - sq''(mid)) (the
+     * residuals' part is noise times noise) */
+    Fs2 = (pipe_slope(m, rd->bb - d) - m->E) / R(2);
+    for (b = 0; b < NB; b++) {
+        cdsp_real x = ub[b] - d0, f[3];
+        if (!ws->count[b] || !(x >= z && x <= W && x > m->St))
+            continue;
+        pipe_basis_h(m, x, hb[b], &k, f);
+        Fs2 -= (cdsp_real)ws->count[b] * (vp[0] + (f[1] - fc[1]) * vp[1] + (f[2] - fc[2]) * vp[2]) * m->C / R(2) *
+               (sq_curv(m, x) - cm);
+    }
+    /* the sum over the bins of (dd/dy_i)^2 / count, with
+     * ds2/dy_i = -2 tm_i (u_i - d) / Jeff, tm_i the moment's weight */
+    for (b = 0, prev = -1; b < NB; b++) {
+        cdsp_real g, gm, x = ub[b] - d0, f[3], w = (cdsp_real)ws->count[b];
+        int nx;
+        if (!ws->count[b])
+            continue;
+        for (nx = b + 1; nx < NB && !ws->count[nx]; nx++)
+            ;
+        g = -trap_weight(ub, prev, b, nx, uf, ul);
+        gm = trap_weight(ub, prev, b, nx, rd->mlo, rd->mhi) * (ub[b] - d); /* d mom / d y_b */
+        if (x >= z && x <= W) {
+            pipe_basis_h(m, x, hb[b], &k, f);
+            g += w * (vp[0] + (f[1] - fc[1]) * vp[1] + (f[2] - fc[2]) * vp[2]);
+            gm -= w * (mp_[0] + (f[1] - fc[1]) * mp_[1] + (f[2] - fc[2]) * mp_[2]);
+        } else if (x <= -z && x >= -W) {
+            g += w * (vb[0] + (x - xb) * vb[1]);
+            gm -= w * (mb_[0] + (x - xb) * mb_[1]);
+        }
+        g -= Fs2 * R(2) * gm / rd->Jeff;
+        var += g * g / w;
+        prev = b;
+    }
+    return R_SQRT(var * var_pix) / R_FABS(Fd);
+}
+
 /* The model on the bins: silhouette d (px from the line toward the pipe),
  * blur, contrast, noise of d. *s2_start receives the first blur (from the
  * profile's slope) before the area balance's rounds, which can fail. */
@@ -1245,6 +1429,7 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
     sides m;
     int b, it, ok = 0, clamped = 0, search, grid_seen = 0, grid_improved = 0, improved;
     cdsp_real grid_d = R(0), grid_sig = R(0), s2_first, s2f;
+    area_round rd = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0}; /* the last round, for area_sigma */
     fwd_state fs;
     m.Rc = radius_px;
     m.St = R(0);
@@ -1358,6 +1543,12 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
          * window: (1) holds with the kink's blur inside it too */
         bb = d + (m.St > R(0) && m.St - R(3.5) * R_SQRT(s2) >= z ? m.St - R(3.5) * R_SQRT(s2) : W);
         M = integrate(ws, ub, mb, &m, d, d, a, bb, 0);
+        rd.d0 = d;
+        rd.s2 = s2;
+        rd.z = z;
+        rd.W = W;
+        rd.a = a;
+        rd.bb = bb;
         /* Newton on G(dn) = M, (1) with the sides fixed about d:
          * G = int_a^dn bg + int_0^(bb-dn) P + (s2/2)(P'(bb - dn) - E) */
         for (k = 0; k < 6; k++) {
@@ -1395,6 +1586,9 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
                 if (ws->count[k] && ub[k] <= d + zm && ub[k] > bm)
                     bm = ub[k];
             mom = integrate(ws, ub, mb, &m, d_prev, d, d - zm, bm, 1);
+            rd.d = d;
+            rd.mlo = d - zm;
+            rd.mhi = bm;
         }
         {
             /* int (u - d)(O - S) = -s2/2 (J - int_0^X s S''(s) ds), the
@@ -1404,6 +1598,7 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
             cdsp_real X = bm - d, Jeff = J - (X * pipe_slope(&m, X) - (pipe_at(&m, X) - m.A));
             if (!(R_FABS(Jeff) > R(0)))
                 return CDSP_E_NOCONVERGE;
+            rd.Jeff = Jeff;
             s2 = R(-2) * mom / Jeff;
             if (!(s2 >= R(1) / R(12)))
                 s2 = R(1) / R(12);
@@ -1425,7 +1620,14 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
     out->offset = d;
     out->blur = R_SQRT(s2);
     out->contrast = J;
-    out->sigma_offset = R_FABS(J) > R(0) ? R_SQRT(varM) / R_FABS(J) : R(0);
+    /* sigma_offset: the propagation through the sides (area_sigma) where
+     * the move may be used (forward: cdsp_profile_fit, the frame path with
+     * the model on); the frame path's bound alone (model off) reads no
+     * sigma and keeps the window's part, at 1/40 of the cost (area_sigma:
+     * ~41 K instructions a contour on the paper's frame, callgrind) */
+    out->sigma_offset = forward ? area_sigma(ws, ub, ws->sum_u, &m, &rd, var_pix) : R(0);
+    if (!(out->sigma_offset > R(0))) /* or too few bins for the sides' part */
+        out->sigma_offset = R_FABS(J) > R(0) ? R_SQRT(varM) / R_FABS(J) : R(0);
     out->half_width = W;
     out->shadow = m.St;
     out->noise = R_SQRT(var_pix);

@@ -455,38 +455,69 @@ static void test_applies(void **state)
     }
 }
 
-/* Noise: the reported sigma_offset against the scatter over seeds. 8 bit,
- * 2 gray levels of noise, contrast 100, 80 scanlines. sigma_offset covers
- * only the window integral's noise; the sides' fits extrapolated to the
- * silhouette add more, so today it is a lower bound: measured scatter
- * 0.023 px (float 0.018) against an estimate of 0.0035 px (a known
- * shortfall, issue 12's report). Checked: the estimate stays below the
- * scatter, the scatter below 0.04 px (1.7x measured), the mean within 3
- * standard errors of 0. */
+/* Noise: the reported sigma_offset against the offset's scatter over 64
+ * seeds, 8 bit, 2 gray levels of noise, 80 scanlines, on a flat edge, lit
+ * limbs (the model's case), a contour at 45 degrees and a limb in shadow.
+ * sigma_offset propagates the bins' noise through the sides' fits, their
+ * extrapolation to the silhouette and the measured blur (area_sigma).
+ * Before, it held the window's trapezoid sum alone: 0.0035 px on the flat
+ * row against a scatter of 0.022. The scatter of N seeds is itself
+ * uncertain by 1 / sqrt(2 (N - 1)), 0.089 at N = 64 (the estimate, a mean
+ * over the seeds, varies far less): the ratio estimate / scatter must lie
+ * below 1 and above the row's `low`, each by 3 of those at most. Measured (double /
+ * float): flat 1.04 / 0.96; lit limbs 0.70 / 0.71, 0.82 / 0.81, at 45
+ * degrees 0.54 / 0.57; shadow 0.90 / 0.93. On lit limbs it is a lower
+ * bound: there the model's offset follows its own measured blur (row 1:
+ * 0.24 px per px of blur over the seeds; what the blur leaves, 0.031 px,
+ * is still above the estimate), a bias of the blur's Taylor form that
+ * moves with the noise, which a first-order propagation does not hold
+ * (issue 12's report). The mean offset within 3 standard errors of 0 plus
+ * 0.002 px (test_lambertian_limb's tolerance for these limbs). */
 static void test_noise(void **state)
 {
-    int k, n = 24;
-    double sum = 0, sum2 = 0, est = 0;
+    static const struct {
+        double angle, ambient, ln, lv, pipe, low;
+    } rows[] = {
+        {0, 1, 0, 0, 160, 1},           /* flat: the detector's regime */
+        {0, 0.6, 0.3, 0.95, 160, 0.70}, /* lit limbs */
+        {0, 0.3, 0.7, 0.71, 200, 0.80},
+        {45, 0.6, 0.3, 0.95, 160, 0.54},
+        {0, 0.4, -0.65, 0.62, 250, 0.90}, /* a limb in shadow (terminator ~20 px in) */
+    };
+    const int n = 64;
+    const double tol = 3 / sqrt(2.0 * (n - 1));
+    size_t r;
     (void)state;
-    for (k = 0; k < n; k++) {
-        sup_edge_spec e;
-        cdsp_profile pr;
-        sup_edge_spec_default(&e);
-        e.offset_px = 0.3;
-        e.noise = 2;
-        e.seed = (uint64_t)(100 + k);
-        assert_int_equal(fit_shifted(&e, 0, &pr), CDSP_OK);
-        sum += (double)pr.offset;
-        sum2 += (double)pr.offset * (double)pr.offset;
-        est += (double)pr.sigma_offset;
-    }
-    {
-        double mean = sum / n, sd = sqrt((sum2 - n * mean * mean) / (n - 1));
+    for (r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        int k;
+        double sum = 0, sum2 = 0, est = 0, mean, sd;
+        for (k = 0; k < n; k++) {
+            sup_edge_spec e;
+            cdsp_profile pr;
+            sup_edge_spec_default(&e);
+            e.angle_deg = rows[r].angle;
+            e.ambient = rows[r].ambient;
+            e.light_n = rows[r].ln;
+            e.light_v = rows[r].lv;
+            e.pipe = rows[r].pipe;
+            e.offset_px = 0.3;
+            e.noise = 2;
+            e.seed = (uint64_t)(100 + k);
+            assert_int_equal(fit_shifted(&e, 0, &pr), CDSP_OK);
+            sum += (double)pr.offset;
+            sum2 += (double)pr.offset * (double)pr.offset;
+            est += (double)pr.sigma_offset;
+        }
+        mean = sum / n;
+        sd = sqrt((sum2 - n * mean * mean) / (n - 1));
         est /= n;
         if (getenv("CDSP_TEST_VERBOSE"))
-            print_message("noise: mean %.5f sd %.5f estimate %.5f\n", mean, sd, est);
-        assert_true(fabs(mean) < 3 * sd / sqrt((double)n) + 0.002);
-        assert_true(est < sd && sd < 0.04);
+            print_message("noise row %zu: mean %.5f sd %.5f estimate %.5f ratio %.3f\n", r, mean, sd, est, est / sd);
+        if (!(fabs(mean) < 3 * sd / sqrt((double)n) + 0.002))
+            fail_msg("row %zu: mean offset %.5f px, sd %.5f", r, mean, sd);
+        if (!(est / sd < 1 + tol && est / sd > rows[r].low - tol))
+            fail_msg("row %zu: sigma_offset %.5f against a scatter of %.5f (ratio %.3f, want %.3f..%.3f)", r, est,
+                     sd, est / sd, rows[r].low - tol, 1 + tol);
     }
 }
 
