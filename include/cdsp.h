@@ -634,9 +634,9 @@ typedef struct {
     cdsp_real sigma_offset; /* its standard deviation from the pixels' noise,
                                px, through the sides' fits, their
                                extrapolation to the silhouette and the
-                               measured blur (first order; on shaded limbs
-                               the offset scatters 1.1-1.9 times more,
-                               docs/method.md 2a) */
+                               measured blur (first order, docs/method.md
+                               2a: 0.83-1.01 of the scatter measured on
+                               flat and shaded limbs) */
     cdsp_real blur;         /* measured sigma of the edge spread (optics,
                                motion, the pixel's footprint), px */
     cdsp_real contrast;     /* pipe minus background at the silhouette, gray levels */
