@@ -388,11 +388,11 @@ static size_t track_edges(const cdsp_image *img, const cdsp_camera *cam, const c
 #define BOUND_ROWS 256
 void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts, size_t n,
                         const uint8_t *label, cdsp_pair_set *set, const cdsp_pair_eval *c,
-                        const cdsp_params *p, cdsp_profile_ws *pws, cdsp__pair_refined *ref)
+                        const cdsp_params *p, cdsp_real noise, cdsp_profile_ws *pws, cdsp__pair_refined *ref)
 {
     int i;
     for (i = 0; i < 2; i++)
-        ref->offset[i] = ref->blur[i] = ref->bound[i] = R(0);
+        ref->offset[i] = ref->blur[i] = ref->bound[i] = ref->sigma_offset[i] = R(0);
     ref->profiled = 0;
     ref->bounded = 1;
     ref->var_scale = cdsp__edges_scan_var(p->edge.step);
@@ -401,15 +401,16 @@ void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cds
         cdsp_profile pr;
         cdsp_line copy = set->lines[k];
         cdsp_profile_params pp = p->profile;
-        cdsp_real moved = R(0);
+        cdsp_real moved, sigma_moved;
         cdsp_status st;
         if (!pp.enable && pp.max_rows > BOUND_ROWS)
             pp.max_rows = BOUND_ROWS;
         st = cdsp__profile_refine(img, cam, pts, n, label, (uint8_t)(k + 1), pp.enable ? &set->lines[k] : &copy,
-                                  c->p_in, &pp, p->edge.half_window, pws, &pr, &moved);
+                                  c->p_in, &pp, p->edge.half_window, noise, pws, &pr, &moved, &sigma_moved);
         ref->bound[i] = cdsp_profile_bound(&pr, &p->profile, p->edge.half_window);
         if (st == CDSP_OK && pp.enable) {
             ref->offset[i] = moved;
+            ref->sigma_offset[i] = sigma_moved;
             ref->blur[i] = pr.blur;
             ref->profiled++;
         }
@@ -423,7 +424,8 @@ void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cds
  * model moves them). */
 static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cdsp_real radius,
                                cdsp_frame_ws *ws, size_t n, const cdsp_params *p, cdsp_real min_step,
-                               const cdsp_result *prior, int tracking, cdsp_rng *rng, cdsp_result *out)
+                               cdsp_real noise, const cdsp_result *prior, int tracking, cdsp_rng *rng,
+                               cdsp_result *out)
 {
     cdsp_pair_eval best;
     cdsp__pair_refined ref;
@@ -450,18 +452,26 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
         cdsp_real b = prior->edge_bound[0] > prior->edge_bound[1] ? prior->edge_bound[0] : prior->edge_bound[1];
         int i;
         for (i = 0; i < 2; i++) {
-            ref.offset[i] = ref.blur[i] = R(0);
+            ref.offset[i] = ref.blur[i] = ref.sigma_offset[i] = R(0);
             ref.bound[i] = b;
         }
         ref.profiled = 0;
         ref.bounded = R_FINITE(b) && b >= R(0);
         ref.var_scale = cdsp__edges_scan_var(p->edge.step);
     } else {
-        cdsp__frame_refine(img, cam, ws->edge, n, ws->label, &ws->pairs, &best, p, &ws->profile, &ref);
+        cdsp__frame_refine(img, cam, ws->edge, n, ws->label, &ws->pairs, &best, p, noise, &ws->profile, &ref);
     }
     /* cdsp_params.refine_step (lib/rescan.c): the pair's lines refitted
      * to a finer scan of their bands; unchanged where that fails */
-    (void)cdsp__rescan_pair(img, cam, p, min_step, &ws->pairs, &best, &ref);
+    {
+        cdsp__profile_src src;
+        src.pts = ws->edge;
+        src.n = n;
+        src.label = ws->label;
+        src.pws = &ws->profile;
+        src.noise = noise;
+        (void)cdsp__rescan_pair(img, cam, p, min_step, &ws->pairs, &best, &src, &ref);
+    }
     return cdsp__pair_pose(cam, radius, n, &ws->pairs, &best, nc, ws->cand, p, prior, &ref, out);
 }
 
@@ -569,7 +579,7 @@ static cdsp_status full_search(const cdsp_image *img, const cdsp_camera *cam, cd
             flags |= CDSP_FLAG_TRUNCATED;
         else if (st != CDSP_OK)
             return st;
-        st = solve_edges(img, cam, radius, ws, n, p, min_step, prior, 0, rng, out);
+        st = solve_edges(img, cam, radius, ws, n, p, min_step, fe->sigma, prior, 0, rng, out);
         if (edge.coarse >= 2 && (st != CDSP_OK || out->inliers[0] < (uint32_t)p->track_min_inliers ||
                                  out->inliers[1] < (uint32_t)p->track_min_inliers ||
                                  out->confidence < R(COARSE_TRUST))) {
@@ -683,7 +693,7 @@ cdsp_status cdsp_frame_solve(const cdsp_image *img, const cdsp_camera *cam, cdsp
     if (prior && v3_finite(prior->lines[0]) && v3_finite(prior->lines[1])) {
         int truncated;
         n = track_edges(img, cam, p, &edge, prior, ws->edge, CDSP_MAX_EDGES, &truncated);
-        st = solve_edges(img, cam, radius, ws, n, p, min_step, prior, 1, rng, out);
+        st = solve_edges(img, cam, radius, ws, n, p, min_step, sigma, prior, 1, rng, out);
         if (st == CDSP_OK && out->inliers[0] >= (uint32_t)p->track_min_inliers &&
             out->inliers[1] >= (uint32_t)p->track_min_inliers && !cdsp__frame_scattered(ws, out, sigma)) {
             out->flags |= CDSP_FLAG_TRACKED | (truncated ? CDSP_FLAG_TRUNCATED : 0u);

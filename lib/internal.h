@@ -161,6 +161,10 @@ typedef struct {
     cdsp_real var_scale; /* the line fits' variance factor for points that
                             share scanlines (cdsp__edges_scan_var); 1:
                             independent points */
+    cdsp_real sigma_offset[2]; /* > 0: the line sits on the model's
+                                  silhouette, whose noise (px, undistorted)
+                                  is its offset's, in place of the points'
+                                  (0: the points', lib/pair.c propagate) */
 } cdsp__pair_refined;
 /* The ranking of set's scored pairs into cand (confidences included; the
  * best pair in *best, the candidates' number in *n_cand; CDSP_E_NO_PIPE when
@@ -243,29 +247,39 @@ int cdsp__frame_scattered(const cdsp_frame_ws *ws, const cdsp_result *out, cdsp_
  * capped below 0.9; 1 then, 0 (nothing changed) otherwise. */
 int cdsp__frame_scatter_mark(const cdsp_frame_ws *ws, cdsp_result *out, cdsp_real sigma, cdsp_real *conf);
 /* frame.c: the edge-profile model on pair c's two lines of set (moved in
- * place when modelled; the moves in *ref), with scratch pws; nothing when
- * p->profile.enable is 0. Only the frame paths call it, so the points path
- * does not link lib/profile.c. */
+ * place when modelled; the moves and their noise in *ref, noise the frame's
+ * measured noise), with scratch pws; nothing when p->profile.enable is 0.
+ * Only the frame paths call it, so the points path does not link
+ * lib/profile.c. */
 void cdsp__frame_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts, size_t n,
                         const uint8_t *label, cdsp_pair_set *set, const cdsp_pair_eval *c,
-                        const cdsp_params *p, cdsp_profile_ws *pws, cdsp__pair_refined *ref);
+                        const cdsp_params *p, cdsp_real noise, cdsp_profile_ws *pws, cdsp__pair_refined *ref);
 /* rescan.c (cdsp_params.refine_step): line ln refitted to its inliers
  * among the edges of the scanlines its extent crosses, read again at step
  * p->refine_step around it with the frame's threshold min_step (gray
  * levels); ln unchanged unless CDSP_OK (nothing done: refine_step 0).
  * cdsp__rescan_pair: both lines of pair c of set, each with the move
  * ref->offset of the edge-profile model (ref NULL: none) undone for the
- * refit and done again after it; neither changed unless both refit. */
+ * refit; then the model fitted again about the refitted line from src's
+ * points (src NULL, or where it no longer applies: the move done again);
+ * neither changed unless both refit. */
+typedef struct {
+    const cdsp_edge *pts; /* the search's points and their line labels */
+    size_t n;
+    const uint8_t *label;
+    cdsp_profile_ws *pws;
+    cdsp_real noise; /* the frame's measured noise, gray levels */
+} cdsp__profile_src;
 cdsp_status cdsp__rescan_line(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_real min_step, cdsp_line *ln);
 cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_real min_step, cdsp_pair_set *set, const cdsp_pair_eval *c,
-                              cdsp__pair_refined *ref);
+                              const cdsp__profile_src *src, cdsp__pair_refined *ref);
 cdsp_status cdsp__profile_refine(const cdsp_image *img, const cdsp_camera *cam, const cdsp_edge *pts,
                                  size_t n, const uint8_t *label, uint8_t lab, cdsp_line *ln,
                                  const cdsp_real p_in[2], const cdsp_profile_params *pp,
-                                 int detector_h, cdsp_profile_ws *ws, cdsp_profile *prof,
-                                 cdsp_real *moved);
+                                 int detector_h, cdsp_real noise, cdsp_profile_ws *ws, cdsp_profile *prof,
+                                 cdsp_real *moved, cdsp_real *sigma_moved);
 cdsp_status cdsp__profile_params_check(const cdsp_profile_params *p);
 cdsp_status cdsp__axis_core(const cdsp_camera *cam, const cdsp_real l1[3], const cdsp_real l2[3],
                             const cdsp_real p_in[2], cdsp_real radius, cdsp__axis *out);

@@ -714,7 +714,13 @@ static void rescan_pipes(const cdsp_image *img, const cdsp_camera *cam, cdsp_rea
                          cdsp_result *out, size_t m)
 {
     cdsp_pair_set *set = &ws->frame.pairs;
+    cdsp__profile_src src;
     size_t i;
+    src.pts = ws->frame.edge;
+    src.n = n;
+    src.label = ws->frame.label;
+    src.pws = &ws->frame.profile;
+    src.noise = sigma;
     for (i = 0; i < m; i++) {
         cdsp_result *r = &out[i];
         cdsp_real conf = r->confidence;
@@ -727,7 +733,7 @@ static void rescan_pipes(const cdsp_image *img, const cdsp_camera *cam, cdsp_rea
                 (r->label[1] == e->i + 1 && r->label[0] == e->j + 1))
                 break;
         }
-        if (k == nc || cdsp__rescan_pair(img, cam, p, min_step, set, &set->pair[chosen[k]], &ref[k]) != CDSP_OK ||
+        if (k == nc || cdsp__rescan_pair(img, cam, p, min_step, set, &set->pair[chosen[k]], &src, &ref[k]) != CDSP_OK ||
             cdsp__pair_result(cam, radius, n, set, &set->pair[chosen[k]], &ref[k], r) != CDSP_OK)
             continue;
         (void)cdsp__frame_scatter_mark(&ws->frame, r, sigma, &conf);
@@ -756,7 +762,7 @@ static cdsp_status frame_pipes(const cdsp_image *img, const cdsp_camera *cam, cd
     for (k = 0; k < nc; k++) {
         const cdsp_pair_eval *e = &set->pair[chosen[k]];
         if (cdsp__pair_evidence(e, min_step > R(0)) >= p->min_confidence)
-            cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, e, p,
+            cdsp__frame_refine(img, cam, ws->frame.edge, n, ws->frame.label, set, e, p, sigma,
                                &ws->frame.profile, &ref[k]);
     }
     st = solve_all(cam, radius, ws->frame.edge, n, set, chosen, nc, ref, &ws->frame, sigma, p, min_step,

@@ -642,8 +642,9 @@ static void axis_change(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp
  * F's column k the one-standard-deviation change of (P_C, v) for parameter
  * k, cov = F F^T exactly: rank 4, singular along the two constraints. */
 static void propagate(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp_line *L[2],
-                      cdsp_real var_scale, cdsp_result *out)
+                      const cdsp__pair_refined *ref, cdsp_result *out)
 {
+    cdsp_real var_scale = ref ? ref->var_scale : R(1);
     cdsp_real cov7[7][7], u[3], w[3];
     int k, a, b, i;
     for (a = 0; a < 7; a++)
@@ -658,6 +659,12 @@ static void propagate(const cdsp_camera *cam, const cdsp__axis *ax, const cdsp_l
         cdsp_real s2 = ln->rms * ln->rms * (cdsp_real)ln->count / dof * var_scale;
         cdsp_real var = (k % 2 == 0) ? s2 / (cdsp_real)ln->count
                                      : (ln->spread > R(0) ? s2 / ln->spread : R(0));
+        if (k % 2 == 0 && ref && ref->sigma_offset[k / 2] > R(0))
+            /* a line the edge-profile model moved sits on its silhouette,
+             * which it measured independently of the line's own offset
+             * (docs/method.md 2a, 6): its offset's noise is the
+             * silhouette's, often larger (the sides' extrapolation) */
+            var = ref->sigma_offset[k / 2] * ref->sigma_offset[k / 2];
         cdsp_real h = R_SQRT(var), dl[3], J[7];
         for (i = 0; i < 6; i++)
             out->cov_factor[i][k] = R(0);
@@ -1272,7 +1279,7 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, size_t n
     }
     out->score = c->score;
     out->n_lines = (uint32_t)set->nlines;
-    propagate(cam, &ax, L, ref ? ref->var_scale : R(1), out);
+    propagate(cam, &ax, L, ref, out);
     if (ref && ref->bounded) /* the frame path's: the points carry no profile */
         bound_propagate(cam, &ax, L, out->edge_bound, out);
     visible_segment(cam, L, out);

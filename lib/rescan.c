@@ -28,9 +28,10 @@
  * sqrt(4 / 3) = 1.15 against the default search, by 2 against a search at
  * step 12 (tests/lib/test_rescan.c).
  *
- * When the edge-profile model moved a line (cdsp__frame_refine), the
- * refitted line is moved by the same amount: the model measures the edge's
- * shape, which the scanline step does not change.
+ * When the edge-profile model moved a line (cdsp__frame_refine), the move
+ * is undone for the refit and the model fitted again about the refitted
+ * line (docs/method.md 3a); where it no longer applies, the refitted line
+ * is moved by the first amount.
  */
 #include "internal.h"
 
@@ -441,9 +442,10 @@ cdsp_status cdsp__rescan_line(const cdsp_image *img, const cdsp_camera *cam, con
 
 cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, const cdsp_params *p,
                               cdsp_real min_step, cdsp_pair_set *set, const cdsp_pair_eval *c,
-                              cdsp__pair_refined *ref)
+                              const cdsp__profile_src *src, cdsp__pair_refined *ref)
 {
     cdsp_line L[2];
+    cdsp_real off[2], sig[2];
     int i;
     if (p->refine_step < 1)
         return CDSP_OK;
@@ -462,7 +464,31 @@ cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, con
         st = cdsp__rescan_line(img, cam, p, min_step, &L[i]);
         if (st != CDSP_OK)
             return st; /* neither line changed */
-        /* and done again on the refitted line, toward the pipe */
+        off[i] = moved;
+        sig[i] = ref ? ref->sigma_offset[i] : R(0);
+        if (src && sig[i] > R(0)) {
+            /* the model measured again about the refitted line: its
+             * silhouette does not depend on the line it starts from (to
+             * first order), so the line sits on it whatever the refit's
+             * own offset error, or bias (the point fit's lit limb, +0.03
+             * px beyond the detector's, docs/method.md 3a), and its noise
+             * is the silhouette's alone (lib/pair.c propagate) */
+            cdsp_line t = L[i];
+            cdsp_profile pr;
+            cdsp_real mv, smv;
+            int k = i ? c->j : c->i;
+            if (cdsp__profile_refine(img, cam, src->pts, src->n, src->label, (uint8_t)(k + 1), &t, c->p_in,
+                                     &p->profile, p->edge.half_window, src->noise, src->pws, &pr, &mv,
+                                     &smv) == CDSP_OK &&
+                smv > R(0)) {
+                L[i] = t;
+                off[i] = mv;
+                sig[i] = smv;
+                continue;
+            }
+        }
+        /* else the detector's move done again on the refitted line, toward
+         * the pipe (its noise then the model's on the detector's line) */
         side = L[i].l[0] * c->p_in[0] + L[i].l[1] * c->p_in[1] + L[i].l[2];
         s = side > R(0) ? R(1) : R(-1);
         L[i].l[2] -= moved * s;
@@ -471,7 +497,12 @@ cdsp_status cdsp__rescan_pair(const cdsp_image *img, const cdsp_camera *cam, con
     }
     set->lines[c->i] = L[0];
     set->lines[c->j] = L[1];
-    if (ref) /* the lines' points now at refine_step's spacing */
+    if (ref) { /* the lines' points now at refine_step's spacing */
         ref->var_scale = cdsp__edges_scan_var(p->refine_step);
+        for (i = 0; i < 2; i++) {
+            ref->offset[i] = off[i];
+            ref->sigma_offset[i] = sig[i];
+        }
+    }
     return CDSP_OK;
 }

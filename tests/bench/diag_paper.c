@@ -93,13 +93,13 @@ int main(int argc, char **argv)
                     for (rows_i = 0; rows_i < 2; rows_i++) {
                         cdsp_profile pr;
                         cdsp_profile_params pp;
-                        cdsp_real moved = 0;
+                        cdsp_real moved = 0, sigma_moved = 0;
                         cdsp_status st;
                         cdsp_profile_params_default(&pp);
                         pp.enable = 1;
                         pp.max_rows = rows_i ? 2048 : 256;
                         cp = ln;
-                        st = cdsp__profile_refine(&img, &cam, fws.edge, r[0].n_edges, fws.label, r[0].label[k], &cp, prin, &pp, 4, &fws.profile, &pr, &moved);
+                        st = cdsp__profile_refine(&img, &cam, fws.edge, r[0].n_edges, fws.label, r[0].label[k], &cp, prin, &pp, 4, 0, &fws.profile, &pr, &moved, &sigma_moved);
                         printf("   c%d rows%-4d det_err %+.4f px | st %d off %+.4f so %.4f blur %.3f J %.1f chi2 %.4f flat %d shadow %.2f clamp %d hw %.2f applies %d -> moved err %+.4f bound %.4f\n",
                                k, pp.max_rows, o[best], st, (double)pr.offset, (double)pr.sigma_offset, (double)pr.blur, (double)pr.contrast,
                                (double)pr.fit_chi2, pr.flat, (double)pr.shadow, pr.blur_clamped, (double)pr.half_width,
