@@ -17,14 +17,14 @@
  *     says what it says, on this machine), and of the bytes read;
  *   - the ratio of the achieved time to that limit (time / (bytes read /
  *     bandwidth)).
- * Each solve is timed twice, warm and cold, alternately in one run: warm
- * right after the previous solve of the same frame (the frame largely in
- * L2, as a loop over one frame keeps it), cold after reading EVICT_BYTES
- * of another buffer (evict(): the frame, the workspace and the code pushed
- * out of L1 and L2, as a camera frame arriving by DMA and a process doing
- * other work between frames leave them; cv_baseline's libcdsp figure is
- * such a case, after OpenCV's pass over the frame). The cold rows carry
- * the same bytes read and the same memory limit.
+ * Each solve is timed twice, cold and warm, alternately in one run: cold
+ * after evict() (the frame flushed from every cache level, then the
+ * workspace and the code pushed out of L1 and L2: as a frame a camera
+ * just wrote by DMA and a process doing other work between frames leave
+ * them; cv_baseline's libcdsp figure is such a case, after OpenCV's pass
+ * over the frame), warm right after a full search of the same frame (the
+ * frame in L2 / L3, as a loop over one frame keeps it). The cold rows
+ * carry the same bytes read and the same memory limit.
  * Modes for counting instructions: `bench_frame DIR full|track|load REPS
  * [FRAMES]` runs only that path REPS times on each of the first FRAMES
  * frames (track: after one full search per frame, for its prior; load:
