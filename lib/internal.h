@@ -110,6 +110,19 @@ static inline void zero_bytes(void *p, size_t n)
         *b++ = 0;
 }
 
+/* A hint that the cache line holding p will be read soon: where the
+ * frame path's data come from memory (a camera frame arrives by DMA, not
+ * in the caches) the scans issue it some rows ahead of what they read, so
+ * that the misses overlap instead of stalling one after the other. GCC /
+ * clang on the targets with a cache hierarchy it pays on (x86, AArch64);
+ * elsewhere (Cortex-M, other compilers) nothing. A prefetch never faults
+ * and changes no result. */
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__) || defined(__aarch64__))
+#define CDSP__PREFETCH(p) __builtin_prefetch((const void *)(p), 0, 3)
+#else
+#define CDSP__PREFETCH(p) ((void)(p))
+#endif
+
 /* The closed form's output before it becomes a cdsp_result (small: the
  * uncertainty propagation keeps several alive at once on MCU stacks). */
 typedef struct {
