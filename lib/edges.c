@@ -1282,12 +1282,17 @@ static cdsp_status detect_range(const cdsp_image *img, const cdsp_edge_params *p
         thr = thr > 0 ? thr : 1;
         for (t = fr + ka * D; t < tend; t += D) {
             /* the next coarse row while this one is read (it reads
-             * [from - 2, to + 2)): each starts in other pages, where the
-             * hardware's streams start over */
-            if (t + D < tend)
-                CDSP__PREFETCH_RANGE((const unsigned char *)img->data + (size_t)(t + D) * img->stride +
-                                         (size_t)(from - 2) * (img->bits > 8 ? 2u : 1u),
-                                     (size_t)(to - from + 4) * (img->bits > 8 ? 2u : 1u));
+             * [from - 2, to + 2)), and the rows above and below it, which
+             * its candidates' refinement reads: each starts in other pages,
+             * where the hardware's streams start over (the rows beside:
+             * cold full search 0.51 -> 0.495 ms, bench_frame) */
+            if (t + D < tend) {
+                int r;
+                for (r = -1; r <= 1; r++)
+                    CDSP__PREFETCH_RANGE((const unsigned char *)img->data + (size_t)(t + D + r) * img->stride +
+                                             (size_t)(from - 2) * (img->bits > 8 ? 2u : 1u),
+                                         (size_t)(to - from + 4) * (img->bits > 8 ? 2u : 1u));
+            }
             nrc += scan_segment(img, p, 1, t, from, to, out + nrc, cap / 2 - nrc - nh, out + cap, &nh);
             if (nrc + nh >= cap / 2)
                 return CDSP_E_CAPACITY;
