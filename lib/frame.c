@@ -127,6 +127,11 @@ static int noise_small_median(const cdsp_image *img, int rows, cdsp_real *med, u
     *total = 0;
     for (r = 0; r < rows; r++) {
         int y = (int)(((long)r * 2 + 1) * img->height / (2L * rows));
+        int yn = (int)(((long)r * 2 + 3) * img->height / (2L * rows));
+        /* the next row while this one is read (a row starts in other
+         * pages, where the hardware's streams start over) */
+        if (r + 1 < rows)
+            CDSP__PREFETCH_RANGE((const uint8_t *)img->data + (size_t)yn * img->stride, img->width);
         cdsp__noise_small_simd((const uint8_t *)img->data + (size_t)y * img->stride, (size_t)(img->width / 2), cnt);
         *total += (uint32_t)(img->width / 2);
     }

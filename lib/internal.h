@@ -110,6 +110,31 @@ static inline void zero_bytes(void *p, size_t n)
         *b++ = 0;
 }
 
+/* A hint that the cache line holding p will be read soon: where the
+ * frame path's data come from memory (a camera frame arrives by DMA, not
+ * in the caches) the scans issue it some rows ahead of what they read, so
+ * that the misses overlap instead of stalling one after the other. GCC /
+ * clang on the targets with a cache hierarchy it pays on (x86, AArch64);
+ * elsewhere (Cortex-M, other compilers) nothing. A prefetch never faults
+ * and changes no result. */
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__) || defined(__aarch64__))
+#define CDSP__PREFETCH(p) __builtin_prefetch((const void *)(p), 0, 3)
+/* Every cache line of bytes [p, p + n), n >= 1 (a row the scan reads
+ * next). A macro, not a function: GCC 12 finds a void function whose only
+ * effect is __builtin_prefetch const and drops its calls. */
+#define CDSP__PREFETCH_RANGE(p, n)                                                                 \
+    do {                                                                                           \
+        const unsigned char *pr_p = (const unsigned char *)(p);                                    \
+        size_t pr_i, pr_n = (size_t)(n);                                                           \
+        for (pr_i = 0; pr_i < pr_n; pr_i += 64)                                                    \
+            CDSP__PREFETCH(pr_p + pr_i);                                                           \
+        CDSP__PREFETCH(pr_p + pr_n - 1);                                                           \
+    } while (0)
+#else
+#define CDSP__PREFETCH(p) ((void)(p))
+#define CDSP__PREFETCH_RANGE(p, n) ((void)(p), (void)(n))
+#endif
+
 /* The closed form's output before it becomes a cdsp_result (small: the
  * uncertainty propagation keeps several alive at once on MCU stacks). */
 typedef struct {
