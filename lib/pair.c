@@ -1304,7 +1304,8 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, size_t n
  * out of the bin and 25 right poses (wide bands, their direction 0.01-1.5
  * degrees off) with them; FLIP_DRIFT_PX 0.3: the drift at which the right
  * flipping bands' directions (within 1.5 degrees at a change of up to 6.8
- * degrees per px) and the wrong ones' (7.6-33 degrees per px) part. */
+ * degrees per px) and the wrong ones' (7.6-33 degrees per px) part
+ * (test_pair's test_flip_confidence). */
 #define FLIP_DEG 2.0
 #define FLIP_PX 2.0
 #define FLIP_CONF FLAT_CONF

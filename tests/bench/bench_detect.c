@@ -865,7 +865,9 @@ static void features(int i, int ranged, const frame_spec *f, int pos, cdsp_statu
     fprintf(stderr, "F %d %d %d", i, ranged, pos && right(f, r));
     for (k = 0; k < CDSP__CONF_NX; k++)
         fprintf(stderr, " %.6g", (double)x[k]);
-    fprintf(stderr, "\n");
+    /* after the features (fit_load reads CDSP__CONF_NX of them): the
+     * confidence reported, caps included */
+    fprintf(stderr, " conf %.6g\n", CONFIDENCE(*r));
 }
 
 /* BENCH_DETECT_HIGH=1: each wrong pose at confidence >= 0.9 (issue 10's
@@ -988,6 +990,29 @@ static void high_line(int i, int ranged, const frame_spec *f, int pos, cdsp_stat
                 worst_p = fmax(worst_p, 100 * sqrt(e) / (double)r->distance);
             }
         fprintf(stderr, " turn1px dir %.3f deg point %.2f %% len %.0f %.0f", worst_v, worst_p, len[0], len[1]);
+    }
+    { /* the best scored pair sharing a line with the pose's (not a candidate: dropped in the ranking) */
+        double sh = 0, nest = 0;
+        int m, a = r->label[0] - 1, b = r->label[1] - 1;
+        for (m = 0; m < w->pairs.npairs; m++) {
+            const cdsp_pair_eval *q = &w->pairs.pair[m];
+            int same = (q->i == a && q->j == b) || (q->i == b && q->j == a);
+            if (!same && (q->i == a || q->j == a || q->i == b || q->j == b)) {
+                int o = q->i == a || q->i == b ? q->j : q->i, in = 1, e;
+                const cdsp_line *O = &w->pairs.lines[o];
+                for (e = 0; e < 2; e++) {
+                    const cdsp_real *l = w->pairs.lines[e ? b : a].l;
+                    double so = (double)(l[0] * O->centroid[0] + l[1] * O->centroid[1] + l[2]);
+                    double sp = (double)(l[0] * c->p_in[0] + l[1] * c->p_in[1] + l[2]);
+                    in &= so * sp > 0;
+                }
+                sh = fmax(sh, (double)q->score);
+                if (in)
+                    nest = fmax(nest, (double)q->score);
+            }
+        }
+        fprintf(stderr, " shared %.3f nested %.3f", c->score > 0 ? sh / (double)c->score : 0.0,
+                c->score > 0 ? nest / (double)c->score : 0.0);
     }
     fprintf(stderr, "\n");
 }
