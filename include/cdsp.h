@@ -528,8 +528,14 @@ typedef struct {
  * put such bands at >= 0.9 when only 92 % of them were right. With the cap
  * no false positive of bench-detect reaches 0.9 (seeds 1-3), and among
  * poses at >= 0.9 96-99 % are right, still NOT the issue's >= 99 % (the
- * rest: the true contours with the pose more than 5 % off, issue 12). Each
- * candidate's confidence is the model's as if it were the one returned.
+ * rest: the true contours with the pose more than 5 % off, issue 12). A
+ * band with a contour whose contrast flips along it (a collinear line of
+ * the opposite polarity beyond its stretch: the background crosses the
+ * pipe's level there, and the edge's points drift near the crossing) is
+ * capped at 0.89 too when its direction would turn by more than 2 degrees
+ * for a 0.3 px drift of its contours' ends (a narrow band: docs/method.md
+ * §4). Each candidate's confidence is the model's as if it were the one
+ * returned.
  */
 
 /*

@@ -440,7 +440,7 @@ static cdsp_status solve_edges(const cdsp_image *img, const cdsp_camera *cam, cd
         st = cdsp__pair_score_frame(cam, radius, ws->edge, n, ws->label, p, min_step, prior, rng, img,
                                     &ws->pairs);
     if (st == CDSP_OK)
-        st = cdsp__pair_rank(&ws->pairs, ws->cand, p, min_step, &best, &nc);
+        st = cdsp__pair_rank(cam, radius, &ws->pairs, ws->cand, p, min_step, &best, &nc);
     if (st != CDSP_OK)
         return st;
     if (tracking && !p->profile.enable && prior && (prior->flags & CDSP_FLAG_BOUND)) {

@@ -197,8 +197,9 @@ typedef struct {
  * min_confidence test and the direction's sign (prior's, or the
  * convention) included; ref: NULL, or the edge-profile model's moves, the
  * lines in set already moved. */
-cdsp_status cdsp__pair_rank(const cdsp_pair_set *set, cdsp_candidate *cand, const cdsp_params *p,
-                            cdsp_real min_step, cdsp_pair_eval *best, uint32_t *n_cand);
+cdsp_status cdsp__pair_rank(const cdsp_camera *cam, cdsp_real radius, const cdsp_pair_set *set,
+                            cdsp_candidate *cand, const cdsp_params *p, cdsp_real min_step,
+                            cdsp_pair_eval *best, uint32_t *n_cand);
 cdsp_status cdsp__pair_pose(const cdsp_camera *cam, cdsp_real radius, size_t n,
                             const cdsp_pair_set *set, const cdsp_pair_eval *best, uint32_t n_cand,
                             const cdsp_candidate *cand, const cdsp_params *p,

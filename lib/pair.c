@@ -1286,11 +1286,101 @@ cdsp_status cdsp__pair_result(const cdsp_camera *cam, cdsp_real radius, size_t n
     return CDSP_OK;
 }
 
+/* A contour whose contrast flips along it (issue 10's confidence): another
+ * line (not the band's other contour) on the same straight line, within
+ * FLIP_DEG and FLIP_PX of it, of the opposite polarity and beyond its
+ * stretch (overlapping it by less than half the shorter one): the
+ * background crosses the pipe's level along the contour (a ramp, a
+ * brighter object behind part of it), and the band holds only the stretch
+ * of one polarity. Near the crossing the edge's step goes to zero while the
+ * background's gradient does not, so the detector's points there drift off
+ * the silhouette: the line is turned a little, and the pose's direction in
+ * depth (the contours' convergence) turns with it, by f / w times as much
+ * for a band w px wide. flip_turn (below) is that direction's change when
+ * each contour's ends drift by FLIP_DRIFT_PX (a turn of 2 FLIP_DRIFT_PX /
+ * its inlier extent about its centroid, the two turns of the worse
+ * relative sign, to first order through axis_change, as propagate()); a
+ * candidate with a flipping contour whose change exceeds FLIP_TOL_DEG,
+ * the issue's tolerance for a right direction (bench_detect's right()), is
+ * capped at FLIP_CONF, out of the >= 0.9 bin (FLAT_CONF's value). A wide
+ * band's direction survives the drift, so its flip alone caps nothing.
+ * bench-detect seeds 1-3 (BENCH_DETECT_HIGH=1): of the 15 wrong poses at
+ * confidence >= 0.9, 11 were on frames with the generator's contrast flip,
+ * their contours the true ones within 2 degrees and 2.5 px and the
+ * direction 2.2-17 degrees off; capping every flipping band took 5 of them
+ * out of the bin and 25 right poses (wide bands, their direction 0.01-1.5
+ * degrees off) with them; FLIP_DRIFT_PX 0.3: the drift at which the right
+ * flipping bands' directions (within 1.5 degrees at a change of up to 6.8
+ * degrees per px) and the wrong ones' (7.6-33 degrees per px) part
+ * (test_pair's test_flip_confidence). */
+#define FLIP_DEG 2.0
+#define FLIP_PX 2.0
+#define FLIP_CONF FLAT_CONF
+#define FLIP_DRIFT_PX 0.3
+#define FLIP_TOL_DEG 2.0
+static cdsp_real flip_turn(const cdsp_camera *cam, cdsp_real radius, const cdsp_pair_set *pset,
+                           const pair_choice *c)
+{
+    const cdsp_line *L[2];
+    cdsp__axis ax;
+    cdsp_real dv[2][3], u[3], w[3], dP[3], dd, a = R(0), b = R(0);
+    int k, i;
+    L[0] = &pset->lines[c->i];
+    L[1] = &pset->lines[c->j];
+    if (cdsp__axis_core(cam, L[0]->l, L[1]->l, c->p_in, radius, &ax) != CDSP_OK)
+        return R(0);
+    for (i = 0; i < 3; i++)
+        u[i] = ax.point[i] / ax.distance;
+    v3_cross(ax.direction, u, w);
+    for (k = 0; k < 2; k++) {
+        cdsp_real ext = L[k]->t_max - L[k]->t_min, h = R(2) * R(FLIP_DRIFT_PX) / (ext > R(1) ? ext : R(1)), dl[3];
+        /* as propagate()'s turn: (a, b) turned by h about the centroid */
+        dl[0] = -h * L[k]->l[1];
+        dl[1] = h * L[k]->l[0];
+        dl[2] = -(dl[0] * L[k]->centroid[0] + dl[1] * L[k]->centroid[1]);
+        axis_change(cam, &ax, L[k]->l, k, dl, u, w, dP, dv[k], &dd);
+    }
+    for (i = 0; i < 3; i++) {
+        a += (dv[0][i] + dv[1][i]) * (dv[0][i] + dv[1][i]);
+        b += (dv[0][i] - dv[1][i]) * (dv[0][i] - dv[1][i]);
+    }
+    return R_SQRT(a > b ? a : b);
+}
+static int contour_flips(const cdsp_pair_set *pset, int k, int other)
+{
+    const cdsp_line *A = &pset->lines[k];
+    cdsp_real ca = R_COS(R(FLIP_DEG) * R_PI / R(180));
+    cdsp_real alo = A->t_min, ahi = A->t_max;
+    int m;
+    for (m = 0; m < pset->nlines; m++) {
+        const cdsp_line *B = &pset->lines[m];
+        cdsp_real dot = A->l[0] * B->l[0] + A->l[1] * B->l[1], lo, hi, t0, t1, ov, shorter;
+        if (m == k || m == other || !(dot < -ca))
+            continue;
+        if (R_FABS(A->l[0] * B->centroid[0] + A->l[1] * B->centroid[1] + A->l[2]) > R(FLIP_PX) ||
+            R_FABS(B->l[0] * A->centroid[0] + B->l[1] * A->centroid[1] + B->l[2]) > R(FLIP_PX))
+            continue;
+        /* B's extent along A's direction, from A's centroid */
+        t0 = (B->centroid[0] + B->t_min * B->dir[0] - A->centroid[0]) * A->dir[0] +
+             (B->centroid[1] + B->t_min * B->dir[1] - A->centroid[1]) * A->dir[1];
+        t1 = (B->centroid[0] + B->t_max * B->dir[0] - A->centroid[0]) * A->dir[0] +
+             (B->centroid[1] + B->t_max * B->dir[1] - A->centroid[1]) * A->dir[1];
+        lo = t0 < t1 ? t0 : t1;
+        hi = t0 < t1 ? t1 : t0;
+        ov = (hi < ahi ? hi : ahi) - (lo > alo ? lo : alo);
+        shorter = hi - lo < ahi - alo ? hi - lo : ahi - alo;
+        if (ov < R(0.5) * shorter)
+            return 1;
+    }
+    return 0;
+}
+
 /* The ranking and the candidates from the scored pairs (the common middle
  * of the points and the frame path): the best pair in *best, the number of
  * candidates in *n_cand, their confidences in cand. */
-cdsp_status cdsp__pair_rank(const cdsp_pair_set *pset, cdsp_candidate *cand, const cdsp_params *p,
-                            cdsp_real min_step, cdsp_pair_eval *best, uint32_t *n_cand)
+cdsp_status cdsp__pair_rank(const cdsp_camera *cam, cdsp_real radius, const cdsp_pair_set *pset,
+                            cdsp_candidate *cand, const cdsp_params *p, cdsp_real min_step,
+                            cdsp_pair_eval *best, uint32_t *n_cand)
 {
     const cdsp_line *lines = pset->lines;
     const pair_choice *list = pset->pair;
@@ -1346,8 +1436,13 @@ cdsp_status cdsp__pair_rank(const cdsp_pair_set *pset, cdsp_candidate *cand, con
     }
     /* each candidate's confidence as if it were the one returned (its
      * rival: the best other candidate) */
-    for (i = 0; i < nc; i++)
+    for (i = 0; i < nc; i++) {
         cand[i].confidence = cdsp__pair_confidence(cand, (uint32_t)nc, (uint32_t)i, ranged, min_step > R(0));
+        if (cand[i].confidence > R(FLIP_CONF) &&
+            (contour_flips(pset, chosen[i].i, chosen[i].j) || contour_flips(pset, chosen[i].j, chosen[i].i)) &&
+            flip_turn(cam, radius, pset, &chosen[i]) > R(FLIP_TOL_DEG) * R_PI / R(180))
+            cand[i].confidence = R(FLIP_CONF);
+    }
     *best = chosen[0];
     *n_cand = (uint32_t)nc;
     return CDSP_OK;
@@ -1405,7 +1500,7 @@ cdsp_status cdsp__pair_solve(const cdsp_camera *cam, cdsp_real radius, const cds
     uint32_t nc;
     cdsp_status st = score_pairs(cam, radius, pts, n, label, p, min_step, prior, rng, 1, set);
     if (st == CDSP_OK)
-        st = cdsp__pair_rank(set, cand, p, min_step, &best, &nc);
+        st = cdsp__pair_rank(cam, radius, set, cand, p, min_step, &best, &nc);
     if (st != CDSP_OK)
         return st;
     return cdsp__pair_pose(cam, radius, n, set, &best, nc, cand, p, prior, NULL, out);

@@ -29,7 +29,8 @@
  * BENCH_DETECT_WHY=1 each failed positive by cause (diagnose);
  * BENCH_DETECT_SCATTER=1 each pose with a scattered contour (scatter_line);
  * BENCH_DETECT_FEATURES=1 the confidence model's features per pose (for
- * `fit`); BENCH_DETECT_TABLE=1 and _VERBOSE=1 per-frame lines;
+ * `fit`); BENCH_DETECT_HIGH=1 each wrong pose at confidence >= 0.9 by
+ * class, with its evidence (=a every pose there); BENCH_DETECT_TABLE=1 and _VERBOSE=1 per-frame lines;
  * BENCH_DETECT_DUMP=dir the frames as PGM; BENCH_DETECT_OLDGEN=1 the
  * generator before its limb fix (limbs_visible), BENCH_DETECT_LIST_FIXED=1
  * the frames that fix changes (their cached renders must be made again).
@@ -864,6 +865,155 @@ static void features(int i, int ranged, const frame_spec *f, int pos, cdsp_statu
     fprintf(stderr, "F %d %d %d", i, ranged, pos && right(f, r));
     for (k = 0; k < CDSP__CONF_NX; k++)
         fprintf(stderr, " %.6g", (double)x[k]);
+    /* after the features (fit_load reads CDSP__CONF_NX of them): the
+     * confidence reported, caps included */
+    fprintf(stderr, " conf %.6g\n", CONFIDENCE(*r));
+}
+
+/* BENCH_DETECT_HIGH=1: each wrong pose at confidence >= 0.9 (issue 10's
+ * calibration target), "H frame mode kind cues size conf class ..." with
+ * what was found against the truth and the confidence model's features
+ * (lib/pair.c). Classes: "neg" (a negative frame), "acc" (the pose's lines
+ * are the true contours, the pose outside right()'s tolerance), "rack" (the
+ * rack's second pipe, within right()'s tolerance of its axis), "shares"
+ * (one of the true contours paired with another line), "other" (a band of
+ * neither). With BENCH_DETECT_HIGH=a every pose at >= 0.9, right ones
+ * marked "right". */
+static void high_line(int i, int ranged, const frame_spec *f, int pos, cdsp_status st, const cdsp_result *r,
+                      const cdsp_frame_ws *w)
+{
+    const cdsp_candidate *c = &w->cand[0];
+    cdsp_real x[CDSP__CONF_NX];
+    double t[2][3], pin[2], P[3], v[3], e2 = 0;
+    const char *cls = "other";
+    int k, ok = pos && st == CDSP_OK && right(f, r);
+    if (st != CDSP_OK || CONFIDENCE(*r) < 0.9 || (ok && getenv("BENCH_DETECT_HIGH")[0] != 'a'))
+        return;
+    sup_result_pose(r, P, v, NULL);
+    if (pos) {
+        for (k = 0; k < 3; k++)
+            e2 += (P[k] - f->P[k]) * (P[k] - f->P[k]);
+        if (ok)
+            cls = "right";
+        else if (sup_contour_lines(&f->cam, f->P, f->v, f->radius, t, pin) && result_matches(t, r->lines, c->p_in))
+            cls = "acc";
+        else {
+            int m, shared = 0;
+            for (k = 0; k < 2; k++)
+                for (m = 0; m < 2; m++) {
+                    double A = (double)c->lines[m][0], B = (double)c->lines[m][1], C = (double)c->lines[m][2];
+                    double s = A * (double)c->p_in[0] + B * (double)c->p_in[1] + C, px = (double)c->p_in[0] - s * A,
+                           py = (double)c->p_in[1] - s * B;
+                    if (line_match(t[k], c->lines[m]) && fabs(t[k][0] * px + t[k][1] * py + t[k][2]) <= 2.5)
+                        shared = 1;
+                }
+            if (f->cues & CUE_RACK) { /* clutter[0] is the rack's pipe (positive()) */
+                const cdsp_clutter *b = &f->s.clutter[0];
+                double Q[3], u[3], tq = 0, eq = 0;
+                for (k = 0; k < 3; k++) {
+                    Q[k] = (double)b->p0[k];
+                    u[k] = (double)b->p1[k] - (double)b->p0[k];
+                }
+                unit(u);
+                for (k = 0; k < 3; k++)
+                    tq += Q[k] * u[k];
+                for (k = 0; k < 3; k++) {
+                    Q[k] -= tq * u[k];
+                    eq += (P[k] - Q[k]) * (P[k] - Q[k]);
+                }
+                if (sqrt(eq) <= 0.05 * sqrt(Q[0] * Q[0] + Q[1] * Q[1] + Q[2] * Q[2]) &&
+                    sup_axis_angle(v, u) <= 2 * SUP_PI / 180)
+                    cls = "rack";
+            }
+            if (shared && strcmp(cls, "rack") != 0)
+                cls = "shares";
+        }
+    } else {
+        cls = "neg";
+    }
+    cdsp__pair_features(w->cand, r->n_candidates, 0, ranged, r->min_step > 0, x);
+    fprintf(stderr,
+            "H %d %s %s cues %03x %dx%d conf %.3f %s: d %.1f true %.1f (pos err %.1f %%, dir err %.2f deg)"
+            " flags %x cands %u width %.1f support %.0f contrast %.2f shade %.2f sin %.4f score %.0f x",
+            i, ranged ? "ranged" : "plain", f->kind, f->cues, f->cam.width, f->cam.height, CONFIDENCE(*r), cls,
+            (double)r->distance, pos ? f->dist : 0.0, pos ? 100 * sqrt(e2) / f->dist : 0.0,
+            pos ? sup_axis_angle(v, f->v) * 180 / SUP_PI : 0.0, (unsigned)r->flags, (unsigned)r->n_candidates,
+            (double)c->width, (double)c->support, (double)c->contrast, (double)c->shade, (double)c->sin_angle,
+            (double)c->score);
+    for (k = 0; k < CDSP__CONF_NX; k++)
+        fprintf(stderr, " %.4g", (double)x[k]);
+    {
+        double sv = 0, sp = 0, bv = 0, bp = 0;
+        for (k = 0; k < 3; k++) {
+            sv += (double)r->sigma_direction[k] * (double)r->sigma_direction[k];
+            sp += (double)r->sigma_point[k] * (double)r->sigma_point[k];
+            bv += (double)r->bound_direction[k] * (double)r->bound_direction[k];
+            bp += (double)r->bound_point[k] * (double)r->bound_point[k];
+        }
+        fprintf(stderr, " | sigma dir %.3f deg point %.2f %% bound dir %.3f deg point %.2f %% rms %.3f %.3f",
+                sqrt(sv) * 180 / SUP_PI, 100 * sqrt(sp) / (double)r->distance, sqrt(bv) * 180 / SUP_PI,
+                100 * sqrt(bp) / (double)r->distance, (double)r->rms[0], (double)r->rms[1]);
+    }
+    { /* the pose's change when both contours turn by 1 px over their half extent (worst signs) */
+        double worst_v = 0, worst_p = 0, len[2] = {0, 0};
+        int sa, sb;
+        for (k = 0; k < 2; k++) {
+            const cdsp_line *L = &w->pairs.lines[r->label[k] - 1];
+            len[k] = (double)(L->t_max - L->t_min);
+        }
+        for (sa = -1; sa <= 1; sa += 2)
+            for (sb = -1; sb <= 1; sb += 2) {
+                cdsp_real l2[2][3];
+                cdsp_result q;
+                double Q[3], u[3], e = 0;
+                int m;
+                for (k = 0; k < 2; k++) {
+                    const cdsp_line *L = &w->pairs.lines[r->label[k] - 1];
+                    double mid[2], th = (k ? sb : sa) * 2.0 / (len[k] > 1 ? len[k] : 1);
+                    double a = (double)r->lines[k][0], b = (double)r->lines[k][1], cc = (double)r->lines[k][2];
+                    double s0 = 0.5 * (double)(L->t_min + L->t_max), d0;
+                    mid[0] = (double)L->centroid[0] + s0 * (double)L->dir[0];
+                    mid[1] = (double)L->centroid[1] + s0 * (double)L->dir[1];
+                    d0 = a * mid[0] + b * mid[1] + cc;
+                    mid[0] -= d0 * a;
+                    mid[1] -= d0 * b;
+                    l2[k][0] = (cdsp_real)(a * cos(th) - b * sin(th));
+                    l2[k][1] = (cdsp_real)(a * sin(th) + b * cos(th));
+                    l2[k][2] = (cdsp_real)(-((double)l2[k][0] * mid[0] + (double)l2[k][1] * mid[1]));
+                }
+                if (cdsp_axis_solve(&f->cam, l2[0], l2[1], c->p_in, (cdsp_real)f->radius, &q) != CDSP_OK)
+                    continue;
+                sup_result_pose(&q, Q, u, NULL);
+                for (m = 0; m < 3; m++)
+                    e += (Q[m] - P[m]) * (Q[m] - P[m]);
+                worst_v = fmax(worst_v, sup_axis_angle(u, v) * 180 / SUP_PI);
+                worst_p = fmax(worst_p, 100 * sqrt(e) / (double)r->distance);
+            }
+        fprintf(stderr, " turn1px dir %.3f deg point %.2f %% len %.0f %.0f", worst_v, worst_p, len[0], len[1]);
+    }
+    { /* the best scored pair sharing a line with the pose's (not a candidate: dropped in the ranking) */
+        double sh = 0, nest = 0;
+        int m, a = r->label[0] - 1, b = r->label[1] - 1;
+        for (m = 0; m < w->pairs.npairs; m++) {
+            const cdsp_pair_eval *q = &w->pairs.pair[m];
+            int same = (q->i == a && q->j == b) || (q->i == b && q->j == a);
+            if (!same && (q->i == a || q->j == a || q->i == b || q->j == b)) {
+                int o = q->i == a || q->i == b ? q->j : q->i, in = 1, e;
+                const cdsp_line *O = &w->pairs.lines[o];
+                for (e = 0; e < 2; e++) {
+                    const cdsp_real *l = w->pairs.lines[e ? b : a].l;
+                    double so = (double)(l[0] * O->centroid[0] + l[1] * O->centroid[1] + l[2]);
+                    double sp = (double)(l[0] * c->p_in[0] + l[1] * c->p_in[1] + l[2]);
+                    in &= so * sp > 0;
+                }
+                sh = fmax(sh, (double)q->score);
+                if (in)
+                    nest = fmax(nest, (double)q->score);
+            }
+        }
+        fprintf(stderr, " shared %.3f nested %.3f", c->score > 0 ? sh / (double)c->score : 0.0,
+                c->score > 0 ? nest / (double)c->score : 0.0);
+    }
     fprintf(stderr, "\n");
 }
 
@@ -1215,6 +1365,8 @@ int main(int argc, char **argv)
             diagnose(i, &f, &img, &prm, st, &r, &ws);
         if (getenv("BENCH_DETECT_WHY") && !pos)
             diagnose_negative(i, 0, &f, st, &r, &ws);
+        if (getenv("BENCH_DETECT_HIGH"))
+            high_line(i, 0, &f, pos, st, &r, &ws);
         prm.pair.min_distance = (cdsp_real)f.range[0];
         prm.pair.max_distance = (cdsp_real)f.range[1];
         cdsp_rng_seed(&rng, solver_seed(i), 3);
@@ -1229,6 +1381,8 @@ int main(int argc, char **argv)
             scatter_line(i, 1, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_WHY") && !pos)
             diagnose_negative(i, 1, &f, st, &r, &ws);
+        if (getenv("BENCH_DETECT_HIGH"))
+            high_line(i, 1, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_FEATURES"))
             features(i, 1, &f, pos, st, &r, &ws);
         if (getenv("BENCH_DETECT_ONLY"))
