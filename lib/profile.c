@@ -1286,7 +1286,7 @@ static cdsp_real area_sigma(const cdsp_profile_ws *ws, const cdsp_real *ub, cons
 {
     const cdsp_real d0 = rd->d0, d = rd->d, z = rd->z, W = rd->W, s2 = rd->s2;
     cdsp_real Nb[3][3] = {{0}}, Np[3][3] = {{0}}, Nb2[3][3], Np2[3][3], vb[3], vp[3], fc[3], xb = -(z + W) / R(2), cm;
-    cdsp_real mb_[3] = {0, 0, 0}, mp_[3] = {0, 0, 0};
+    cdsp_real momb[3] = {0, 0, 0}, momp[3] = {0, 0, 0};
     cdsp_real uf = R(0), ul = R(0), var = R(0), Fd, Fs2, X, e, q;
     pipe_kink k;
     int b, i, j, prev, nbg = 0, npp = 0, have = 0;
@@ -1357,24 +1357,24 @@ static cdsp_real area_sigma(const cdsp_profile_ws *ws, const cdsp_real *ub, cons
         if (t == R(0))
             continue;
         if (ub[b] < d) {
-            mb_[0] += t;
-            mb_[1] += t * (ub[b] - d0 - xb);
+            momb[0] += t;
+            momb[1] += t * (ub[b] - d0 - xb);
             continue;
         }
         s_ = ub[b] - d;
         f[1] = s_ > m->St ? s_ - m->St : R(0);
         f[2] = s_ > m->St ? sq_at(m, s_) - sq_at(m, m->St) : R(0);
-        mp_[0] += t;
-        mp_[1] += t * (f[1] - fc[1]);
-        mp_[2] += t * (f[2] - fc[2]);
+        momp[0] += t;
+        momp[1] += t * (f[1] - fc[1]);
+        momp[2] += t * (f[2] - fc[2]);
     }
     for (i = 0; i < 3; i++)
         for (j = 0; j < 3; j++) {
             Nb2[i][j] = Nb[i][j];
             Np2[i][j] = Np[i][j];
         }
-    if (!solve_small(Nb, vb, 2) || !solve_small(Np, vp, 3) || !solve_small(Nb2, mb_, 2) ||
-        !solve_small(Np2, mp_, 3))
+    if (!solve_small(Nb, vb, 2) || !solve_small(Np, vp, 3) || !solve_small(Nb2, momb, 2) ||
+        !solve_small(Np2, momp, 3))
         return R(0);
     Fd = m->D + m->E * (d - d0) - pipe_at(m, rd->bb - d);
     if (!(R_FABS(Fd) > R(0)))
@@ -1406,10 +1406,10 @@ static cdsp_real area_sigma(const cdsp_profile_ws *ws, const cdsp_real *ub, cons
         if (x >= z && x <= W) {
             pipe_basis_h(m, x, hb[b], &k, f);
             g += w * (vp[0] + (f[1] - fc[1]) * vp[1] + (f[2] - fc[2]) * vp[2]);
-            gm -= w * (mp_[0] + (f[1] - fc[1]) * mp_[1] + (f[2] - fc[2]) * mp_[2]);
+            gm -= w * (momp[0] + (f[1] - fc[1]) * momp[1] + (f[2] - fc[2]) * momp[2]);
         } else if (x <= -z && x >= -W) {
             g += w * (vb[0] + (x - xb) * vb[1]);
-            gm -= w * (mb_[0] + (x - xb) * mb_[1]);
+            gm -= w * (momb[0] + (x - xb) * momb[1]);
         }
         g -= Fs2 * R(2) * gm / rd->Jeff;
         var += g * g / w;

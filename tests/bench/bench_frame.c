@@ -94,6 +94,14 @@ static int cmp_d(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
+/* One row of the frame path's table: time (ms), the frame's bytes read,
+ * the memory limit for them (ms) and the ratio of the two. */
+static void print_row(const char *path, double ms, size_t bytes, size_t frame_bytes, double lim)
+{
+    printf("| %-28s | %7.3f ms | %9zu (%5.1f %%)     | %9.3f ms | %6.1f x |\n", path, ms, bytes,
+           100.0 * (double)bytes / (double)frame_bytes, lim, lim > 0 ? ms / lim : 0);
+}
+
 static double median(double *v, int n)
 {
     qsort(v, (size_t)n, sizeof *v, cmp_d);
@@ -423,18 +431,10 @@ int main(int argc, char **argv)
                "memory limit", "ratio");
         printf("|%s|%s|%s|%s|%s|\n", "------------------------------", "------------",
                "------------------------", "--------------", "----------");
-        printf("| %-28s | %7.3f ms | %9zu (%5.1f %%)     | %9.3f ms | %6.1f x |\n",
-               "full search (target <= 1 ms)", mf, bf, 100.0 * (double)bf / (double)frame_bytes, limf,
-               limf > 0 ? mf / limf : 0);
-        printf("| %-28s | %7.3f ms | %9zu (%5.1f %%)     | %9.3f ms | %6.1f x |\n",
-               "tracked (target <= 0.2 ms)", mt, bt, 100.0 * (double)bt / (double)frame_bytes, limt,
-               limt > 0 ? mt / limt : 0);
-        printf("| %-28s | %7.3f ms | %9zu (%5.1f %%)     | %9.3f ms | %6.1f x |\n",
-               "full search, cold", mcf, bf, 100.0 * (double)bf / (double)frame_bytes, limf,
-               limf > 0 ? mcf / limf : 0);
-        printf("| %-28s | %7.3f ms | %9zu (%5.1f %%)     | %9.3f ms | %6.1f x |\n",
-               "tracked, cold", mct, bt, 100.0 * (double)bt / (double)frame_bytes, limt,
-               limt > 0 ? mct / limt : 0);
+        print_row("full search (target <= 1 ms)", mf, bf, frame_bytes, limf);
+        print_row("tracked (target <= 0.2 ms)", mt, bt, frame_bytes, limt);
+        print_row("full search, cold", mcf, bf, frame_bytes, limf);
+        print_row("tracked, cold", mct, bt, frame_bytes, limt);
         printf("memory bandwidth (memcpy of %zu bytes, best of 15): %.2f GB/s; bytes read counted "
                "by whole rows (%zu of %d rows full, %zu tracked; an upper bound); "
                "ratio = time / (bytes read / bandwidth), target <= 3; cold: the frame flushed "
