@@ -724,7 +724,9 @@ typedef struct {
     cdsp_real d, sg, w; /* silhouette, the kernel's Gaussian sd and box width */
     cdsp_real T, Rc;    /* the terminator (px from d; 0: none) and the limb's radius */
     cdsp_real c[5];     /* D, E, A - D, B - E, C (T > 0: D, E, A - D, B, C) */
-    cdsp_real rss, Wf;  /* residual sum of squares over |x| <= Wf */
+    cdsp_real rss, Wf;  /* residual sum of squares over |x + dw| <= Wf */
+    cdsp_real dw;       /* d less the window's centre: 0 but in fwd_sigma's
+                           steps in d, which hold the window */
     int i0, i1, J;      /* the grid's range, the kernel's half-width in cells */
 } fwd_state;
 
@@ -868,7 +870,7 @@ static int fwd_eval_b(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc, int 
         fwd_basis(ws, fs);
     for (b = 0; b < NB; b++) {
         cdsp_real x = ub[b] - fs->d, w = (cdsp_real)ws->count[b], y;
-        if (!ws->count[b] || R_FABS(x) > fs->Wf)
+        if (!ws->count[b] || R_FABS(x + fs->dw) > fs->Wf)
             continue;
         if (first) {
             y0 = mb[b]; /* the levels about the first bin's: conditioning */
@@ -888,7 +890,7 @@ static int fwd_eval_b(cdsp_profile_ws *ws, fwd_state *fs, int slot, int nc, int 
     fs->rss = R(0);
     for (b = 0; b < NB; b++) {
         cdsp_real x = ub[b] - fs->d, e = R(0);
-        if (ws->count[b] && R_FABS(x) <= fs->Wf) {
+        if (ws->count[b] && R_FABS(x + fs->dw) <= fs->Wf) {
             fwd_row(ws, fs, x, f);
             e = mb[b];
             for (i = 0; i < nc; i++)
@@ -1016,6 +1018,7 @@ static int fwd_fit(cdsp_profile_ws *ws, cdsp_real d0, cdsp_real s2, cdsp_real ha
     geo.Rc = Rc;
     geo.St = R(0);
     cur.d = d0;
+    cur.dw = R(0);
     cur.T = R(0);
     cur.Rc = Rc;
     cur.Wf = half - R_FABS(d0) - R(0.25);
@@ -1206,6 +1209,86 @@ static cdsp_real fwd_chi2(const cdsp_profile_ws *ws, const fwd_state *fs, cdsp_r
         }
     }
     return ng > 8 ? chi / (cdsp_real)(ng - 8) : R(PROFILE_CHI2_UNCHECKED);
+}
+
+/* fwd_sigma's step in parameter k of fs (0 d, 1 sg, 2 the box's variance
+ * w^2 / 12, 3 T; fwd_lm's steps) into fwd_r[slot], turned in place into
+ * the derivative of the weighted residuals there against fwd_r[0], fs's.
+ * basis 0: the grid holds fs's basis (a step in d). 0 when singular. */
+static int fwd_deriv(cdsp_profile_ws *ws, const fwd_state *fs, int k, int slot, int basis)
+{
+    const cdsp_real h = R(0.01);
+    fwd_state t = *fs;
+    int b;
+    if (k == 0) {
+        t.d += h;
+        t.dw = h; /* the same bins as fs's */
+    } else if (k == 1) {
+        t.sg += h;
+    } else if (k == 2) {
+        t.w = R_SQRT(fs->w * fs->w + R(12) * h);
+    } else {
+        t.T += h;
+    }
+    if (!fwd_eval_b(ws, &t, slot, 5, basis))
+        return 0;
+    for (b = 0; b < NB; b++)
+        ws->fwd_r[slot][b] = (ws->fwd_r[slot][b] - ws->fwd_r[0][b]) / h;
+    return 1;
+}
+
+/* sum over the bins of fwd_r[i] fwd_r[j] */
+static cdsp_real fwd_dot(const cdsp_profile_ws *ws, int i, int j)
+{
+    cdsp_real s = R(0);
+    int b;
+    for (b = 0; b < NB; b++)
+        s += ws->fwd_r[i][b] * ws->fwd_r[j][b];
+    return s;
+}
+
+/* The forward fit's silhouette noise (its sigma_offset): the Gauss-Newton
+ * covariance of its nonlinear parameters at the solution,
+ * var_pix (J^T J)^-1, J the weighted residuals' derivatives in d, sg,
+ * w^2 / 12 and, with a limb in shadow, T (fwd_deriv). The linear
+ * coefficients are solved again at each step (variable projection), so
+ * J^T J is the Schur complement of the full problem's normal matrix: the
+ * nonlinear parameters' covariance with the linear ones free (Golub and
+ * Pereyra 1973). d's variance is marginal over the rest: T and d are
+ * nearly collinear over the blur. The window's end held (dw): a bin
+ * crossing it in a 0.01 px step would be a jump of its residual (the
+ * noise over 0.01 px), not a derivative. Until this the forward fit
+ * reported the window's part alone (the area balance's varM), ~4 times
+ * too small under 3 px of blur (test_noise). The slots hold up to three
+ * derivatives beside fs's residuals, so T's products come in a second
+ * pass. 0 when J^T J is singular; fwd_r[0] keeps fs's residuals. */
+static cdsp_real fwd_sigma(cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real var_pix)
+{
+    cdsp_real N[4][4], r[4] = {R(1), R(0), R(0), R(0)};
+    fwd_state t = *fs;
+    int m = fs->T > R(0) ? 4 : 3, i, j;
+    if (!fwd_eval(ws, &t, 0))
+        return R(0);
+    for (i = 0; i < 3; i++)
+        if (!fwd_deriv(ws, fs, i, 1 + i, i != 0))
+            return R(0);
+    for (i = 0; i < 3; i++)
+        for (j = 0; j < 3; j++)
+            N[i][j] = fwd_dot(ws, 1 + i, 1 + j);
+    if (m == 4) {
+        /* T into slot 1 (d's), its products with sg and w; d again */
+        if (!fwd_deriv(ws, fs, 3, 1, 1))
+            return R(0);
+        N[3][3] = fwd_dot(ws, 1, 1);
+        N[1][3] = N[3][1] = fwd_dot(ws, 1, 2);
+        N[2][3] = N[3][2] = fwd_dot(ws, 1, 3);
+        if (!fwd_deriv(ws, fs, 0, 2, 1))
+            return R(0);
+        N[0][3] = N[3][0] = fwd_dot(ws, 1, 2);
+    }
+    if (!gj_solve(&N[0][0], 4, r, m) || !(r[0] > R(0)))
+        return R(0);
+    return R_SQRT(var_pix * r[0]);
 }
 
 /* The pixels' noise from the sides' bins: those at least z from the
@@ -1784,7 +1867,8 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
             out->fit_chi2 = chi_f;
             out->shadow = fs.T;
             out->flat = 0;
-            if (R_FABS(fs.c[2]) > R(0))
+            out->sigma_offset = fwd_sigma(ws, &fs, var_pix);
+            if (!(out->sigma_offset > R(0)) && R_FABS(fs.c[2]) > R(0))
                 out->sigma_offset = R_SQRT(varM) / R_FABS(fs.c[2]);
         }
     }
@@ -1830,7 +1914,9 @@ static cdsp_status fwd_alone(cdsp_profile_ws *ws, cdsp_real half, cdsp_real radi
     out->offset = fs.d;
     out->blur = blur;
     out->contrast = fs.c[2];
-    out->sigma_offset = R_FABS(fs.c[2]) > R(0) ? R_SQRT(varM) / R_FABS(fs.c[2]) : R(0);
+    out->sigma_offset = fwd_sigma(ws, &fs, var_pix);
+    if (!(out->sigma_offset > R(0)))
+        out->sigma_offset = R_FABS(fs.c[2]) > R(0) ? R_SQRT(varM) / R_FABS(fs.c[2]) : R(0);
     out->half_width = fs.Wf;
     out->shadow = fs.T;
     out->noise = R_SQRT(var_pix);

@@ -473,20 +473,37 @@ static void test_applies(void **state)
  * 0.83 / 0.95; lit 1.01 / 1.01, 0.88 / 0.88, 0.83 / 0.83, 0.92 / 0.93; at
  * 45 degrees 0.75 / 0.81; shadow 0.90 / 1.15. The mean offset within 3
  * standard errors of 0 plus 0.002 px (test_lambertian_limb's tolerance for
- * these limbs). */
+ * these limbs).
+ * Under a blur wider than the detector's window (optical 2 and 3 px) the
+ * forward model replaces the area balance on most seeds, and its sigma is
+ * its fit's covariance (fwd_sigma); on the other seeds the area balance
+ * stays, offsets up to 0.35 px with sigmas up to 0.55 px. The scatter of
+ * such a mixture says little, so these rows are judged by the z-scores'
+ * RMS, sqrt(mean((offset / sigma_offset)^2)) (the true offset is 0: a
+ * bias counts), against 1 within the same 3 / sqrt(2 (N - 1)).
+ * Measured (double / float): 1.10 / 1.14 and 0.97 / 0.93; with the window's
+ * part alone, as the forward model reported before, 1.32 and 2.32. (Left
+ * out, as not yet met: a limb in shadow under 2.5 px of blur, 8 bit, RMS
+ * 4.7: its offsets are 1.5-2.5 px off with sigmas of 0.3-0.6; 7 px of
+ * motion across, 1.26, from area-balance seeds 0.19-0.7 px off.) The older
+ * rows' z-scores are 0.96-1.48: their sigma is right on average (the
+ * ratio above) but varies from seed to seed more than their errors do. */
 static void test_noise(void **state)
 {
     static const struct {
-        double angle, ambient, ln, lv, pipe, expect;
+        double angle, ambient, ln, lv, pipe, blur, expect;
+        int z; /* 1: judged by the z-scores' RMS (below) */
     } rows[] = {
-        {0, 1, 0, 0, 160, 1}, /* flat: the detector's regime */
-        {5, 1, 0, 0, 160, 1},
-        {0, 0.6, 0.3, 0.95, 160, 1}, /* lit limbs */
-        {5, 0.6, 0.3, 0.95, 160, 1},
-        {17, 0.6, 0.3, 0.95, 160, 1},
-        {5, 0.3, 0.7, 0.71, 200, 1},
-        {45, 0.6, 0.3, 0.95, 160, 0.79}, /* scanlines read twice (above) */
-        {5, 0.4, -0.65, 0.62, 250, 1},   /* a limb in shadow (terminator ~20 px in) */
+        {0, 1, 0, 0, 160, 0.7, 1, 0}, /* flat: the detector's regime */
+        {5, 1, 0, 0, 160, 0.7, 1, 0},
+        {0, 0.6, 0.3, 0.95, 160, 0.7, 1, 0}, /* lit limbs */
+        {5, 0.6, 0.3, 0.95, 160, 0.7, 1, 0},
+        {17, 0.6, 0.3, 0.95, 160, 0.7, 1, 0},
+        {5, 0.3, 0.7, 0.71, 200, 0.7, 1, 0},
+        {45, 0.6, 0.3, 0.95, 160, 0.7, 0.79, 0}, /* scanlines read twice (above) */
+        {5, 0.4, -0.65, 0.62, 250, 0.7, 1, 0},   /* a limb in shadow (terminator ~20 px in) */
+        {5, 0.3, 0.7, 0.71, 200, 2, 1, 1},       /* the forward model (fwd_sigma) */
+        {17, 0.3, 0.7, 0.71, 200, 3, 1, 1},
     };
     const int n = 64;
     const double tol = 3 / sqrt(2.0 * (n - 1));
@@ -494,7 +511,7 @@ static void test_noise(void **state)
     (void)state;
     for (r = 0; r < sizeof rows / sizeof rows[0]; r++) {
         int k;
-        double sum = 0, sum2 = 0, est = 0, mean, sd;
+        double sum = 0, sum2 = 0, est = 0, mean, sd, zz = 0, zrms;
         for (k = 0; k < n; k++) {
             sup_edge_spec e;
             cdsp_profile pr;
@@ -504,19 +521,29 @@ static void test_noise(void **state)
             e.light_n = rows[r].ln;
             e.light_v = rows[r].lv;
             e.pipe = rows[r].pipe;
+            e.blur_px = rows[r].blur;
             e.offset_px = 0.3;
             e.noise = 2;
             e.seed = (uint64_t)(100 + k);
             assert_int_equal(fit_shifted(&e, 0, &pr), CDSP_OK);
+            assert_true(pr.sigma_offset > 0);
             sum += (double)pr.offset;
             sum2 += (double)pr.offset * (double)pr.offset;
             est += (double)pr.sigma_offset;
+            zz += (double)pr.offset * (double)pr.offset / ((double)pr.sigma_offset * (double)pr.sigma_offset);
         }
         mean = sum / n;
         sd = sqrt((sum2 - n * mean * mean) / (n - 1));
         est /= n;
+        zrms = sqrt(zz / n);
         if (getenv("CDSP_TEST_VERBOSE"))
-            print_message("noise row %zu: mean %.5f sd %.5f estimate %.5f ratio %.3f\n", r, mean, sd, est, est / sd);
+            print_message("noise row %zu: mean %.5f sd %.5f estimate %.5f ratio %.3f z rms %.3f\n", r, mean, sd, est,
+                          est / sd, zrms);
+        if (rows[r].z) {
+            if (!(fabs(zrms - 1) < tol))
+                fail_msg("row %zu: offset / sigma_offset RMS %.3f (want 1 +- %.3f)", r, zrms, tol);
+            continue;
+        }
         if (!(fabs(mean) < 3 * sd / sqrt((double)n) + 0.002))
             fail_msg("row %zu: mean offset %.5f px, sd %.5f", r, mean, sd);
         if (!(fabs(est / sd - rows[r].expect) < tol))
