@@ -484,7 +484,9 @@ static void test_applies(void **state)
  * Measured (double / float): 1.10 / 1.14 and 0.97 / 0.93; with the window's
  * part alone, as the forward model reported before, 1.32 and 2.32. (Left
  * out, as not yet met: a limb in shadow under 2.5 px of blur, 8 bit, RMS
- * 4.7: its offsets are 1.5-2.5 px off with sigmas of 0.3-0.6; 7 px of
+ * 4.7: its offsets are 1.5-2.5 px off with sigmas of 0.3-0.6, though
+ * cdsp_profile_applies refuses all 64 and their bounds, 1.5-14 px, cover
+ * them, so the frame path keeps the detector's line; 7 px of
  * motion across, 1.26, from area-balance seeds 0.19-0.7 px off.) The older
  * rows' z-scores are 0.96-1.48: their sigma is right on average (the
  * ratio above) but varies from seed to seed more than their errors do. */
