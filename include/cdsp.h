@@ -641,8 +641,9 @@ typedef struct {
                                px, through the sides' fits, their
                                extrapolation to the silhouette and the
                                measured blur (first order, docs/method.md
-                               2a: 0.83-1.01 of the scatter measured on
-                               flat and shaded limbs); under a blur wider
+                               2a: 0.89-1.06 of the scatter measured on
+                               flat and shaded limbs, offset / sigma RMS
+                               0.91-1.15); under a blur wider
                                than the detector's window (the forward
                                model) the fit's own covariance, the blur
                                and a terminator free (offset / sigma RMS

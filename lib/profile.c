@@ -1728,16 +1728,22 @@ static cdsp_status area_solve(cdsp_profile_ws *ws, cdsp_real half, cdsp_real rad
          * round's over 1 - rho (test_noise's lit limb at 0 degrees: 0.66
          * -> 1.01 of the offset's scatter over 64 seeds). The
          * ratio is read where the moves are clear of rounding (1e-6 px)
-         * and kept within +-0.8 (the zones' bins make it jump); rounds
+         * and kept within [0, 0.8] (the zones' bins make it jump); rounds
          * that did not settle add their last move (a cycle between two
-         * zones' bins, d's spread along it). */
+         * zones' bins, d's spread along it). A negative ratio is that
+         * cycle, moves alternating as d crosses a bin, not the fixed
+         * point's contraction: over test_noise's rows it came on 157 of
+         * 226 seeds whose rounds did not settle, 10 of 303 that did, and
+         * read as rho it shrank their sigma by up to 1.8 (z-scores' RMS
+         * 1.87 on those seeds of the lit limb at 5 degrees, 0.99 on the
+         * others). */
         cdsp_real rho = R(0), sg = area_sigma(ws, ub, ws->sum_u, &m, &rd, var_pix);
         if (nmv >= 2 && R_FABS(mv[0]) > R(1e-6))
             rho = mv[1] / mv[0];
         if (rho > R(0.8))
             rho = R(0.8);
-        if (rho < R(-0.8))
-            rho = R(-0.8);
+        if (rho < R(0))
+            rho = R(0);
         sg /= R(1) - rho;
         if (!ok)
             sg = R_SQRT(sg * sg + mv[1] * mv[1]);
