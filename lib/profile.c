@@ -321,12 +321,13 @@ static cdsp_real norm_cdf_g(cdsp_real t, cdsp_real g)
  * plus the (smooth, second-order) rest. The model's value is
  * A + B f[1] + C f[2]. */
 typedef struct {
-    cdsp_real sig, hs, q; /* sqrt(s2), h(St) = sq(St), sq'(St) */
+    cdsp_real sig, sig4, hs, q; /* sqrt(s2), 4 sqrt(s2), h(St) = sq(St), sq'(St) */
 } pipe_kink;
 
 static void pipe_kink_at(const sides *m, cdsp_real s2, pipe_kink *k)
 {
     k->sig = R_SQRT(s2);
+    k->sig4 = R(4) * k->sig;
     k->hs = sq_at(m, m->St);
     k->q = k->hs > R(0) ? (m->Rc - m->St) / k->hs : R(0);
 }
@@ -336,23 +337,32 @@ static void pipe_kink_at(const sides *m, cdsp_real s2, pipe_kink *k)
  * computes its square roots once, not once per trial) */
 static inline void pipe_basis_h(const sides *m, cdsp_real x, cdsp_real hx, const pipe_kink *k, cdsp_real f[3])
 {
-    cdsp_real t;
+    cdsp_real d, t;
     f[0] = R(1);
     if (!(m->St > R(0))) {
         f[1] = x;
         f[2] = hx;
         return;
     }
-    t = (x - m->St) / k->sig;
+    /* t = (x - St) / sigma, whose branch |x - St| >= 4 sigma decides
+     * without the division (4 sigma is exact, a power of 2 times sigma,
+     * and rounding is monotone: x - St >= 4 sigma gives a quotient >= 4):
+     * the same f, one division less on the bins outside the kink's
+     * blur (the paper frame's full search: 7 552 of the 10 236 bins a
+     * terminator's basis is evaluated on; fit_pipe 743 972 -> 741 415
+     * instructions, callgrind: a division is one instruction there, but
+     * ~4 cycles of the divider's throughput and 13-15 of latency) */
+    d = x - m->St;
+    t = d >= k->sig4 ? R(4) : d <= -k->sig4 ? R(-4) : d / k->sig;
     if (t >= R(4)) {
-        f[1] = x - m->St;
+        f[1] = d;
         f[2] = hx - k->hs;
     } else if (t <= R(-4)) {
         f[1] = f[2] = R(0);
     } else {
-        cdsp_real g = R_EXP(-t * t / R(2)), ramp = k->sig * R(0.3989422804014327) * g + (x - m->St) * norm_cdf_g(t, g);
+        cdsp_real g = R_EXP(-t * t / R(2)), ramp = k->sig * R(0.3989422804014327) * g + d * norm_cdf_g(t, g);
         f[1] = ramp;
-        f[2] = k->q * ramp + (x > m->St ? hx - k->hs - k->q * (x - m->St) : R(0));
+        f[2] = k->q * ramp + (x > m->St ? hx - k->hs - k->q * d : R(0));
     }
 }
 
