@@ -571,13 +571,15 @@ static int fit_sides(const cdsp_profile_ws *ws, const cdsp_real *ub, const cdsp_
          * order while they qualify: St only grows). Fitted, such a trial
          * would not be taken (r < best false) as long as its computed RSS
          * is within the margin of its true value, PRUNE_MARGIN R_EPS of
-         * the zone's sum of squares: the normal equations' RSS was
-         * measured within 2e-13 of it (the residuals summed in long double
-         * at the computed fit, every fit of bench_frame's hash run) and
-         * within 6e-11 on test_profile.c's cases, against 2.2e-7 here in
-         * double; in float the margin exceeds every RSS and nothing is
-         * skipped. On the paper's frames a limb's grid is mostly such
-         * trials once St is a few px into the zone: the same results
+         * the zone's sum of squares: the normal equations' RSS was never
+         * more than 1.9e-13 of it below the residuals' weighted sum at the
+         * computed fit (summed in long double, which is at least the true
+         * least squares RSS; all 2 219 fits of bench_frame's hash run), nor
+         * more than 6.1e-11 on test_profile.c's 37 497, against 2.2e-7
+         * here in double; in float the margin exceeds every RSS and
+         * nothing is skipped. On the paper frame 5-6 of a grid's 14-16
+         * trials are fitted, the rest skipped once St is ~4 px into the
+         * zone: the same results
          * (bench_frame's hash), the full search's fit_pipe calls 171 -> 133,
          * instructions 4 667 950 -> 4 437 417 (callgrind). */
         cdsp_real sig4 = R(4) * R_SQRT(s2), margin = R(PRUNE_MARGIN) * R_EPS * zn.swyy;
