@@ -684,8 +684,10 @@ typedef struct {
  * Fit the profile model to the frame along the straight line `line` (frame
  * px, a u + b v + c = 0, any scale) between the projections of ends[0] and
  * ends[1] onto it; p_in is the pipe's middle (its distance from the line
- * is taken as the limb's radius Rc, px). Scanlines whose
- * window leaves the frame are skipped. CDSP_E_FEW_POINTS when fewer than
+ * is taken as the limb's radius Rc, px). One scanline per frame row (or
+ * column, for a contour nearer horizontal) between the ends, evenly
+ * thinned to pp->max_rows; scanlines whose window leaves the frame are
+ * skipped. CDSP_E_FEW_POINTS when fewer than
  * 16 scanlines fit, CDSP_E_NOCONVERGE when the model does not fit (no edge,
  * or the silhouette more than half the window away), CDSP_E_ARG for bad
  * arguments. Under a blur wider than the detector's window on a shaded

@@ -1302,8 +1302,9 @@ static cdsp_real fwd_dot(const cdsp_profile_ws *ws, int i, int j)
  * nearly collinear over the blur. The window's end held (dw): a bin
  * crossing it in a 0.01 px step would be a jump of its residual (the
  * noise over 0.01 px), not a derivative. Until this the forward fit
- * reported the window's part alone (the area balance's varM), ~4 times
- * too small under 3 px of blur (test_noise). The slots hold up to three
+ * reported the window's part alone (the area balance's varM), 2.5 times
+ * too small under 3 px of blur (test_noise: z-scores' RMS 2.32, now
+ * 0.97). The slots hold up to three
  * derivatives beside fs's residuals, so T's products come in a second
  * pass. 0 when J^T J is singular; fwd_r[0] keeps fs's residuals. */
 static cdsp_real fwd_sigma(cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real var_pix)
@@ -2165,9 +2166,14 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3], con
     {
         int t_ax = R_FABS(n[0]) >= R_FABS(n[1]) ? 1 : 0, k0, k1, nk;
         cdsp_real lo = q0[t_ax] < q1[t_ax] ? q0[t_ax] : q1[t_ax], hi = q0[t_ax] < q1[t_ax] ? q1[t_ax] : q0[t_ax];
-        cdsp_real dq = q1[t_ax] - q0[t_ax];
-        if (!(L < R(1e9)))
-            return CDSP_E_ARG;
+        cdsp_real dq = q1[t_ax] - q0[t_ax], last = (cdsp_real)((t_ax ? img->height : img->width) - 1);
+        /* the scanlines in the frame (beyond, accumulate reads nothing) */
+        if (lo < R(0))
+            lo = R(0);
+        if (hi > last)
+            hi = last;
+        if (!(hi >= lo))
+            return CDSP_E_FEW_POINTS;
         k0 = (int)R_CEIL(lo);
         k1 = (int)R_FLOOR(hi);
         nk = k1 - k0 + 1;
