@@ -2164,7 +2164,7 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3], con
      * (test_noise's row at 45 degrees); the scanlines k between the
      * ends, each at the line's point on it, evenly thinned to max_rows */
     {
-        int t_ax = R_FABS(n[0]) >= R_FABS(n[1]) ? 1 : 0, k0, k1, nk;
+        int t_ax = R_FABS(n[0]) >= R_FABS(n[1]) ? 1 : 0, k0, k1, nk, k, acc;
         cdsp_real lo = q0[t_ax] < q1[t_ax] ? q0[t_ax] : q1[t_ax], hi = q0[t_ax] < q1[t_ax] ? q1[t_ax] : q0[t_ax];
         cdsp_real dq = q1[t_ax] - q0[t_ax], last = (cdsp_real)((t_ax ? img->height : img->width) - 1);
         /* the scanlines in the frame (beyond, accumulate reads nothing) */
@@ -2179,13 +2179,17 @@ cdsp_status cdsp_profile_fit(const cdsp_image *img, const cdsp_real line[3], con
         nk = k1 - k0 + 1;
         rows = nk < pp->max_rows ? nk : pp->max_rows;
         ws_clear(ws);
-        for (i = 0; i < rows && dq != R(0); i++) {
-            int k = k0 + (int)((int64_t)i * nk / rows);
+        /* k = k0 + floor(i nk / rows) by a running remainder: no product
+         * to overflow, no 64-bit division (a library call on Cortex-M,
+         * which tests/mcu/stack.py cannot bound) */
+        for (i = 0, k = k0, acc = 0; i < rows && dq != R(0); i++) {
             cdsp_real t = ((cdsp_real)k - q0[t_ax]) / dq, q[2];
             q[0] = q0[0] + t * (q1[0] - q0[0]);
             q[1] = q0[1] + t * (q1[1] - q0[1]);
             q[t_ax] = (cdsp_real)k;
             used += accumulate(img, ws, q, n, half);
+            for (acc += nk; acc >= rows; acc -= rows)
+                k++;
         }
     }
     if (used < 16)
