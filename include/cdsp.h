@@ -934,8 +934,10 @@ cdsp_real cdsp_result_point_distance(const cdsp_result *r, const cdsp_real X[3])
  * each neighbour) is never chosen over the pipes beside it, whatever the
  * scores. Pipes are returned best score first. Confidence of each: its
  * evidence E alone (how sure this band is a pipe; the single path's margin
- * over rivals measures which pipe is meant, which a rack does not ask);
- * min_confidence drops weaker pipes.
+ * over rivals measures which pipe is meant, which a rack does not ask),
+ * with the single path's cap for a narrow band whose contour's contrast
+ * flips along it (0.89, cdsp_result.confidence); min_confidence drops
+ * weaker pipes.
  * ---------------------------------------------------------------------- */
 
 /* Pipes one call returns at most (capacity of the caller's output). */

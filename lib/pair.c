@@ -1375,6 +1375,15 @@ static int contour_flips(const cdsp_pair_set *pset, int k, int other)
     return 0;
 }
 
+cdsp_real cdsp__pair_flip_cap(const cdsp_camera *cam, cdsp_real radius, const cdsp_pair_set *pset,
+                              const cdsp_pair_eval *c, cdsp_real conf)
+{
+    if (conf > R(FLIP_CONF) && (contour_flips(pset, c->i, c->j) || contour_flips(pset, c->j, c->i)) &&
+        flip_turn(cam, radius, pset, c) > R(FLIP_TOL_DEG) * R_PI / R(180))
+        return R(FLIP_CONF);
+    return conf;
+}
+
 /* The ranking and the candidates from the scored pairs (the common middle
  * of the points and the frame path): the best pair in *best, the number of
  * candidates in *n_cand, their confidences in cand. */
@@ -1436,13 +1445,10 @@ cdsp_status cdsp__pair_rank(const cdsp_camera *cam, cdsp_real radius, const cdsp
     }
     /* each candidate's confidence as if it were the one returned (its
      * rival: the best other candidate) */
-    for (i = 0; i < nc; i++) {
-        cand[i].confidence = cdsp__pair_confidence(cand, (uint32_t)nc, (uint32_t)i, ranged, min_step > R(0));
-        if (cand[i].confidence > R(FLIP_CONF) &&
-            (contour_flips(pset, chosen[i].i, chosen[i].j) || contour_flips(pset, chosen[i].j, chosen[i].i)) &&
-            flip_turn(cam, radius, pset, &chosen[i]) > R(FLIP_TOL_DEG) * R_PI / R(180))
-            cand[i].confidence = R(FLIP_CONF);
-    }
+    for (i = 0; i < nc; i++)
+        cand[i].confidence = cdsp__pair_flip_cap(
+            cam, radius, pset, &chosen[i],
+            cdsp__pair_confidence(cand, (uint32_t)nc, (uint32_t)i, ranged, min_step > R(0)));
     *best = chosen[0];
     *n_cand = (uint32_t)nc;
     return CDSP_OK;
