@@ -1077,9 +1077,9 @@ static void test_flip_cap_all(void **state)
             print_message("multi-pipe path %u: distance %.1f confidence %.3f\n", (unsigned)i,
                           (double)out[i].distance, (double)out[i].confidence);
     }
-    assert_true(one.confidence < 0.9);
+    assert_true((double)one.confidence < 0.9);
     for (i = 0; i < m; i++)
-        assert_true(out[i].confidence < 0.9);
+        assert_true((double)out[i].confidence < 0.9);
 }
 
 int main(void)
