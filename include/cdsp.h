@@ -488,7 +488,9 @@ typedef struct {
  * overlap and n_k q_k (below) at least min_inliers / 2, the closed
  * form's distance inside [min_distance, max_distance],
  * one object inside: no strong interior contours of both polarities an
- * edge window or more apart, no
+ * edge window or more apart (on the frame path, a darker pipe's specular
+ * stripe excepted: the strip between them peaked at its middle, a
+ * highlight's lobe, not a gap's flat level), no
  * strong one opposing its nearer contour without a stripe's other side of
  * half its strength, no strong one continuing its nearer contour's step
  * with nothing of the other polarity beyond it (a staircase onto an object
