@@ -488,7 +488,9 @@ typedef struct {
  * overlap and n_k q_k (below) at least min_inliers / 2, the closed
  * form's distance inside [min_distance, max_distance],
  * one object inside: no strong interior contours of both polarities an
- * edge window or more apart, no
+ * edge window or more apart (on the frame path, a darker pipe's specular
+ * stripe excepted: the strip between them peaked at its middle, a
+ * highlight's lobe, not a gap's flat level), no
  * strong one opposing its nearer contour without a stripe's other side of
  * half its strength, no strong one continuing its nearer contour's step
  * with nothing of the other polarity beyond it (a staircase onto an object
@@ -941,8 +943,10 @@ cdsp_real cdsp_result_point_distance(const cdsp_result *r, const cdsp_real X[3])
  * each neighbour) is never chosen over the pipes beside it, whatever the
  * scores. Pipes are returned best score first. Confidence of each: its
  * evidence E alone (how sure this band is a pipe; the single path's margin
- * over rivals measures which pipe is meant, which a rack does not ask);
- * min_confidence drops weaker pipes.
+ * over rivals measures which pipe is meant, which a rack does not ask),
+ * with the single path's cap for a narrow band whose contour's contrast
+ * flips along it (0.89, cdsp_result.confidence); min_confidence drops
+ * weaker pipes.
  * ---------------------------------------------------------------------- */
 
 /* Pipes one call returns at most (capacity of the caller's output). */

@@ -204,6 +204,11 @@ cdsp_status cdsp__pair_pose(const cdsp_camera *cam, cdsp_real radius, size_t n,
                             const cdsp_pair_set *set, const cdsp_pair_eval *best, uint32_t n_cand,
                             const cdsp_candidate *cand, const cdsp_params *p,
                             const cdsp_result *prior, const cdsp__pair_refined *ref, cdsp_result *out);
+/* conf capped at the flip rule's FLIP_CONF (lib/pair.c: a narrow band with
+ * a contour whose contrast flips along it, its direction in depth unsure);
+ * the single path's ranking and the multi-pipe path's results both. */
+cdsp_real cdsp__pair_flip_cap(const cdsp_camera *cam, cdsp_real radius, const cdsp_pair_set *pset,
+                              const cdsp_pair_eval *c, cdsp_real conf);
 /* pair.c, split for the multi-pipe path (lib/multi.c): every candidate
  * line and scored pair (CDSP_E_NO_PIPE when none), one pair's full result
  * (confidence, n_candidates, track_id and the direction's sign are the

@@ -662,7 +662,10 @@ static cdsp_status solve_all(const cdsp_camera *cam, cdsp_real radius, const cds
         cap = CDSP_MAX_PIPES;
     for (k = 0; k < nc && m < cap; k++) {
         const cdsp_pair_eval *e = &set->pair[chosen[k]];
-        cdsp_real conf = cdsp__pair_evidence(e, min_step > R(0));
+        /* a narrow band with a flipping contour out of the >= 0.9 bin, as
+         * on the single path (test_multi's test_flip_cap_all: 0.998
+         * without) */
+        cdsp_real conf = cdsp__pair_flip_cap(cam, radius, set, e, cdsp__pair_evidence(e, min_step > R(0)));
         cdsp_result *r = &out[m];
         if (conf < p->min_confidence)
             continue;

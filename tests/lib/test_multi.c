@@ -1039,6 +1039,49 @@ static void test_hostile(void **state)
     assert_true(cdsp_points_all_ws_size() == sizeof(cdsp_points_all_ws));
 }
 
+/* The multi-pipe path caps a flipping narrow band's confidence as the
+ * single path does (lib/pair.c, cdsp__pair_flip_cap): a pipe 20 px wide
+ * (radius 5 at 400 mm, f 800) whose contrast flips halfway along both
+ * contours (the background crossing its level), so each contour is two
+ * lines of opposite polarity and each half is a band of its own. A half's
+ * direction in depth turns by degrees for a 0.3 px drift of its contours'
+ * ends; its evidence (support alone on the points path) is near 1, and
+ * before the cap the multi-pipe path reported it at that. */
+static void test_flip_cap_all(void **state)
+{
+    static cdsp_points_all_ws pws;
+    static cdsp_points_ws sws;
+    static cdsp_edge pts[800];
+    double P[3] = {10, -5, 400}, v[3] = {0.05, 1, 0.1};
+    cdsp_camera cam;
+    cdsp_params prm;
+    cdsp_rng rng;
+    cdsp_result out[CDSP_MAX_PIPES], one;
+    size_t n = 0, m = 0, i;
+    (void)state;
+    unit(v);
+    sup_camera(&cam, W, H, F, 0, 0);
+    cdsp_rng_seed(&rng, 7, 1);
+    n += sup_contour_points(&cam, P, v, 5, -100, 0, 150, 0.15, 60, &rng, pts, 800, NULL);
+    n += sup_contour_points(&cam, P, v, 5, 0, 100, 150, 0.15, -60, &rng, pts + n, 800 - n, NULL);
+    cdsp_params_default(&prm);
+    cdsp_rng_seed(&rng, 1, 2);
+    assert_int_equal(cdsp_points_solve(&cam, 5, pts, n, &prm, NULL, &sws, &rng, &one), CDSP_OK);
+    cdsp_rng_seed(&rng, 1, 2);
+    assert_int_equal(cdsp_points_solve_all(&cam, 5, pts, n, &prm, NULL, &pws, &rng, out, CDSP_MAX_PIPES, &m),
+                     CDSP_OK);
+    if (getenv("CDSP_TEST_VERBOSE")) {
+        print_message("single path: distance %.1f confidence %.3f\n", (double)one.distance,
+                      (double)one.confidence);
+        for (i = 0; i < m; i++)
+            print_message("multi-pipe path %u: distance %.1f confidence %.3f\n", (unsigned)i,
+                          (double)out[i].distance, (double)out[i].confidence);
+    }
+    assert_true((double)one.confidence < 0.9);
+    for (i = 0; i < m; i++)
+        assert_true((double)out[i].confidence < 0.9);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1053,6 +1096,7 @@ int main(void)
         cmocka_unit_test(test_support_columns),
         cmocka_unit_test(test_axis_spacing),
         cmocka_unit_test(test_hostile),
+        cmocka_unit_test(test_flip_cap_all),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

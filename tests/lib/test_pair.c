@@ -424,7 +424,15 @@ static void test_rendered_cues(void **state)
  *   thresholds, the cap 33 sigma off): pipes, though within JUNCTION_SAME
  *   of their contrast (wrong and no pipe before the cap). And frame 343,
  *   with its range: a bar meeting a crossing bar 4.8 sigma off its level
- *   (Mono12), a corner: no pipe (a 3-sigma cap reported one). */
+ *   (Mono12), a corner: no pipe (a 3-sigma cap reported one).
+ * - test (viii)'s split at a highlight (highlight_within): seed 2 frame 205,
+ *   a pipe of 0.48 on a background of 0.66 (Mono12) with a specular stripe
+ *   (0.38, exponent 43) 12-19 px in from one contour of its 29.5 px band:
+ *   the stripe's edges reverse the contours' step and continue it, as a
+ *   gap between two darker objects would; its middle stands 6-22 % of its
+ *   rise above its quarter points at all 8 positions, a gap's flat level
+ *   would not. The pipe, not (before) the wrong band 21 px wide 3421 mm
+ *   away (and with its range [1247.7, 4068.1] the same). */
 typedef struct {
     const char *what;
     int frame, seed, out_bits, img_bits;
@@ -566,6 +574,19 @@ static void test_rendered_bench(void **state)
           {2198.7691972576076, -571.14887694946231, 2067.8328085945705, -1215.4223590541412, 1419.1618922561547,
            2067.8328085945705, 69.033062546524647, 0.61940865802275347}},
          {2776.8, 5513.9}, 0, 0, 0, {0, 0}},
+        {"darker pipe with a specular stripe, Mono12", 205, 2, 12, 16, 1073.4944100512032, -0.044844748115747943, 33.480703506966506,
+         {198.18511887869724, 48.642726533763167, 2447.4136087936258},
+         {0.089760751021355334, 0.99585988662466718, -0.014355966981961007}, 0, 0.48252467887516087,
+         0.33453675988178927, 0.65852235172945783, {-0.18405345123804426, 0.26461781279158181, -1.133889304706748}, 1,
+         0.0098354991356172199, 66.507570549543402, 1.2411771215318153, 0.0023688818326889731, {0, 0}, 1007008443u, 3,
+         {{890.69452665768313, -1658.4484517441331, 3367.1638330649389, -232.47191151224237, 2390.7606984784024,
+           3367.1638330649389, 6.7556256130759014, 0.58227239700485023},
+          {875.68109591379118, -852.50229457345893, 3838.8304930322479, -372.32473833452741, -277.05213636608806,
+           3838.8304930322479, 37.728680252586678, 0.5314636342157758},
+          {10.488796510019917, -86.484540530788152, 1523.8364872622285, 592.21538608606932, 194.31660959265864,
+           1523.8364872622285, 7.3474327044564616, 0.6169505124347644}},
+         {0, 0}, 1,
+         0.38361616048834102, 42.802990931757947, {4.2807702552746338, 1.5371079526311733}},
     };
     size_t i;
     int failed = 0;
