@@ -8,10 +8,12 @@
  * minutes) read them back. For each frame it times the full search and the
  * tracked path (prior: the full search's result on the same frame), medians
  * over all runs, and prints
- *   - the bytes of the frame actually read, counted at 4 KiB page
- *     granularity: the frame is mapped PROT_NONE and each first touch of a
- *     page (SIGSEGV) is counted and unprotected, one solve per mode; an upper
- *     bound on the cache lines read (a page is 1.7 rows of this frame);
+ *   - the bytes of the frame actually read: the distinct 64-byte lines
+ *     frame 0's solves read, counted by callgrind's cache model (the lines
+ *     modes below, make bench-frame-lines, DIR/lines.txt); and, as an upper
+ *     bound, by whole rows: the frame is mapped PROT_NONE one row per page
+ *     and each first touch of a page (SIGSEGV) is counted and unprotected,
+ *     one solve per mode;
  *   - the memory bandwidth measured here: memcpy of a buffer of the frame's
  *     size (5 MB, beyond this machine's caches... or near them: the ratio
  *     says what it says, on this machine), and of the bytes read;
@@ -331,6 +333,103 @@ static int hash_poses(const unsigned char *frames, int nuse, int poses)
     return 0;
 }
 
+/* ---- bytes read: distinct cache lines, callgrind's cache model ----------- */
+
+/* The lines modes (`lines-full`, `lines-track`), run under callgrind with a
+ * last-level cache larger than the frame (tests/bench/frame_lines.sh): a
+ * solve on one copy of frame 0 (for the tracked path: a full search, then
+ * the tracked solve, on it) warms the workspace, the stack and the code;
+ * the measured solve (measured_full / measured_track, the functions
+ * callgrind collects in) then runs on a second copy nothing has read, on
+ * the same path (the same pixels), so its last-level read misses are the
+ * frame's distinct 64-byte lines it reads, each once. The copies are
+ * written first, and those writes pushed out of the model's caches. */
+__attribute__((noinline)) static cdsp_status measured_full(const cdsp_image *img, const cdsp_camera *cam,
+                                                           const cdsp_params *prm, cdsp_result *r)
+{
+    cdsp_rng rng;
+    cdsp_rng_seed(&rng, 1, 1);
+    return cdsp_frame_solve(img, cam, 8, prm, NULL, &ws, &rng, r);
+}
+
+__attribute__((noinline)) static cdsp_status measured_track(const cdsp_image *img, const cdsp_camera *cam,
+                                                            const cdsp_params *prm, const cdsp_result *prior,
+                                                            cdsp_result *r)
+{
+    cdsp_rng rng;
+    cdsp_rng_seed(&rng, 1, 1);
+    return cdsp_frame_solve(img, cam, 8, prm, prior, &ws, &rng, r);
+}
+
+/* frame_lines.sh's --LL size: holds the frame, the workspace and the code
+ * (no capacity misses), which 3 times its size read clears */
+#define LINES_LL_BYTES (16u << 20)
+static int lines_mode(const unsigned char *frame, const cdsp_camera *cam, const cdsp_params *prm, int track)
+{
+    unsigned char *a = malloc((size_t)W * H), *b = malloc((size_t)W * H);
+    cdsp_image ia = {a, W, H, W, 8}, ib = {b, W, H, W, 8};
+    cdsp_result r, t;
+    cdsp_rng rng;
+    cdsp_status st;
+    if (!a || !b) {
+        free(a);
+        free(b);
+        return 1;
+    }
+    memcpy(a, frame, (size_t)W * H);
+    memcpy(b, frame, (size_t)W * H);
+    /* the copies' writes out of the model's caches (LINES_LL_BYTES, the
+     * script's --LL): 3 times that read, then the warm-up */
+    {
+        size_t i, nj = (size_t)3 * LINES_LL_BYTES;
+        unsigned char *junk = malloc(nj);
+        unsigned sum = 0;
+        if (!junk) {
+            free(a);
+            free(b);
+            return 1;
+        }
+        memset(junk, 1, nj);
+        for (i = 0; i < nj; i += 64)
+            sum += junk[i];
+        evict_sink = sum;
+        free(junk);
+    }
+    cdsp_rng_seed(&rng, 1, 1);
+    st = cdsp_frame_solve(&ia, cam, 8, prm, NULL, &ws, &rng, &r);
+    if (track && st == CDSP_OK) {
+        cdsp_rng_seed(&rng, 1, 1);
+        (void)cdsp_frame_solve(&ia, cam, 8, prm, &r, &ws, &rng, &t);
+        st = measured_track(&ib, cam, prm, &r, &t);
+    } else if (!track) {
+        st = measured_full(&ib, cam, prm, &r);
+    }
+    free(a);
+    free(b);
+    return st == CDSP_OK ? 0 : 1;
+}
+
+/* DIR/lines.txt (frame_lines.sh): the bytes of the frame's distinct lines
+ * a full search and a tracked solve read; 0 each when not counted. */
+static void read_lines(const char *dir, size_t *full, size_t *track)
+{
+    char path[4096], key[16];
+    unsigned long long v;
+    FILE *f;
+    *full = *track = 0;
+    snprintf(path, sizeof path, "%s/lines.txt", dir);
+    f = fopen(path, "r");
+    if (!f)
+        return;
+    while (fscanf(f, "%15s %llu", key, &v) == 2) {
+        if (strcmp(key, "full") == 0)
+            *full = (size_t)v;
+        else if (strcmp(key, "track") == 0)
+            *track = (size_t)v;
+    }
+    fclose(f);
+}
+
 int main(int argc, char **argv)
 {
     const char *dir = argc > 1 ? argv[1] : ".";
@@ -346,7 +445,8 @@ int main(int argc, char **argv)
     int i, k, nf = 0, nt = 0, ncf = 0, nct = 0, ok[NFRAMES];
     evict_buf = malloc(EVICT_BYTES);
     if (!frames || !evict_buf || reps < 1 || reps > 64 || nuse < 1 || nuse > NFRAMES) {
-        fprintf(stderr, "usage: bench_frame DIR [time|full|track|load|hash|poses] [REPS 1..64] [FRAMES 1..%d]\n",
+        fprintf(stderr, "usage: bench_frame DIR [time|full|track|load|hash|poses|lines-full|lines-track] [REPS 1..64] "
+                        "[FRAMES 1..%d]\n",
                 NFRAMES);
         return 2;
     }
@@ -356,6 +456,12 @@ int main(int argc, char **argv)
         return 1;
     if (strcmp(mode, "load") == 0)
         return 0;
+    if (strcmp(mode, "lines-full") == 0 || strcmp(mode, "lines-track") == 0) {
+        int rc = lines_mode(frames, &cam, &prm, strcmp(mode, "lines-track") == 0);
+        free(frames);
+        free(evict_buf);
+        return rc;
+    }
     if (strcmp(mode, "hash") == 0 || strcmp(mode, "poses") == 0) {
         hash_poses(frames, nuse, strcmp(mode, "poses") == 0);
         free(frames);
@@ -419,10 +525,17 @@ int main(int argc, char **argv)
     if (strcmp(mode, "time") != 0)
         return 0;
     {
-        size_t frame_bytes = (size_t)W * H;
+        size_t frame_bytes = (size_t)W * H, lf, lt;
         size_t rf = 0, rt = 0, bf = bytes_read(frames, &cam, &prm, NULL, &rf);
         size_t bt = ok[0] ? bytes_read(frames, &cam, &prm, &prior[0], &rt) : 0;
+        size_t pf = bf, pt = bt; /* by whole rows */
         double bw = bandwidth(frame_bytes);
+        /* the distinct lines where counted (make bench-frame-lines) */
+        read_lines(dir, &lf, &lt);
+        if (lf && lt) {
+            bf = lf;
+            bt = lt;
+        }
         double mf = median(tf, nf), mt = median(tt, nt), mcf = median(cf, ncf), mct = median(ct, nct);
         double limf = (double)bf / bw * 1e3, limt = (double)bt / bw * 1e3;
         printf("frame path, %d x %d 8 bit, %d frames x %d runs, one core (issue 17)\n", W, H,
@@ -435,11 +548,19 @@ int main(int argc, char **argv)
         print_row("tracked (target <= 0.2 ms)", mt, bt, frame_bytes, limt);
         print_row("full search, cold", mcf, bf, frame_bytes, limf);
         print_row("tracked, cold", mct, bt, frame_bytes, limt);
-        printf("memory bandwidth (memcpy of %zu bytes, best of 15): %.2f GB/s; bytes read counted "
-               "by whole rows (%zu of %d rows full, %zu tracked; an upper bound); "
-               "ratio = time / (bytes read / bandwidth), target <= 3; cold: the frame flushed "
+        printf("memory bandwidth (memcpy of %zu bytes, best of 15): %.2f GB/s; ", frame_bytes, bw / 1e9);
+        if (lf && lt)
+            printf("bytes read: the frame's distinct 64-byte lines frame 0's solves read (callgrind's cache "
+                   "model, make bench-frame-lines); by whole rows %zu full and %zu tracked (%zu of %d rows "
+                   "full, %zu tracked: an upper bound); ",
+                   pf, pt, rf, H, rt);
+        else
+            printf("bytes read counted by whole rows (%zu of %d rows full, %zu tracked; an upper bound: the "
+                   "lines are counted by make bench-frame-lines, which needs valgrind); ",
+                   rf, H, rt);
+        printf("ratio = time / (bytes read / bandwidth), target <= 3; cold: the frame flushed "
                "from the caches, then %u MiB of another buffer read\n",
-               frame_bytes, bw / 1e9, rf, H, rt, (unsigned)(EVICT_BYTES >> 20));
+               (unsigned)(EVICT_BYTES >> 20));
     }
     free(evict_buf);
     free(frames);
