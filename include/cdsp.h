@@ -643,13 +643,13 @@ typedef struct {
                                px, through the sides' fits, their
                                extrapolation to the silhouette and the
                                measured blur (first order, docs/method.md
-                               2a: 0.89-1.06 of the scatter measured on
+                               2a: 0.88-1.08 of the scatter measured on
                                flat and shaded limbs, offset / sigma RMS
-                               0.91-1.15); under a blur wider
+                               0.86-1.15); under a blur wider
                                than the detector's window (the forward
                                model) the fit's own covariance, the blur
                                and a terminator free (offset / sigma RMS
-                               0.97-1.14 on lit limbs at 2-3 px of blur) */
+                               0.88-1.14 on lit limbs at 2-3 px of blur) */
     cdsp_real blur;         /* measured sigma of the edge spread (optics,
                                motion, the pixel's footprint), px */
     cdsp_real contrast;     /* pipe minus background at the silhouette, gray levels */

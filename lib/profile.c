@@ -1304,7 +1304,7 @@ static cdsp_real fwd_dot(const cdsp_profile_ws *ws, int i, int j)
  * noise over 0.01 px), not a derivative. Until this the forward fit
  * reported the window's part alone (the area balance's varM), 2.5 times
  * too small under 3 px of blur (test_noise: z-scores' RMS 2.32, now
- * 0.97). The slots hold up to three
+ * 0.88). The slots hold up to three
  * derivatives beside fs's residuals, so T's products come in a second
  * pass. 0 when J^T J is singular; fwd_r[0] keeps fs's residuals. */
 static cdsp_real fwd_sigma(cdsp_profile_ws *ws, const fwd_state *fs, cdsp_real var_pix)
